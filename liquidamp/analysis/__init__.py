@@ -1,0 +1,1 @@
+"""Linearization, dynamic stiffness, stability, limit cycles, calibration, plots."""

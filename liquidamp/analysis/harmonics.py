@@ -1,0 +1,145 @@
+"""First harmonic and dynamic stiffness of a periodic response.
+
+Convention (DESIGN.md): for a stroke y = Y sin(omega t) the complex first
+harmonic of a signal s(t) = a sin(omega t) + b cos(omega t) + ... is
+S1 = a + i b, and the dynamic stiffness is K* = F1 / Y1.  Phase 0 deg is a
+spring, +90 deg a damper, 180 deg an inerter.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from liquidamp.errors import ParameterError
+
+__all__ = ["first_harmonic", "DynamicStiffness", "dynamic_stiffness"]
+
+
+def first_harmonic(t, signal, frequency: float) -> complex:
+    """Complex first harmonic a + i b of ``signal`` ~ a sin(wt) + b cos(wt).
+
+    Parameters
+    ----------
+    t : array
+        Uniform samples spanning a whole number of periods, end point
+        excluded [s].
+    signal : array
+        Samples of the signal [any unit].
+    frequency : float
+        Fundamental frequency [Hz].
+
+    Returns
+    -------
+    complex
+        a + i b [unit of the signal].
+
+    Examples
+    --------
+    >>> t = np.arange(64) / 64.0
+    >>> h = first_harmonic(t, 2 * np.sin(2 * np.pi * t) + 3 * np.cos(2 * np.pi * t), 1.0)
+    >>> round(h.real, 12), round(h.imag, 12)
+    (2.0, 3.0)
+    """
+    t = np.asarray(t, float)
+    s = np.asarray(signal, float)
+    if t.shape != s.shape or t.ndim != 1 or t.size < 4:
+        raise ParameterError("first_harmonic needs matching 1-D arrays of >= 4 samples")
+    w = 2.0 * math.pi * frequency
+    a = 2.0 * float(np.mean(s * np.sin(w * t)))
+    b = 2.0 * float(np.mean(s * np.cos(w * t)))
+    return complex(a, b)
+
+
+@dataclass(frozen=True)
+class DynamicStiffness:
+    """First-harmonic dynamic stiffness K* = F1 / Y1.
+
+    Attributes
+    ----------
+    frequency : float
+        Excitation frequency [Hz].
+    amplitude : float
+        Stroke amplitude |Y1| [m].
+    value : complex
+        K* [N/m].
+    """
+
+    frequency: float
+    amplitude: float
+    value: complex
+
+    @property
+    def magnitude(self) -> float:
+        """|K*| [N/m]."""
+        return abs(self.value)
+
+    @property
+    def phase_deg(self) -> float:
+        """Phase of K* in (-180, 180] [deg]: 0 spring, 90 damper, 180 inerter."""
+        return math.degrees(math.atan2(self.value.imag, self.value.real))
+
+    @property
+    def storage(self) -> float:
+        """Storage stiffness Re K* [N/m]."""
+        return self.value.real
+
+    @property
+    def loss(self) -> float:
+        """Loss stiffness Im K* [N/m]."""
+        return self.value.imag
+
+    @property
+    def loss_factor(self) -> float:
+        """Loss factor Im K* / Re K* [-] (inf for a pure damper)."""
+        return self.value.imag / self.value.real if self.value.real != 0 else math.inf
+
+    @property
+    def equivalent_damping(self) -> float:
+        """Equivalent viscous damping Im K* / omega [N s/m]."""
+        return self.value.imag / (2.0 * math.pi * self.frequency)
+
+    def as_dict(self) -> dict:
+        """JSON-ready dictionary with unit-named keys."""
+        return {
+            "frequency [Hz]": self.frequency,
+            "amplitude [m]": self.amplitude,
+            "magnitude [N/m]": self.magnitude,
+            "phase [deg]": self.phase_deg,
+            "storage [N/m]": self.storage,
+            "loss [N/m]": self.loss,
+        }
+
+
+def dynamic_stiffness(response) -> DynamicStiffness:
+    """Dynamic stiffness of a steady-state response on the test machine.
+
+    Parameters
+    ----------
+    response : DeviceResponse
+        Output of :func:`liquidamp.coupled.testrig.steady_state` (one period,
+        uniform samples, harmonic stroke).
+
+    Returns
+    -------
+    DynamicStiffness
+        K* = F1 / Y1 with both first harmonics in the sine convention.
+
+    Examples
+    --------
+    >>> from liquidamp.device import preset
+    >>> from liquidamp.coupled.testrig import steady_state
+    >>> from liquidamp.structure.testmachine import HarmonicStroke
+    >>> p = preset("reference")
+    >>> K = dynamic_stiffness(steady_state("spring", p, HarmonicStroke(0.001, 3.0)))
+    >>> round(K.magnitude / p.k_D, 9), round(K.phase_deg, 6)
+    (1.0, 0.0)
+    """
+    f = response.frequency
+    if f is None:
+        raise ParameterError("dynamic_stiffness needs a response to a harmonic stroke")
+    Y1 = first_harmonic(response.time, response.stroke, f)
+    F1 = first_harmonic(response.time, response.force, f)
+    return DynamicStiffness(frequency=f, amplitude=abs(Y1), value=F1 / Y1)

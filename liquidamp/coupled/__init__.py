@@ -1,0 +1,1 @@
+"""Host plus device(s): nonlinear time-domain runs and linear interconnection."""
