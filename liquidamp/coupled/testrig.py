@@ -149,7 +149,7 @@ def _prepare(model, params, stroke, options):
 
 
 def _events(model: DeviceModel, params: DeviceParams, stroke, options: SolverOptions):
-    if model.pressures is None:
+    if model.pressures is None or not model.uses_bulk_law or params.bulk_law != "gholizadeh":
         return None
 
     def low_pressure(t, x):
@@ -208,7 +208,13 @@ def _response(model, params, stroke, t, X, options, *, status, message, residual
     if model.pressures is not None:
         p1, p2 = (np.asarray(q, float).copy() for q in model.pressures(X, u, params))
         pmin = float(min(p1.min(), p2.min()))
-        if pmin < options.vapour_pressure:
+        if pmin <= 0.0:
+            warn.append(
+                f"absolute chamber pressure went negative (lowest {pmin:.4g} Pa): non-physical; "
+                f"model {model.name!r} with a constant bulk modulus is outside its validity "
+                "here (use 'full', eq. 10)"
+            )
+        elif pmin < options.vapour_pressure:
             warn.append(
                 f"lowest chamber pressure {pmin:.4g} Pa is below the vapour pressure "
                 f"{options.vapour_pressure:g} Pa: the liquid would cavitate, which this model "

@@ -243,18 +243,23 @@ def loss_flow(dp, k1: float, k2: float):
     """
     if np.ndim(dp):
         dp = np.asarray(dp, dtype=float)
-        return 2.0 * dp / (k1 + np.sqrt(k1 * k1 + 4.0 * k2 * np.abs(dp)))
+        den = k1 + np.sqrt(k1 * k1 + 4.0 * k2 * np.abs(dp))
+        return np.divide(2.0 * dp, den, out=np.zeros_like(dp), where=den > 0.0)
+    if dp == 0.0:
+        return 0.0
     return 2.0 * dp / (k1 + math.sqrt(k1 * k1 + 4.0 * k2 * abs(dp)))
 
 
 def loss_flow_dp(dp: float, k1: float, k2: float) -> float:
     """Derivative d(flow)/d(dp) of :func:`loss_flow` [flow unit / Pa].
 
-    Equals 1 / (k1 + 2 k2 |m|) = 1 / sqrt(k1^2 + 4 k2 |dp|).
+    Equals 1 / (k1 + 2 k2 |m|) = 1 / sqrt(k1^2 + 4 k2 |dp|); infinite at
+    dp = 0 when k1 = 0 (purely quadratic loss), which is returned as a large
+    finite slope so that Jacobians stay finite.
 
     Examples
     --------
     >>> loss_flow_dp(0.0, 4.0, 1.0)
     0.25
     """
-    return 1.0 / math.sqrt(k1 * k1 + 4.0 * k2 * abs(dp))
+    return 1.0 / max(math.sqrt(k1 * k1 + 4.0 * k2 * abs(dp)), 1e-300)

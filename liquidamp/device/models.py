@@ -98,6 +98,11 @@ class DeviceModel:
     requires : tuple of str
         Parameters that must be > 0 for this variant (checked by
         :meth:`check_params`).
+    uses_bulk_law : bool
+        True where the chamber bulk modulus follows ``params.bulk_law``
+        (eq. 2 is singular at p = 0, so the run stops at the pressure floor);
+        the constant-bulk reductions can pass through zero pressure, which
+        the run reports as a warning.
     """
 
     name: str
@@ -116,6 +121,7 @@ class DeviceModel:
     conserves_mass: bool = False
     uses_acceleration: bool = False
     requires: tuple[str, ...] = field(default=())
+    uses_bulk_law: bool = False
 
     @property
     def n_states(self) -> int:
@@ -463,6 +469,7 @@ REGISTRY: dict[str, DeviceModel] = {
             mass=_mass_states,
             conserves_mass=True,
             requires=("S_t",),
+            uses_bulk_law=True,
         ),
         DeviceModel(
             name="no_inertia",
@@ -479,6 +486,7 @@ REGISTRY: dict[str, DeviceModel] = {
             pressures=_pressures_02,
             mass=_mass_states,
             conserves_mass=True,
+            uses_bulk_law=True,
         ),
         DeviceModel(
             name="constant_bulk",

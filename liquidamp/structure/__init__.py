@@ -1,0 +1,1 @@
+"""Hosts the device is attached to: test machine, blade, rotor, wing section."""
