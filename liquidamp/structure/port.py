@@ -169,7 +169,7 @@ class PeriodicStateSpace:
     ...     2 * np.pi, lambda t: np.array([[0.0, 1.0], [-1.0 - 0.1 * np.cos(t), 0.0]]),
     ...     lambda t: np.array([[0.0], [1.0]]), np.eye(2), np.zeros((2, 1)),
     ...     ("q", "q_dot"), ("f",), ("q_out", "q_dot_out"))
-    >>> sys.statespace(0.0).A[1, 0]
+    >>> float(sys.statespace(0.0).A[1, 0])
     -1.1
     """
 

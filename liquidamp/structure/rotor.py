@@ -144,7 +144,7 @@ class GroundResonanceRotor:
     >>> failed.blade_damping, failed.blades_alike
     ((0.0, 4067.5, 4067.5, 4067.5), False)
     >>> [round(w, 3) for w in rotor.body_frequencies]   # sqrt(K / (m_hub + N m_b)) [rad/s]
-    [12.148, 18.401]
+    [12.148, 18.402]
     """
 
     blade: ArticulatedBlade
