@@ -1,0 +1,125 @@
+"""``liquidamp sweep``: stability sweeps of the hosts (ground resonance, flutter).
+
+``liquidamp sweep ground-resonance --rotor hammond1974 --rpm 100:400:61
+[--inoperative K] [--method coleman|floquet] --json FILE [--plot FILE]``
+writes, per rotor speed, the largest real part of the eigenvalues (or
+Floquet exponents) and the fixed-frame modal frequencies, and the unstable
+rpm ranges with ends found by Brent's method.  A rotor with dissimilar
+blades (``--inoperative``) has periodic coefficients and is analysed with
+Floquet theory whatever ``--method`` says (noted in the JSON and on stderr).
+
+``liquidamp sweep flutter --section hodges-pierce --aero theodorsen
+--method pk --json FILE [--plot FILE]`` writes the flutter speed
+U_F/(b omega_theta), the flutter frequency omega_F/omega_theta, the
+divergence speed and the V-g / V-f data per mode.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+from liquidamp.commands._args import parse_list, write_json
+from liquidamp.errors import ParameterError, check_choice
+
+__all__ = ["register"]
+
+
+def register(subparsers) -> None:
+    """Add the ``sweep`` command and its ``ground-resonance`` and ``flutter`` kinds."""
+    p = subparsers.add_parser(
+        "sweep",
+        help="stability sweeps: ground resonance against rpm, flutter against airspeed",
+        description=__doc__.split("\n\n", 1)[1],
+    )
+    sub = p.add_subparsers(dest="sweep_kind", metavar="KIND", required=True)
+
+    g = sub.add_parser("ground-resonance", help="rotor on its landing gear against rotor speed")
+    g.add_argument("--rotor", default="hammond1974",
+                   help="rotor preset name or .toml/.json file (default hammond1974)")
+    g.add_argument("--rpm", required=True,
+                   help="rotor speeds [rpm]: comma list or START:STOP:COUNT")
+    g.add_argument("--inoperative", action="append", default=[], metavar="K",
+                   help="blade whose lag damper has failed (1-based; repeat for several)")
+    g.add_argument("--method", default="coleman", help="coleman (default) or floquet")
+    g.add_argument("--json", required=True, help="output JSON file")
+    g.add_argument("--plot", help="output figure (Coleman diagram), e.g. .png")
+    g.set_defaults(func=_ground_resonance)
+
+    f = sub.add_parser("flutter", help="typical section against airspeed")
+    f.add_argument("--section", default="hodges-pierce",
+                   help="section preset name or .toml/.json file (default hodges-pierce)")
+    f.add_argument("--aero", default="theodorsen",
+                   help="steady, quasi-steady, theodorsen (default) or jones")
+    f.add_argument("--method", default="pk", help="pk (default), k or p")
+    f.add_argument("--speeds", default="0.05:3.5:70",
+                   help="reduced speeds U/(b omega_theta) for pk and p (default 0.05:3.5:70)")
+    f.add_argument("--k", dest="reduced_frequencies", default=None,
+                   help="reduced frequencies for the k method (default 80 log-spaced, 3 to 0.03)")
+    f.add_argument("--json", required=True, help="output JSON file")
+    f.add_argument("--plot", help="output figure (V-g and V-f), e.g. .png")
+    f.set_defaults(func=_flutter)
+
+
+def _ground_resonance(args) -> int:
+    from liquidamp.analysis.ground_resonance import (
+        METHODS,
+        ground_resonance_sweep,
+        rpm_to_rad_s,
+    )
+    from liquidamp.structure.hostio import load_rotor
+
+    method = check_choice("method", args.method, METHODS)
+    rpm = parse_list(args.rpm, "rpm")
+    if rpm.size == 0:
+        raise ParameterError("rpm range is empty")
+    if not np.all(np.isfinite(rpm)) or np.any(rpm <= 0.0):
+        raise ParameterError(f"rpm values must be finite and > 0 [rpm], got {args.rpm!r}")
+    if rpm.size > 1 and np.any(np.diff(rpm) <= 0.0):
+        raise ParameterError(f"rpm values must be strictly increasing, got {args.rpm!r}")
+    rotor = load_rotor(args.rotor)
+    for text in args.inoperative:
+        try:
+            k = int(text)
+        except ValueError:
+            raise ParameterError(f"--inoperative must be a blade number, got {text!r}") from None
+        rotor = rotor.with_inoperative_damper(k)
+    sweep = ground_resonance_sweep(rotor, rpm_to_rad_s(rpm), method)
+    if sweep.method != method:
+        print(f"liquidamp sweep ground-resonance: note: {sweep.note}", file=sys.stderr)
+    data = sweep.to_dict()
+    data["inoperative_blades"] = [int(t) for t in args.inoperative]
+    data["lag_damping [N m s/rad]"] = list(rotor.blade_damping)
+    write_json(args.json, data)
+    if args.plot:
+        from liquidamp.analysis.stability_plots import plot_ground_resonance
+
+        plot_ground_resonance(sweep).savefig(args.plot, dpi=120)
+    ranges = ", ".join(f"{a:.1f}-{b:.1f}" for a, b in sweep.unstable_ranges_rpm) or "none"
+    print(f"{rotor.name}: {sweep.method}; unstable ranges [rpm]: {ranges}")
+    return 0
+
+
+def _flutter(args) -> int:
+    from liquidamp.analysis.flutter import check_combination, flutter_analysis
+    from liquidamp.structure.hostio import load_section
+
+    check_combination(args.aero, args.method)
+    section = load_section(args.section)
+    speeds = parse_list(args.speeds, "speeds")
+    kvals = None
+    if args.reduced_frequencies is not None:
+        kvals = parse_list(args.reduced_frequencies, "k")
+    result = flutter_analysis(section, args.aero, args.method, speeds=speeds,
+                              reduced_frequencies=kvals)
+    write_json(args.json, result.to_dict())
+    if args.plot:
+        from liquidamp.analysis.stability_plots import plot_flutter
+
+        plot_flutter(result).savefig(args.plot, dpi=120)
+    vf = "none in range" if result.flutter_speed is None else (
+        f"{result.flutter_speed:.4f} (frequency ratio {result.flutter_frequency:.4f})")
+    print(f"{section.name}: {args.aero}, {args.method}: flutter speed U/(b omega_theta) = {vf}; "
+          f"divergence {result.divergence_speed:.4f}")
+    return 0
