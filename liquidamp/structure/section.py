@@ -54,7 +54,6 @@ from liquidamp.errors import (
     check_positive,
 )
 from liquidamp.structure.aero import (
-    AERO_MODELS,
     JONES_COEFFICIENTS,
     STATE_SPACE_MODELS,
     aero_matrices,
