@@ -12,9 +12,12 @@ from dataclasses import dataclass
 
 from liquidamp.errors import ParameterError, check_choice, check_in_range, check_positive
 
-__all__ = ["SolverOptions", "DEFAULT_OPTIONS"]
+__all__ = ["SolverOptions", "DEFAULT_OPTIONS", "ENGINES"]
 
 _METHODS = ("Radau", "BDF", "LSODA", "RK45", "DOP853")
+#: Integration engines: the plain-Python reference (scipy ``solve_ivp``) and the
+#: numba-compiled RODAS4 core of :mod:`liquidamp.coupled.fast`.
+ENGINES = ("python", "compiled")
 
 
 @dataclass(frozen=True)
@@ -25,7 +28,8 @@ class SolverOptions:
     ----------
     method : str
         :func:`scipy.integrate.solve_ivp` method; an implicit one
-        (``Radau``, ``BDF``, ``LSODA``) for the stiff device.
+        (``Radau``, ``BDF``, ``LSODA``) for the stiff device.  Used by the
+        ``"python"`` engine only.
     rtol : float
         Relative tolerance [-].
     atol_scale : float
@@ -47,6 +51,14 @@ class SolverOptions:
         (water at 20 C: 2339 Pa) [Pa].
     max_step_fraction : float
         Largest integration step as a fraction of the excitation period [-].
+    engine : {"python", "compiled"}
+        ``"python"``: scipy :func:`~scipy.integrate.solve_ivp` with the
+        models' Python right-hand sides (the reference).  ``"compiled"``: the
+        numba-compiled RODAS4 core of :mod:`liquidamp.coupled.fast`, with the
+        same ``rtol``, ``atol_scale`` and largest step, and much faster;
+        it supports the models listed in
+        :data:`liquidamp.coupled.fast.COMPILED_MODELS` and raises
+        ParameterError for others.
 
     Examples
     --------
@@ -57,7 +69,11 @@ class SolverOptions:
     ...
     liquidamp.errors.ParameterError: unknown solver option 'rtl'; valid: method, rtol, \
 atol_scale, samples_per_period, steady_tol, min_cycles, max_cycles, pressure_floor, \
-vapour_pressure, max_step_fraction
+vapour_pressure, max_step_fraction, engine
+    >>> SolverOptions(engine="fortran")
+    Traceback (most recent call last):
+    ...
+    liquidamp.errors.ParameterError: unknown engine 'fortran'; valid: python, compiled
     """
 
     method: str = "Radau"
@@ -70,6 +86,7 @@ vapour_pressure, max_step_fraction
     pressure_floor: float = 1.0
     vapour_pressure: float = 2339.0
     max_step_fraction: float = 0.02
+    engine: str = "python"
 
     def __post_init__(self) -> None:
         check_choice("solver method", self.method, _METHODS)
@@ -82,6 +99,7 @@ vapour_pressure, max_step_fraction
         check_positive("pressure_floor", self.pressure_floor, "Pa")
         check_positive("vapour_pressure", self.vapour_pressure, "Pa")
         check_in_range("max_step_fraction", self.max_step_fraction, 1e-6, 1.0)
+        check_choice("engine", self.engine, ENGINES)
 
     @classmethod
     def from_mapping(cls, values: dict) -> SolverOptions:

@@ -259,7 +259,9 @@ def simulate(model, params: DeviceParams, stroke, t_end: float, *, t_start: floa
         Output times [s]; default 200 samples per second or 512 in all,
         whichever is more.
     options : SolverOptions, optional
-        Tolerances.
+        Tolerances and the engine (``options.engine = "compiled"`` runs the
+        numba core of :mod:`liquidamp.coupled.fast` for a HarmonicStroke or
+        RecordedStroke).
 
     Returns
     -------
@@ -294,6 +296,11 @@ def simulate(model, params: DeviceParams, stroke, t_end: float, *, t_start: floa
     period = getattr(stroke, "period", t_end - t_start)
     if model.n_states == 0:
         X = np.zeros((0, t_eval.size))
+    elif options.engine == "compiled":
+        from liquidamp.coupled.fast import march
+
+        X, _, _ = march(model, params, stroke, x, t_start, t_end, t_eval, options,
+                        options.max_step_fraction * period)
     else:
         sol = _march(model, params, stroke, x, t_start, t_end, t_eval, options,
                      options.max_step_fraction * period)
@@ -322,7 +329,8 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
     stroke : HarmonicStroke
         Excitation.
     options : SolverOptions, optional
-        Tolerances and cycle limits.
+        Tolerances, cycle limits and the engine (``"compiled"``: the whole
+        cycle loop runs in the numba core of :mod:`liquidamp.coupled.fast`).
     x0 : array, optional
         Initial state (default: rest at ``p0``).
 
@@ -358,6 +366,14 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
     if model.n_states == 0:
         return _response(model, params, stroke, grid[:N], np.zeros((0, N)), options,
                          status="steady", message="algebraic model: steady at once", cycles=1)
+    if options.engine == "compiled":
+        from liquidamp.coupled.fast import steady_loop
+
+        Xp, cycles, residual = steady_loop(model, params, stroke, x, options)
+        msg = (f"periodic steady state after {cycles} cycles; estimated remaining "
+               f"change {residual:.2e} of peak force (compiled engine)")
+        return _response(model, params, stroke, grid[:N], Xp, options, status="steady",
+                         message=msg, residual=residual, cycles=cycles)
     prev_force = None
     prev_change = math.inf
     hits = 0

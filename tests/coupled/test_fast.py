@@ -1,0 +1,179 @@
+"""The compiled engine (numba RODAS4) against the plain-Python reference path."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from liquidamp.analysis.harmonics import dynamic_stiffness
+from liquidamp.coupled import _kernels as K
+from liquidamp.coupled.fast import (
+    COMPILED_MODELS,
+    check_compiled,
+    march,
+    pack_effects,
+    pack_params,
+)
+from liquidamp.coupled.testrig import simulate, steady_state
+from liquidamp.device import preset
+from liquidamp.device.models import get_model
+from liquidamp.errors import ParameterError, PressureError
+from liquidamp.options import SolverOptions
+from liquidamp.structure.testmachine import HarmonicStroke, RecordedStroke
+
+FAST = SolverOptions(engine="compiled")
+
+
+def _state_near_rest(model, params, rng):
+    """A state off the rest point (pressures, densities and flows perturbed)."""
+    x = model.initial_state(params, 0.0).astype(float)
+    sc = model.state_scales(params)
+    x = x + sc * rng.uniform(-0.3, 0.3, size=x.size)
+    if model.name in ("full", "no_inertia"):  # pressures well above zero
+        x[0], x[2] = 1.6e5, 0.7e5
+    return x
+
+
+@pytest.mark.parametrize("name", COMPILED_MODELS)
+@pytest.mark.parametrize("law", ["gholizadeh", "constant"])
+def test_kernel_rhs_matches_python_and_jacobian_matches_differences(name, law):
+    model = get_model(name)
+    p = preset("device_a").replace(bulk_law=law)
+    mid = check_compiled(model)
+    prm, eff = pack_params(p), pack_effects()
+    rng = np.random.default_rng(3)
+    for _ in range(3):
+        x = _state_near_rest(model, p, rng)
+        y, v, a = 0.004, -0.07, 1.3
+        f = np.empty(model.n_states)
+        K.rhs(mid, x, y, v, prm, eff, f)
+        ref = model.rhs(0.0, x, (y, v, a), p)
+        np.testing.assert_allclose(f, ref, rtol=1e-12, atol=1e-12 * np.max(np.abs(ref)))
+        J = np.empty((model.n_states, model.n_states))
+        K.jac(mid, x, y, v, prm, eff, J)
+        sc = model.state_scales(p)
+        for j in range(model.n_states):
+            h = 1e-6 * sc[j]
+            xp, xm = x.copy(), x.copy()
+            xp[j] += h
+            xm[j] -= h
+            fp, fm = np.empty_like(f), np.empty_like(f)
+            K.rhs(mid, xp, y, v, prm, eff, fp)
+            K.rhs(mid, xm, y, v, prm, eff, fm)
+            fd = (fp - fm) / (2 * h)
+            np.testing.assert_allclose(J[:, j], fd, rtol=1e-5,
+                                       atol=1e-6 * np.max(np.abs(fd)) + 1e-300)
+        # time derivative through the stroke (y' = v, v' = a)
+        ft = np.empty_like(f)
+        K.rhs_t(mid, x, y, v, a, prm, eff, ft)
+        dt = 1e-6
+        fp, fm = np.empty_like(f), np.empty_like(f)
+        K.rhs(mid, x, y + v * dt, v + a * dt, prm, eff, fp)
+        K.rhs(mid, x, y - v * dt, v - a * dt, prm, eff, fm)
+        np.testing.assert_allclose(ft, (fp - fm) / (2 * dt), rtol=1e-5,
+                                   atol=1e-6 * np.max(np.abs(ft)) + 1e-300)
+
+
+@pytest.mark.parametrize("name", COMPILED_MODELS)
+def test_compiled_run_matches_python_run(name):
+    """Same tolerances: the force histories agree far below the steady-state tolerance."""
+    p = preset("reference").replace(friction_N=30.0)
+    s = HarmonicStroke(0.002, 3.0)
+    a = simulate(name, p, s, 0.5)
+    b = simulate(name, p, s, 0.5, options=FAST)
+    assert b.status == "completed" and b.force.shape == a.force.shape
+    peak = np.max(np.abs(a.force))
+    assert np.max(np.abs(b.force - a.force)) < 1e-6 * peak
+    np.testing.assert_allclose(b.states, a.states, rtol=1e-6,
+                               atol=1e-6 * np.max(np.abs(a.states)))
+
+
+def test_compiled_steady_state_matches_python_dynamic_stiffness():
+    p = preset("device_b")
+    s = HarmonicStroke(0.003, 3.0)
+    a = steady_state("full", p, s)
+    b = steady_state("full", p, s, options=FAST)
+    assert b.status == "steady" and b.cycles == a.cycles
+    ka, kb = dynamic_stiffness(a).value, dynamic_stiffness(b).value
+    assert abs(kb - ka) / abs(ka) < 1e-7
+    assert b.mass_error < 1e-9
+    assert b.time.shape == (FAST.samples_per_period,) and b.time[0] == 0.0
+
+
+def test_constant_bulk_law_full_is_eq17_on_the_compiled_engine():
+    p = preset("reference").replace(bulk_law="constant")
+    s = HarmonicStroke(0.001, 3.0)
+    a = dynamic_stiffness(steady_state("full", p, s, options=FAST)).value
+    b = dynamic_stiffness(steady_state("inertial", p, s, options=FAST)).value
+    assert abs(a - b) / abs(b) < 1e-6
+
+
+def test_recorded_stroke_is_interpolated_like_numpy():
+    t = np.arange(0, 0.8, 1 / 200)
+    y = 0.002 * np.sin(2 * np.pi * 3 * t) + 0.0002 * np.sin(2 * np.pi * 9 * t + 0.3)
+    s = RecordedStroke.from_displacement(t, y)
+    p = preset("reference")
+    a = simulate("full", p, s, 0.7, t_eval=t[t <= 0.7])
+    b = simulate("full", p, s, 0.7, t_eval=t[t <= 0.7], options=FAST)
+    assert np.max(np.abs(b.force - a.force)) < 1e-5 * np.max(np.abs(a.force))
+    for tq in (-1.0, 0.0123, 0.5, 3.0):  # the compiled lookup holds the end values
+        got = K.stroke_eval(1, tq, np.zeros(4), s.time, s.displacement, s.velocity,
+                            s.acceleration)
+        np.testing.assert_allclose(got, [float(q) for q in s(tq)], rtol=1e-14, atol=1e-20)
+
+
+def test_leakage_effect_matches_a_python_right_hand_side():
+    """The effect vector: a laminar bypass rho_l k (p1 - p2) added to the channel flow."""
+    model, p = get_model("full"), preset("reference")
+    k_leak = 2e-11  # m^3/(s Pa)
+    s = HarmonicStroke(0.002, 3.0)
+    x0 = model.initial_state(p, 0.0)
+    t_eval = np.linspace(0.0, 0.4, 81)
+    X, _, _ = march(model, p, s, x0, 0.0, 0.4, t_eval, FAST, 0.02 / 3,
+                    effects=pack_effects({"leakage": k_leak}))
+
+    def f(t, x):
+        u = s(t)
+        leak = p.rho_l * k_leak * (x[0] - x[2])
+        xx = x.copy()
+        xx[4] += leak  # same as adding the bypass to m12 in the chamber balances ...
+        d = model.rhs(t, xx, u, p)
+        d[4] = model.rhs(t, x, u, p)[4]  # ... but not in the channel momentum balance
+        return d
+
+    ref = solve_ivp(f, (0, 0.4), x0, method="Radau", t_eval=t_eval, rtol=1e-10,
+                    atol=1e-10 * model.state_scales(p))
+    F_ref = p.A_p * (ref.y[0] - ref.y[2])
+    F = p.A_p * (X[0] - X[2])
+    assert np.max(np.abs(F - F_ref)) < 1e-6 * np.max(np.abs(F_ref))
+    X0, _, _ = march(model, p, s, x0, 0.0, 0.4, t_eval, FAST, 0.02 / 3)
+    assert np.max(np.abs(X0[0] - X[0])) > 1e3  # the leak changes the answer
+
+
+def test_pressure_floor_and_unsupported_combinations_raise():
+    with pytest.raises(PressureError, match="fell to the floor 5000 Pa"):
+        steady_state("full", preset("inerter"), HarmonicStroke(0.003, 3.0),
+                     options=FAST.replace(pressure_floor=5000.0))
+    with pytest.raises(ParameterError, match="engine 'compiled' does not integrate model"):
+        check_compiled(get_model("dashpot"))
+    custom = dataclasses.replace(get_model("full"), description="user-modified copy")
+    with pytest.raises(ParameterError, match="use engine='python'"):
+        simulate(custom, preset("reference"), HarmonicStroke(0.001, 3.0), 0.2, options=FAST)
+    with pytest.raises(ParameterError, match="unknown engine 'numba'; valid: python, compiled"):
+        SolverOptions(engine="numba")
+    # algebraic models need no integration: both engines give the same answer
+    r = steady_state("dashpot", preset("reference"), HarmonicStroke(0.001, 3.0), options=FAST)
+    assert r.status == "steady"
+
+
+def test_compiled_engine_needs_a_known_stroke_kind():
+    class Odd:
+        max_abs = 0.001
+        period = 1 / 3
+
+        def __call__(self, t):
+            return HarmonicStroke(0.001, 3.0)(t)
+
+    with pytest.raises(ParameterError, match="HarmonicStroke or RecordedStroke"):
+        simulate("full", preset("reference"), Odd(), 0.2, options=FAST)
