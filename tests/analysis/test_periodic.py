@@ -1,0 +1,78 @@
+"""Periodic orbit by shooting against the marched time-domain steady state."""
+
+import numpy as np
+import pytest
+
+from liquidamp.analysis.harmonics import dynamic_stiffness
+from liquidamp.analysis.periodic import invariants, periodic_orbit
+from liquidamp.coupled.testrig import steady_state
+from liquidamp.device import preset
+from liquidamp.device.models import get_model
+from liquidamp.errors import ParameterError
+from liquidamp.options import SolverOptions
+from liquidamp.structure.testmachine import HarmonicStroke
+
+FAST = SolverOptions(engine="compiled")
+
+
+@pytest.mark.parametrize("name", ["reference", "spring", "damper", "device_a", "device_b"])
+@pytest.mark.parametrize("f", [1.0, 3.0, 7.0])
+def test_shooting_agrees_with_the_marched_steady_state(name, f):
+    s = HarmonicStroke(0.003, f)
+    marched = steady_state("full", preset(name), s, options=FAST)
+    shot = periodic_orbit("full", preset(name), s, FAST)
+    assert shot.status == "steady"
+    assert shot.residual < FAST.steady_tol
+    a, b = dynamic_stiffness(marched), dynamic_stiffness(shot)
+    assert abs(b.magnitude - a.magnitude) / a.magnitude < 1e-3  # the issue's criterion
+    assert abs(b.value - a.value) / abs(a.value) < 1e-5  # what it actually reaches
+    assert shot.mass_error < 1e-8
+    # the whole force waveforms coincide, not only their first harmonics
+    assert np.max(np.abs(shot.force - marched.force)) < 1e-4 * np.max(np.abs(a.value * 0.003))
+
+
+def test_invariants_fix_the_family_of_orbits():
+    """The bordered system selects the orbit of the starting state's mass."""
+    model, p = get_model("full"), preset("reference")
+    s = HarmonicStroke(0.003, 3.0)
+    x0 = model.initial_state(p, 0.0)
+    heavier = x0.copy()
+    heavier[[0, 2]] = 1.2e5  # filled at a higher pressure: more mass, other orbit
+    from liquidamp.device.fluid import density_gholizadeh
+
+    heavier[1] = density_gholizadeh(1.2e5, p.rho0, p.B_l, p.X01, p.p0, p.n)
+    heavier[3] = density_gholizadeh(1.2e5, p.rho0, p.B_l, p.X02, p.p0, p.n)
+    a = periodic_orbit(model, p, s, FAST)
+    b = periodic_orbit(model, p, s, FAST, x0=heavier)
+    m_a, _ = invariants(model, p, a.states[:, 0], 0.0)
+    m_b, _ = invariants(model, p, b.states[:, 0], 0.0)
+    M_rest = p.rho0 * (p.V01 + p.V02)
+    assert abs(m_a[2] / M_rest - 1) < 1e-9
+    assert m_b[2] > M_rest * (1 + 1e-6)
+    assert abs(m_b[0] - 1) < 1e-8 and abs(m_b[1] - 1) < 1e-8  # still on r_i(p_i)
+    assert b.p1.mean() > a.p1.mean() + 1e4  # a different orbit, higher mean pressure
+
+
+@pytest.mark.parametrize("name", ["no_inertia", "inertial", "inertial_2state", "maxwell"])
+def test_shooting_for_the_reductions(name):
+    p = preset("device_b")
+    s = HarmonicStroke(0.002, 3.0)
+    a = dynamic_stiffness(steady_state(name, p, s, options=FAST)).value
+    b = dynamic_stiffness(periodic_orbit(name, p, s, FAST)).value
+    assert abs(b - a) / abs(a) < 1e-5
+
+
+def test_python_engine_gives_the_same_orbit():
+    s = HarmonicStroke(0.003, 3.0)
+    p = preset("damper")
+    a = dynamic_stiffness(periodic_orbit("full", p, s, FAST)).value
+    b = dynamic_stiffness(periodic_orbit("full", p, s, SolverOptions(rtol=1e-7))).value
+    assert abs(b - a) / abs(a) < 1e-5
+
+
+def test_bad_arguments():
+    s = HarmonicStroke(0.003, 3.0)
+    with pytest.raises(ParameterError, match="unknown periodic-orbit method 'hb'"):
+        periodic_orbit("full", preset("reference"), s, FAST, method="hb")
+    with pytest.raises(ParameterError, match="tol must lie in"):
+        periodic_orbit("full", preset("reference"), s, FAST, tol=0.0)
