@@ -1,0 +1,703 @@
+"""Calibrate a device model against measured records by least squares on force.
+
+The fit specification is kept apart from the model (lmfit-style, without
+signature introspection): a :class:`FitSpec` is a tuple of
+:class:`Parameter` objects, each naming either a :class:`DeviceParams`
+field, varied as a multiplier on the starting parameter set (the paper's
+alpha_j of Table 2), or an effect parameter ``"effect.key"`` (e.g.
+``"coulomb_friction.force_N"``), varied as an absolute value.  Positive
+quantities are fitted in log space, so a multiplier's bounds [0.05, 20] are
+symmetric in the fit.
+
+:func:`calibrate` fits several records at once and validates on others.
+The residual is (model force - measured force) / RMS(measured - mean) over
+the pooled calibration set, so the cost is NRMSE^2 / 2 with
+
+    NRMSE = RMS(model force - measured force) / RMS(measured force - its mean)
+
+pooled over all records of a set.  Every model run is driven by the
+recorded stroke (:func:`liquidamp.analysis.records.simulate_record`).
+
+Local minima (DESIGN.md): the default start is taken from physics.  The
+record's first harmonic gives the dynamic stiffness K*; the linear model of
+the device, a spring k_D in series with the channel (dashpot c and inertance
+b_L, eq. 16 with inertia), is solved for k_D and c given b_L; k_D is mapped
+to a common multiplier on both air ratios through eq. (2), and c to a common
+multiplier on c1 and c2 through the describing function of the quadratic
+loss, c_eq = A_p^2 (c1 + 8 c2 Q / (3 pi)).  That start, the specification's
+own start and their geometric mean are each evaluated once and the fit
+starts from the best; the result reports all three.
+
+Standard errors and correlations come from the Jacobian at the optimum
+scaled by the residual variance, s^2 (J^T J)^-1 with s^2 = RSS / (N - p).
+They assume independent residuals; model error is correlated in time, so
+read them as lower bounds.
+
+References
+----------
+.. [1] B. Titurus, AIAA J. 56(10), 2018, Sec. IV.C and Table 2.
+.. [2] M. Newville et al., LMFIT, doi:10.5281/zenodo.11813 (parameters
+   kept apart from the model).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from liquidamp.analysis.records import Record, nrmse, simulate_record
+from liquidamp.device.effects import EFFECTS, Effect, with_effects
+from liquidamp.device.models import DeviceModel, get_model
+from liquidamp.device.params import SCALABLE, DeviceParams
+from liquidamp.errors import (
+    ConvergenceError,
+    LiquidampError,
+    ParameterError,
+    PressureError,
+    check_choice,
+)
+from liquidamp.options import SolverOptions
+
+__all__ = ["Parameter", "FitSpec", "CalibrationResult", "RecordError", "calibrate",
+           "predict", "physics_start", "FIT_OPTIONS", "PAPER_FOUR"]
+
+FIT_OPTIONS = SolverOptions(rtol=1e-6, atol_scale=1e-8)
+"""Solver options for fitting: looser than the defaults (rtol 1e-6)."""
+
+PAPER_FOUR = ("inv_gamma1", "inv_gamma2", "c1", "c2")
+"""The multipliers the paper calibrated (Table 2)."""
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One fitted quantity.
+
+    Parameters
+    ----------
+    name : str
+        A scalable DeviceParams field (fitted as a multiplier on the
+        starting parameters) or ``"effect.key"`` (absolute, SI).
+    value : float
+        Start value (multiplier [-] or the effect parameter in SI).
+    min, max : float
+        Bounds (same meaning as ``value``).
+    vary : bool
+        False holds the parameter at ``value``.
+    log : bool
+        Fit log(value) (needs min > 0).
+    scale : float
+        For linear parameters: the fit works on value / scale [unit of value].
+
+    Examples
+    --------
+    >>> Parameter("c1", 1.0, 0.05, 20.0).kind
+    'multiplier'
+    >>> Parameter("c1", 30.0, 0.05, 20.0)
+    Traceback (most recent call last):
+    ...
+    liquidamp.errors.ParameterError: parameter 'c1': start 30 outside its bounds [0.05, 20]
+    """
+
+    name: str
+    value: float
+    min: float
+    max: float
+    vary: bool = True
+    log: bool = True
+    scale: float = 1.0
+
+    def __post_init__(self):
+        if "." in self.name:
+            eff, key = self.name.split(".", 1)
+            check_choice("effect", eff, EFFECTS)
+            keys = [f.name for f in dataclasses.fields(EFFECTS[eff])]
+            check_choice(f"{eff} parameter", key, keys)
+        else:
+            check_choice("fitted device parameter", self.name, SCALABLE)
+        for k in ("value", "min", "max", "scale"):
+            v = float(getattr(self, k))
+            if not math.isfinite(v):
+                raise ParameterError(f"parameter {self.name!r}: {k} must be finite, got {v!r}")
+            object.__setattr__(self, k, v)
+        if not self.min < self.max:
+            raise ParameterError(f"parameter {self.name!r}: min {self.min:g} must be < max "
+                                 f"{self.max:g}")
+        if not self.min <= self.value <= self.max:
+            raise ParameterError(f"parameter {self.name!r}: start {self.value:g} outside its "
+                                 f"bounds [{self.min:g}, {self.max:g}]")
+        if self.log and not self.min > 0:
+            raise ParameterError(f"parameter {self.name!r}: a log-parametrized bound must be "
+                                 f"> 0, got min {self.min:g}")
+        if not self.scale > 0:
+            raise ParameterError(f"parameter {self.name!r}: scale must be > 0")
+
+    @property
+    def kind(self) -> str:
+        """'multiplier' (DeviceParams field) or 'effect'."""
+        return "effect" if "." in self.name else "multiplier"
+
+    def to_x(self, value: float) -> float:
+        """Internal fit coordinate."""
+        return math.log(value) if self.log else value / self.scale
+
+    def from_x(self, x: float) -> float:
+        """Value from the internal coordinate."""
+        return math.exp(x) if self.log else x * self.scale
+
+    def x_bounds(self) -> tuple[float, float]:
+        """Bounds in the internal coordinate."""
+        return self.to_x(self.min), self.to_x(self.max)
+
+    def replace(self, **changes) -> Parameter:
+        """Validated copy."""
+        return dataclasses.replace(self, **changes)
+
+
+@dataclass(frozen=True)
+class FitSpec:
+    """What a calibration varies: a tuple of :class:`Parameter` (names unique).
+
+    Examples
+    --------
+    >>> spec = FitSpec.default()
+    >>> spec.names
+    ('inv_gamma1', 'inv_gamma2', 'c1', 'c2')
+    >>> FitSpec.default(vary=("c1",), effects=["coulomb_friction"]).varying
+    ('c1', 'coulomb_friction.force_N')
+    """
+
+    parameters: tuple[Parameter, ...]
+
+    def __post_init__(self):
+        params = tuple(self.parameters)
+        names = [p.name for p in params]
+        dup = {n for n in names if names.count(n) > 1}
+        if dup:
+            raise ParameterError(f"fit parameter(s) given twice: {', '.join(sorted(dup))}")
+        for p in params:
+            if not isinstance(p, Parameter):
+                raise ParameterError("FitSpec holds Parameter objects")
+        object.__setattr__(self, "parameters", params)
+
+    @classmethod
+    def default(cls, vary=PAPER_FOUR, effects=(), bounds=(0.05, 20.0)) -> FitSpec:
+        """Multipliers ``vary`` (start 1, ``bounds``) and each effect's default fit keys.
+
+        ``effects`` holds Effect objects (their values are the starts) or names
+        (catalogue defaults).
+        """
+        pars = [Parameter(n, 1.0, *bounds) for n in vary]
+        spec = cls(tuple(pars))
+        for e in effects:
+            spec = spec.with_effect(e)
+        return spec
+
+    def with_effect(self, effect, start: dict | None = None) -> FitSpec:
+        """Add the effect's default fit keys (start: the effect's values or ``start``)."""
+        if isinstance(effect, str):
+            check_choice("effect", effect, EFFECTS)
+            effect = EFFECTS[effect]()
+        start = dict(start or {})
+        new = list(self.parameters)
+        for key in effect.fit_keys:
+            lo, hi = effect.bounds[key]
+            v = float(start.get(key, getattr(effect, key)))
+            log = lo > 0
+            if log:
+                v = min(max(v, lo), hi) if math.isfinite(v) else hi
+            scale = 1.0 if log else max(abs(v), 1.0)
+            new.append(Parameter(f"{effect.name}.{key}", v, lo, hi, log=log, scale=scale))
+        return FitSpec(tuple(new))
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """All parameter names."""
+        return tuple(p.name for p in self.parameters)
+
+    @property
+    def varying(self) -> tuple[str, ...]:
+        """Names of the varied parameters."""
+        return tuple(p.name for p in self.parameters if p.vary)
+
+    def __getitem__(self, name: str) -> Parameter:
+        for p in self.parameters:
+            if p.name == name:
+                return p
+        raise KeyError(name)
+
+    def with_values(self, values: dict) -> FitSpec:
+        """Copy whose start values are ``values`` (clipped into the bounds)."""
+        out = []
+        for p in self.parameters:
+            v = values.get(p.name, p.value)
+            out.append(p.replace(value=min(max(float(v), p.min), p.max)))
+        return FitSpec(tuple(out))
+
+    def effect_names(self) -> tuple[str, ...]:
+        """Effects named by the spec's parameters."""
+        seen = []
+        for p in self.parameters:
+            if p.kind == "effect":
+                e = p.name.split(".")[0]
+                if e not in seen:
+                    seen.append(e)
+        return tuple(seen)
+
+
+def build(base_params: DeviceParams, effects: tuple[Effect, ...], spec: FitSpec,
+          values: dict) -> tuple[DeviceParams, tuple[Effect, ...]]:
+    """Parameters and effects for fit ``values`` (name -> value); inputs untouched."""
+    mult = {p.name: values.get(p.name, p.value) for p in spec.parameters
+            if p.kind == "multiplier"}
+    params = base_params.scaled(**mult) if mult else base_params
+    by_name = {e.name: e for e in effects}
+    for name in spec.effect_names():
+        if name not in by_name:
+            by_name[name] = EFFECTS[name]()
+    changes: dict[str, dict] = {}
+    for p in spec.parameters:
+        if p.kind == "effect":
+            eff, key = p.name.split(".", 1)
+            changes.setdefault(eff, {})[key] = values.get(p.name, p.value)
+    out = []
+    for name, e in by_name.items():
+        out.append(e.replace(**changes[name]) if name in changes else e)
+    return params, tuple(out)
+
+
+def predict(model, params: DeviceParams, effects, records, *, options=None,
+            preroll: int = 1) -> list[np.ndarray]:
+    """Model force [N] for each record (driven by its stroke)."""
+    m = with_effects(get_model(model), *effects)
+    opts = FIT_OPTIONS if options is None else options
+    return [simulate_record(m, params, r, options=opts, preroll=preroll).force for r in records]
+
+
+@dataclass(frozen=True)
+class RecordError:
+    """Error of a calibrated model on one record."""
+
+    label: str
+    role: str
+    nrmse: float
+    frequency: float
+    amplitude: float
+
+
+@dataclass(frozen=True, eq=False)
+class CalibrationResult:
+    """Named, immutable result of :func:`calibrate`.
+
+    Attributes
+    ----------
+    model : str
+        Base model name (effects listed apart).
+    params : DeviceParams
+        Calibrated device parameters.
+    start_params : DeviceParams
+        The parameters the multipliers apply to.
+    effects : tuple of Effect
+        Calibrated effects.
+    spec : FitSpec
+        The specification with the fitted values as its values.
+    values, stderr : dict
+        Fitted value and standard error of each varied parameter (multiplier
+        [-] or effect parameter [SI]).
+    correlation : ndarray
+        Correlation matrix of the varied parameters (order of ``varying``).
+    varying : tuple of str
+        Names of the varied parameters.
+    nrmse_calibration, nrmse_validation : float, float or None
+        Pooled NRMSE on each set [-].
+    record_errors : tuple of RecordError
+        NRMSE on every record.
+    converged : bool
+        True if least squares met its tolerance (status > 0).
+    status : str
+        'converged', 'max_nfev' (stopped on the evaluation budget: not
+        converged) or 'failed'.
+    message : str
+        What the optimizer reported.
+    nfev, cost : int, float
+        Model evaluations of the fit; final cost = NRMSE^2 / 2.
+    n_samples : int
+        Calibration samples N.
+    aic, bic : float
+        N ln(RSS/N) + 2 k and + k ln N on the calibration set (k varied parameters).
+    starts : tuple of (str, float)
+        The starts evaluated and their calibration NRMSE.
+    calibration, validation : tuple of Record
+    predictions_calibration, predictions_validation : tuple of ndarray
+        Model force on each record [N].
+    jacobian : ndarray
+        Jacobian of the scaled residual in the fit coordinates at the optimum.
+    """
+
+    model: str
+    params: DeviceParams
+    start_params: DeviceParams
+    effects: tuple
+    spec: FitSpec
+    values: dict
+    stderr: dict
+    correlation: np.ndarray
+    varying: tuple
+    nrmse_calibration: float
+    nrmse_validation: float | None
+    record_errors: tuple
+    converged: bool
+    status: str
+    message: str
+    nfev: int
+    cost: float
+    n_samples: int
+    aic: float
+    bic: float
+    starts: tuple
+    calibration: tuple
+    validation: tuple
+    predictions_calibration: tuple
+    predictions_validation: tuple
+    jacobian: np.ndarray = field(repr=False)
+
+    @property
+    def device_model(self) -> DeviceModel:
+        """The calibrated model with its effects."""
+        return with_effects(get_model(self.model), *self.effects)
+
+    def residuals(self, role: str = "calibration") -> list[np.ndarray]:
+        """Model minus measured force on each record of a set [N]."""
+        recs = self.calibration if role == "calibration" else self.validation
+        preds = (self.predictions_calibration if role == "calibration"
+                 else self.predictions_validation)
+        return [p - r.force for p, r in zip(preds, recs, strict=True)]
+
+    def parameters_dict(self) -> dict:
+        """JSON-ready parameters: multipliers, DeviceParams values, effects."""
+        mult = {p.name: self.values.get(p.name, p.value) for p in self.spec.parameters
+                if p.kind == "multiplier"}
+        return {
+            "model": self.model,
+            "start_parameters": self.start_params.name or "custom",
+            "multipliers": mult,
+            "device": {k: getattr(self.params, k) for k in SCALABLE
+                       if getattr(self.params, k) is not None},
+            "effects": {e.name: e.parameters for e in self.effects},
+            "stderr": dict(self.stderr),
+        }
+
+    def as_dict(self) -> dict:
+        """JSON-ready summary."""
+        return {
+            "parameters": self.parameters_dict(),
+            "nrmse": {"calibration": self.nrmse_calibration,
+                      "validation": self.nrmse_validation},
+            "records": [dataclasses.asdict(e) for e in self.record_errors],
+            "correlation": {"names": list(self.varying),
+                            "matrix": np.round(self.correlation, 4).tolist()},
+            "fit": {"converged": self.converged, "status": self.status,
+                    "message": self.message, "nfev": self.nfev, "cost": self.cost,
+                    "n_samples": self.n_samples, "aic": self.aic, "bic": self.bic,
+                    "starts": [{"start": s, "nrmse": v} for s, v in self.starts]},
+        }
+
+
+# ---------------------------------------------------------------------------
+# physics start
+
+
+def _harmonic(t, s, f):
+    w = 2 * math.pi * f * (t - t[0])
+    A = np.column_stack((np.sin(w), np.cos(w), np.ones_like(w)))
+    (a, b, _), *_ = np.linalg.lstsq(A, s, rcond=None)
+    return complex(a, b)
+
+
+def linear_fit(record: Record, b_L: float) -> tuple[float, float]:
+    """k_D [N/m] and c [N s/m] of a spring in series with (dashpot c + inerter b_L).
+
+    Solved from the record's first-harmonic dynamic stiffness
+    K* = F1 / Y1: 1/K = 1/k_D + 1/Z, Z = i w c - w^2 b_L.
+    """
+    K = _harmonic(record.time, record.force, record.frequency) / _harmonic(
+        record.time, record.displacement, record.frequency)
+    w = 2 * math.pi * record.frequency
+    W = 1.0 / K
+    beta = w * w * b_L
+    disc = 1.0 - 4.0 * beta * beta * W.imag ** 2
+    u = (-1.0 + math.sqrt(disc)) / (2.0 * beta) if (beta > 0 and disc > 0) else 0.0
+    s = W.real - u
+    k_D = 1.0 / s if s > 0 else math.inf
+    c = -W.imag / (w * (u * u + W.imag ** 2))
+    return k_D, c
+
+
+def physics_start(records, base_params: DeviceParams, spec: FitSpec) -> dict:
+    """Start values of the paper's multipliers read off the records' first harmonics.
+
+    Returns a dict name -> multiplier for those of inv_gamma1/2 and c1/c2
+    that ``spec`` varies (a common factor for each pair, their ratio kept
+    from the spec's start).  See the module docstring.
+    """
+    from scipy.optimize import brentq
+
+    vals = {p.name: p.value for p in spec.parameters}
+    p0 = build(base_params, (), FitSpec(tuple(p for p in spec.parameters
+                                                if p.kind == "multiplier")), vals)[0]
+    kds, cs = [], []
+    for r in records:
+        k_D, c = linear_fit(r, p0.b_L if p0.S_t else 0.0)
+        if math.isfinite(k_D) and k_D > 0 and c > 0:
+            kds.append(k_D)
+            cs.append((c, r))
+    out = {}
+    pair_g = [n for n in ("inv_gamma1", "inv_gamma2") if n in spec.varying]
+    if kds and pair_g:
+        target = float(np.exp(np.mean(np.log(kds))))
+
+        def g(logf):
+            f = math.exp(logf)
+            return math.log(p0.scaled(**{n: f for n in pair_g}).k_D / target)
+        try:
+            lo, hi = math.log(0.01), math.log(100.0)
+            f = math.exp(brentq(g, lo, hi)) if g(lo) * g(hi) < 0 else None
+        except (ValueError, LiquidampError):
+            f = None
+        if f is not None:
+            for n in pair_g:
+                out[n] = vals[n] * f
+    pair_c = [n for n in ("c1", "c2") if n in spec.varying]
+    if cs and pair_c:
+        fs = []
+        for c, r in cs:
+            w = 2 * math.pi * r.frequency
+            Q = p0.A_p * w * r.amplitude
+            ceq = p0.A_p ** 2 * (p0.c1 + 8.0 / (3.0 * math.pi) * p0.c2 * Q)
+            fs.append(c / ceq)
+        f = float(np.exp(np.mean(np.log(fs))))
+        for n in pair_c:
+            out[n] = vals[n] * f
+    for n, v in list(out.items()):
+        p = spec[n]
+        out[n] = min(max(v, p.min), p.max)
+    return out
+
+
+# ---------------------------------------------------------------------------
+# the fit
+
+
+def _pair_groups(var):
+    names = [p.name for p in var]
+    groups = []
+    for pair in (("inv_gamma1", "inv_gamma2"), ("c1", "c2")):
+        idx = [names.index(n) for n in pair if n in names and var[names.index(n)].log]
+        if idx:
+            groups.append(idx)
+    return groups
+
+
+class _Objective:
+    def __init__(self, model, base_params, effects, spec, records, options, preroll):
+        self.model = get_model(model)
+        self.base, self.effects, self.spec = base_params, tuple(effects), spec
+        self.records, self.options, self.preroll = tuple(records), options, preroll
+        self.var = [p for p in spec.parameters if p.vary]
+        self.fixed = {p.name: p.value for p in spec.parameters}
+        meas = np.concatenate([r.force for r in self.records])
+        self.meas = meas
+        self.den = float(np.sqrt(np.mean((meas - meas.mean()) ** 2)))
+        if self.den == 0:
+            raise ParameterError("calibration records hold a constant force")
+        self.scale = self.den * math.sqrt(meas.size)
+        self.nfev = 0
+        self.failures = 0
+        self.last_error = ""
+
+    def values(self, x) -> dict:
+        v = dict(self.fixed)
+        for p, xi in zip(self.var, x, strict=True):
+            v[p.name] = p.from_x(float(xi))
+        return v
+
+    def forces(self, values):
+        params, effects = build(self.base, self.effects, self.spec, values)
+        return params, effects, predict(self.model, params, effects, self.records,
+                                        options=self.options, preroll=self.preroll)
+
+    def __call__(self, x):
+        self.nfev += 1
+        try:
+            _, _, F = self.forces(self.values(x))
+        except (PressureError, ConvergenceError, ParameterError) as exc:
+            self.failures += 1
+            self.last_error = str(exc)
+            return np.full(self.meas.size, 3.0 / math.sqrt(self.meas.size))
+        return (np.concatenate(F) - self.meas) / self.scale
+
+
+def calibrate(records, *, model="full", params: DeviceParams | None = None, effects=(),
+              spec: FitSpec | None = None, validate=(), options: SolverOptions | None = None,
+              start: str = "physics", max_nfev: int = 80, preroll: int = 1,
+              tol: float = 1e-6, strict: bool = False) -> CalibrationResult:
+    """Fit ``spec`` to the calibration ``records``; report errors on ``validate`` too.
+
+    Parameters
+    ----------
+    records : sequence of Record
+        Calibration records (fitted together).
+    model : str or DeviceModel
+        Base device model (default ``full``, eq. 10).
+    params : DeviceParams, optional
+        Starting parameters the multipliers apply to (default preset
+        ``paper_initial``).
+    effects : sequence of Effect
+        Effects in the model; those named in ``spec`` are fitted, the others
+        held at their values.
+    spec : FitSpec, optional
+        What varies (default: the paper's four multipliers in [0.05, 20]
+        and the default fit keys of ``effects``).
+    validate : sequence of Record
+        Held-out records.
+    options : SolverOptions, optional
+        Solver options of the model runs (default :data:`FIT_OPTIONS`).
+    start : {'physics', 'spec'}
+        'physics': evaluate the physics start, the spec's start and their
+        geometric mean, fit from the best; 'spec': fit from the spec's start.
+    max_nfev : int
+        Budget of model evaluations (each runs every calibration record).
+    preroll : int
+        Pre-roll passes of each run (records module).
+    tol : float
+        ftol = xtol of scipy.optimize.least_squares.
+    strict : bool
+        Raise ConvergenceError instead of returning a result with
+        ``converged = False``.
+
+    Returns
+    -------
+    CalibrationResult
+        New objects; the inputs are not changed.
+
+    Raises
+    ------
+    ConvergenceError
+        If the model cannot be run at the start, or (``strict``) if the fit
+        does not converge.
+    """
+    from scipy.optimize import least_squares
+
+    from liquidamp.device import preset
+
+    records = tuple(records)
+    validate = tuple(validate)
+    if not records:
+        raise ParameterError("calibrate needs at least one calibration record")
+    for r in records + validate:
+        if not isinstance(r, Record):
+            raise ParameterError(f"calibrate takes Record objects, got {type(r).__name__}")
+    base = preset("paper_initial") if params is None else params
+    effects = tuple(effects)
+    if spec is None:
+        spec = FitSpec.default(effects=effects)
+    check_choice("start", start, ("physics", "spec"))
+    options = FIT_OPTIONS if options is None else options
+    obj = _Objective(model, base, effects, spec, records, options, preroll)
+    if not obj.var:
+        raise ParameterError("the fit specification varies nothing")
+
+    def x_of(values):
+        return np.array([p.to_x(min(max(values[p.name], p.min), p.max)) for p in obj.var])
+
+    starts = [("spec", dict(obj.fixed))]
+    if start == "physics":
+        phys = {**obj.fixed, **physics_start(records, base, spec)}
+        mid = {k: math.sqrt(phys[k] * obj.fixed[k]) if spec[k].log else
+               0.5 * (phys[k] + obj.fixed[k]) for k in obj.fixed}
+        starts += [("physics", phys), ("geometric mean", mid)]
+    evaluated = []
+    for label, vals in starts:
+        r = obj(x_of(vals))
+        evaluated.append((label, float(np.sqrt(np.sum(r * r))), vals))
+    ok = [e for e in evaluated if e[1] < 2.9]
+    if not ok:
+        raise ConvergenceError(
+            "calibration: the model cannot be run at any start (" + obj.last_error + ")")
+    best = min(ok, key=lambda e: e[1])
+    lo, hi = zip(*(p.x_bounds() for p in obj.var), strict=True)
+    lo, hi = np.array(lo), np.array(hi)
+    x0 = np.clip(x_of(best[2]), lo + 1e-12, hi - 1e-12)
+    groups = _pair_groups(obj.var) if start == "physics" else []
+    if groups:
+        # stage 1: one common factor per pair (air ratios, loss coefficients), the
+        # other parameters held: a well-conditioned 1-2 parameter fit that lands
+        # in the right basin (the c1/c2 trade-off has local minima)
+        G = np.zeros((len(obj.var), len(groups)))
+        for j, idx in enumerate(groups):
+            G[idx, j] = 1.0
+
+        def reduced(z):
+            return obj(np.clip(x0 + G @ z, lo, hi))
+
+        zb = 4.0 * np.ones(len(groups))
+        s1 = least_squares(reduced, np.zeros(len(groups)), bounds=(-zb, zb), method="trf",
+                           diff_step=1e-3, ftol=1e-4, xtol=1e-4, max_nfev=8 * len(groups) + 4)
+        x0 = np.clip(x0 + G @ s1.x, lo + 1e-12, hi - 1e-12)
+    sol = least_squares(obj, x0, bounds=(lo, hi), method="trf", diff_step=1e-3,
+                        x_scale=1.0, ftol=tol, xtol=tol, gtol=tol * 1e-2,
+                        max_nfev=max_nfev)
+    values = obj.values(sol.x)
+    params_fit, effects_fit = build(base, effects, spec, values)
+    pc = predict(model, params_fit, effects_fit, records, options=options, preroll=preroll)
+    pv = predict(model, params_fit, effects_fit, validate, options=options,
+                 preroll=preroll) if validate else []
+    n = obj.meas.size
+    k = len(obj.var)
+    J = np.asarray(sol.jac, float)
+    res = (np.concatenate(pc) - obj.meas) / obj.scale
+    rss_scaled = float(res @ res)
+    s2 = rss_scaled * n / max(n - k, 1)  # residual variance in units of 1/sqrt(N) scaling
+    try:
+        cov = np.linalg.pinv(J.T @ J) * s2 / n
+    except np.linalg.LinAlgError:
+        cov = np.full((k, k), np.nan)
+    sd = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov / np.outer(sd, sd)
+    corr = np.where(np.isfinite(corr), corr, 0.0)
+    stderr = {}
+    for i, p in enumerate(obj.var):
+        v = values[p.name]
+        stderr[p.name] = float(v * sd[i]) if p.log else float(p.scale * sd[i])
+    converged = sol.status > 0 and obj.failures < obj.nfev
+    status = "converged" if sol.status > 0 else ("max_nfev" if sol.status == 0 else "failed")
+    message = sol.message
+    if status == "max_nfev":
+        message = (f"not converged: stopped after {obj.nfev} model evaluations (max_nfev = "
+                   f"{max_nfev}) before the tolerance {tol:g} was met")
+    if obj.failures:
+        message += f"; {obj.failures} trial point(s) could not be run ({obj.last_error})"
+    if strict and not converged:
+        raise ConvergenceError(f"calibration did not converge: {message}")
+    errs = [RecordError(r.label, "calibration", nrmse(f, r.force), r.frequency, r.amplitude)
+            for f, r in zip(pc, records, strict=True)]
+    errs += [RecordError(r.label, "validation", nrmse(f, r.force), r.frequency, r.amplitude)
+             for f, r in zip(pv, validate, strict=True)]
+    rss = float(np.sum((np.concatenate(pc) - obj.meas) ** 2))
+    aic = n * math.log(rss / n) + 2 * k
+    bic = n * math.log(rss / n) + k * math.log(n)
+    return CalibrationResult(
+        model=get_model(model).name, params=params_fit, start_params=base,
+        effects=effects_fit, spec=spec.with_values(values), values={p.name: values[p.name]
+                                                                    for p in obj.var},
+        stderr=stderr, correlation=corr, varying=tuple(p.name for p in obj.var),
+        nrmse_calibration=nrmse(pc, [r.force for r in records]),
+        nrmse_validation=nrmse(pv, [r.force for r in validate]) if validate else None,
+        record_errors=tuple(errs), converged=bool(converged), status=status,
+        message=message, nfev=obj.nfev, cost=float(sol.cost), n_samples=n, aic=aic, bic=bic,
+        starts=tuple((lab, v) for lab, v, _ in evaluated), calibration=records,
+        validation=validate, predictions_calibration=tuple(pc),
+        predictions_validation=tuple(pv), jacobian=J)

@@ -1,0 +1,499 @@
+"""Residual diagnosis: trace what a calibrated model misses to a catalogue effect, add it.
+
+The loop (what the paper did by hand in Sec. IV.C, where the residual
+pointed to friction and then to friction that changes gradually near zero
+velocity):
+
+1. Calibrate the model (:func:`liquidamp.analysis.calibration.calibrate`).
+2. Stop if the calibration residual is noise: NRMSE below
+   ``noise_factor`` (1.5) times the noise floor estimated from the records
+   (:func:`liquidamp.analysis.records.noise_floor`).
+3. Screen every applicable candidate effect by a score test: the model is
+   run once with the effect at a probe strength scaled to the record; the
+   change of force is the effect's signature s.  With J the Jacobian of the
+   calibrated fit, the part of s that the fitted parameters cannot mimic is
+   s_perp = s - J J^+ s, and the linearized drop of the residual sum of
+   squares from adding the effect is (s_perp . r)^2 / |s_perp|^2 (a
+   Lagrange-multiplier test).  A signature that would need a negative
+   strength scores zero.  Simple signatures (correlation of the residual
+   with sign(v), a, a constant, the dead-band indicator and the low-pressure
+   phases) are reported too.
+4. Refit the ``top`` candidates with everything free, starting from the
+   linearized strength.
+5. Accept the best refit only if it reduces the held-out (validation)
+   NRMSE by more than ``rel_threshold`` (10 %) relative AND lowers the
+   calibration BIC by more than ``bic_threshold`` (10, "very strong"
+   evidence on Kass and Raftery's scale).  If the runner-up also passes and
+   its validation NRMSE lies within ``tie_tolerance`` (10 %) of the best's,
+   the step records a tie with both sets of evidence and adds the tied
+   candidate with the lowest BIC (parsimony: Coulomb friction over a
+   smooth friction whose fitted pre-sliding stiffness is huge).
+6. Repeat from 2 with the effect included, at most ``max_steps`` times.
+
+When the loop ends with the residual above ``structure_factor`` (2) times
+the noise floor, the residual's harmonics of the excitation are compared
+with their noise level and the diagnosis says that structure remains that
+no candidate explains.
+
+Effects records cannot tell apart in this model family are listed in
+:data:`CONFOUNDED` with the reason; the diagnosis reports such effects as
+ties instead of choosing silently.
+
+References
+----------
+.. [1] B. Titurus, AIAA J. 56(10), 2018, Sec. IV.C.
+.. [2] R. E. Kass, A. E. Raftery, "Bayes factors", JASA 90(430), 1995.
+.. [3] C. R. Rao, "Large sample tests of statistical hypotheses concerning
+   several parameters...", Proc. Camb. Phil. Soc. 44, 1948 (score test).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from liquidamp.analysis.calibration import (
+    FIT_OPTIONS,
+    CalibrationResult,
+    FitSpec,
+    calibrate,
+    predict,
+)
+from liquidamp.analysis.records import noise_floor, simulate_record
+from liquidamp.device.effects import EFFECTS, Effect, with_effects
+from liquidamp.errors import ConvergenceError, LiquidampError, ParameterError, check_choice
+
+__all__ = ["Candidate", "Step", "Diagnosis", "diagnose", "CONFOUNDED", "signatures"]
+
+CONFOUNDED = {
+    ("series_compliance", "inv_gamma"): "a series spring and the air in the chambers are both "
+    "springs in series with the channel; with the air ratios free only the pressure dependence "
+    "of the air's stiffness separates them, which is weak at small strokes",
+    ("leakage", "c1"): "a laminar bypass and the channel's laminar loss are both conductances "
+    "between the chambers; with c1 free only the channel's inertance and quadratic loss, which "
+    "the bypass skips, separate them",
+    ("cavitation", "inv_gamma"): "a vapour cavity and a little more entrained air both soften "
+    "the low-pressure chamber; the force waveforms can be nearly identical",
+}
+"""Pairs an experiment may not separate, and why."""
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """Evidence for one candidate effect at one step.
+
+    Attributes
+    ----------
+    effect : str
+        Catalogue name.
+    score : float
+        Linearized relative drop of the calibration RSS (score test) [-].
+    signature_correlation : float
+        Correlation of the residual with the effect's signature [-].
+    estimate : dict
+        Linearized strength (parameter key -> value, SI).
+    refitted : bool
+        Whether the candidate was refitted.
+    nrmse_calibration, nrmse_validation : float or None
+        After the refit [-].
+    relative_reduction : float or None
+        Relative drop of the validation NRMSE against the current model [-].
+    delta_bic : float or None
+        Calibration BIC change (negative favours the effect).
+    parameters : dict
+        Fitted effect parameters (SI) after the refit.
+    accepted : bool
+        Passed both thresholds.
+    note : str
+        Why not applicable, or what happened in the refit.
+    """
+
+    effect: str
+    score: float
+    signature_correlation: float
+    estimate: dict
+    refitted: bool = False
+    nrmse_calibration: float | None = None
+    nrmse_validation: float | None = None
+    relative_reduction: float | None = None
+    delta_bic: float | None = None
+    parameters: dict = field(default_factory=dict)
+    accepted: bool = False
+    note: str = ""
+
+    def as_dict(self) -> dict:
+        """JSON-ready evidence."""
+        return {k: getattr(self, k) for k in self.__dataclass_fields__}
+
+
+@dataclass(frozen=True)
+class Step:
+    """One accepted addition."""
+
+    effect: str
+    parameters: dict
+    nrmse_calibration: float
+    nrmse_validation: float | None
+    candidates: tuple
+    tie: tuple = ()
+    result: CalibrationResult | None = field(default=None, repr=False)
+
+    def as_dict(self) -> dict:
+        """JSON-ready step."""
+        return {"effect": self.effect, "parameters": self.parameters,
+                "nrmse": {"calibration": self.nrmse_calibration,
+                          "validation": self.nrmse_validation},
+                "tie": list(self.tie),
+                "evidence": [c.as_dict() for c in self.candidates]}
+
+
+@dataclass(frozen=True, eq=False)
+class Diagnosis:
+    """Result of :func:`diagnose`.
+
+    Attributes
+    ----------
+    baseline : CalibrationResult
+        The calibrated model as given.
+    steps : tuple of Step
+        Effects added, in order.
+    final : CalibrationResult
+        The last calibrated model.
+    noise_nrmse : float
+        Noise floor of the calibration records, as an NRMSE [-].
+    signatures : dict
+        Simple residual signatures of the baseline (name -> correlation).
+    stop_reason : str
+        Why the loop stopped.
+    unexplained : str
+        Non-empty when structure remains that no candidate explains.
+    warnings : tuple of str
+        Ties, non-converged fits.
+    last_candidates : tuple of Candidate
+        Evidence of the final, rejected round.
+    """
+
+    baseline: CalibrationResult
+    steps: tuple
+    final: CalibrationResult
+    noise_nrmse: float
+    signatures: dict
+    stop_reason: str
+    unexplained: str
+    warnings: tuple
+    last_candidates: tuple
+
+    @property
+    def added(self) -> tuple[str, ...]:
+        """Names of the effects added."""
+        return tuple(s.effect for s in self.steps)
+
+    def as_dict(self) -> dict:
+        """JSON: baseline, steps, final (see the diagnose command)."""
+        def block(res):
+            return {"parameters": res.parameters_dict(),
+                    "nrmse": {"calibration": res.nrmse_calibration,
+                              "validation": res.nrmse_validation},
+                    "fit": res.as_dict()["fit"]}
+        return {"baseline": block(self.baseline), "steps": [s.as_dict() for s in self.steps],
+                "final": block(self.final), "noise_floor_nrmse": self.noise_nrmse,
+                "signatures": self.signatures, "stop_reason": self.stop_reason,
+                "unexplained": self.unexplained, "warnings": list(self.warnings),
+                "last_round": [c.as_dict() for c in self.last_candidates]}
+
+
+# ---------------------------------------------------------------------------
+# evidence
+
+
+def _corr(a, b) -> float:
+    a = a - a.mean()
+    b = b - b.mean()
+    den = math.sqrt(float(a @ a) * float(b @ b))
+    return float(a @ b / den) if den > 0 else 0.0
+
+
+def signatures(result: CalibrationResult) -> dict:
+    """Correlations of the calibration residual with simple effect signatures [-].
+
+    sign(v) (Coulomb friction), a (a moving mass), a constant (the share of
+    the residual's RMS in its mean: a load-cell offset), the dead-band
+    indicator sign(v) * exp(-|y - y_reversal| / (0.05 Y)) (freeplay and
+    pre-sliding after each reversal), and the low-pressure phases
+    (where the lower chamber pressure is within 20 % of its minimum).
+    """
+    recs = result.calibration
+    r = np.concatenate(result.residuals("calibration"))
+    v = np.concatenate([rec.velocity for rec in recs])
+    a = np.concatenate([rec.acceleration for rec in recs])
+    dead = []
+    for rec in recs:
+        y = rec.smoothed - rec.offset
+        rev = np.where(rec.velocity > 0, y.min(), y.max())
+        dead.append(np.sign(rec.velocity) * np.exp(-np.abs(y - rev) / (0.05 * rec.amplitude)))
+    out = {"sign(v)": _corr(r, np.sign(v)), "acceleration": _corr(r, a),
+           "constant": float(r.mean() / max(np.sqrt(np.mean(r * r)), 1e-300)),
+           "dead band": _corr(r, np.concatenate(dead))}
+    m = result.device_model
+    if m.pressures is not None:
+        low = []
+        for rec in recs:
+            resp = simulate_record(m, result.params, rec, options=FIT_OPTIONS)
+            pl = np.minimum(resp.p1, resp.p2)
+            span = max(float(np.ptp(pl)), 1e-9)
+            low.append(((pl - pl.min()) < 0.2 * span).astype(float))
+        out["low pressure"] = _corr(np.abs(r), np.concatenate(low))
+    return out
+
+
+def _probe(name: str, result: CalibrationResult) -> Effect:
+    """The effect at a probe strength scaled to the records and the calibrated model."""
+    recs = result.calibration
+    F = np.concatenate([r.force for r in recs])
+    Fa = math.sqrt(2.0) * float(np.sqrt(np.mean((F - F.mean()) ** 2)))
+    Y = float(np.mean([r.amplitude for r in recs]))
+    w = 2 * math.pi * float(np.mean([r.frequency for r in recs]))
+    p = result.params
+    cls = EFFECTS[name]
+    if name == "coulomb_friction":
+        return cls(force_N=0.05 * Fa)
+    if name == "smooth_friction":
+        return cls(force_N=0.05 * Fa, stiffness_N_per_m=0.05 * Fa / (0.05 * Y))
+    if name == "force_offset":
+        return cls(offset_N=0.02 * Fa)
+    if name == "moving_mass":
+        return cls(mass_kg=0.05 * Fa / (w * w * Y))
+    if name == "series_compliance":
+        return cls(stiffness_N_per_m=10.0 * Fa / Y)
+    if name == "freeplay":
+        return cls(gap_m=0.03 * Y)
+    if name == "leakage":
+        Q = p.A_p * w * Y
+        return cls(coefficient_m3_per_s_Pa=0.3 / (p.c1 + 8.0 / (3.0 * math.pi) * p.c2 * Q))
+    if name == "cavitation":
+        resp = simulate_record(result.device_model, p, recs[0], options=FIT_OPTIONS)
+        pmin = float(min(resp.p1.min(), resp.p2.min()))
+        return cls(vapour_pressure_Pa=max(pmin + 0.3 * (p.p0 - pmin), 1.0))
+    raise ParameterError(f"no probe for effect {name!r}")  # pragma: no cover
+
+
+def _score(name, result, options, preroll):
+    """Score test of one candidate: (Candidate, probe effect)."""
+    probe = _probe(name, result)
+    try:
+        Fp = predict(result.model, result.params, result.effects + (probe,),
+                     result.calibration, options=options, preroll=preroll)
+    except LiquidampError as exc:
+        return Candidate(name, 0.0, 0.0, {}, note=f"probe run failed: {exc}"), probe
+    meas = np.concatenate([r.force for r in result.calibration])
+    scale = float(np.sqrt(np.mean((meas - meas.mean()) ** 2))) * math.sqrt(meas.size)
+    r = (np.concatenate(result.predictions_calibration) - meas) / scale
+    s = (np.concatenate(Fp) - np.concatenate(result.predictions_calibration)) / scale
+    J = result.jacobian
+    s_perp = s - J @ (np.linalg.pinv(J) @ s) if J.size else s
+    ss = float(s_perp @ s_perp)
+    rss = float(r @ r)
+    if ss <= 1e-30 * max(float(s @ s), 1e-300):
+        return Candidate(name, 0.0, _corr(r, s), {}, note="signature fully mimicked by the "
+                         "fitted parameters"), probe
+    beta = -float(s_perp @ r) / ss
+    score = (float(s_perp @ r) ** 2 / ss) / rss if rss > 0 else 0.0
+    key = probe.fit_keys[0]
+    signed_ok = beta > 0 or name == "force_offset"
+    est = {key: getattr(probe, key) * beta} if signed_ok else {}
+    note = "" if signed_ok else "the residual asks for a negative strength"
+    return Candidate(name, score if signed_ok else 0.0, -_corr(r, s), est, note=note), probe
+
+
+def _applicable(name, model) -> str:
+    try:
+        with_effects(model, EFFECTS[name]())
+    except ParameterError as exc:
+        return str(exc)
+    return ""
+
+
+def _refit(cand, probe, current, validation, options, preroll, max_nfev, tol):
+    cls = EFFECTS[cand.effect]
+    start = {}
+    for key in cls.fit_keys:
+        v = cand.estimate.get(key, getattr(probe, key))
+        lo, hi = cls.bounds[key]
+        if lo > 0:
+            v = min(max(abs(v), lo * 10), hi / 10)
+        start[key] = v
+    effect = probe.replace(**start)
+    spec = FitSpec(current.spec.parameters).with_effect(effect)
+    return calibrate(current.calibration, model=current.model, params=current.start_params,
+                     effects=current.effects + (effect,), spec=spec, validate=validation,
+                     options=options, start="spec", max_nfev=max_nfev, preroll=preroll,
+                     tol=tol)
+
+
+def _harmonic_structure(result: CalibrationResult, noise_std: float) -> str:
+    parts = []
+    for rec, res in zip(result.calibration, result.residuals("calibration"), strict=True):
+        t = rec.time - rec.time[0]
+        w = 2 * math.pi * rec.frequency
+        amps = []
+        for k in range(1, 11):
+            if k * rec.frequency > 0.4 * rec.sampling_rate:
+                break
+            A = np.column_stack((np.sin(k * w * t), np.cos(k * w * t)))
+            c, *_ = np.linalg.lstsq(A, res - res.mean(), rcond=None)
+            amps.append(float(np.hypot(*c)))
+        level = noise_std * math.sqrt(2.0 / t.size)
+        big = [(k + 1, a) for k, a in enumerate(amps) if a > 10.0 * level]
+        if big:
+            parts.append(f"{rec.label}: residual harmonics " + ", ".join(
+                f"{k}x: {a:.3g} N" for k, a in big) + f" (noise level {level:.2g} N)")
+    return "; ".join(parts)
+
+
+def diagnose(calibration, validation, *, model="full", params=None, effects=(),
+             candidates=None, spec: FitSpec | None = None, options=None, max_steps: int = 3,
+             top: int = 2, rel_threshold: float = 0.10, bic_threshold: float = 10.0,
+             tie_tolerance: float = 0.10, noise_factor: float = 1.5,
+             structure_factor: float = 2.0, max_nfev: int = 60, preroll: int = 1,
+             tol: float = 1e-5,
+             baseline: CalibrationResult | None = None) -> Diagnosis:
+    """Calibrate, then add catalogue effects while the held-out error improves (module doc).
+
+    Parameters
+    ----------
+    calibration, validation : sequence of Record
+        Records to fit and held-out records to judge by (at least one each).
+    model, params, effects, spec, options, preroll
+        As for :func:`~liquidamp.analysis.calibration.calibrate` (default:
+        ``full`` from ``paper_initial`` with the paper's four multipliers free).
+    candidates : sequence of str, optional
+        Effects to consider (default: the whole catalogue).
+    max_steps : int
+        Largest number of effects added.
+    top : int
+        Candidates refitted per step.
+    rel_threshold, bic_threshold, tie_tolerance, noise_factor, structure_factor : float
+        Decision thresholds (module doc).
+    max_nfev : int
+        Evaluation budget of each fit.
+    tol : float
+        Fit tolerance (ftol = xtol of least squares).
+    baseline : CalibrationResult, optional
+        A calibration already done for the same inputs.
+
+    Returns
+    -------
+    Diagnosis
+    """
+    calibration, validation = tuple(calibration), tuple(validation)
+    if not validation:
+        raise ParameterError("diagnose needs held-out validation records (--validate)")
+    names = tuple(EFFECTS) if candidates is None else tuple(candidates)
+    for n in names:
+        check_choice("candidate effect", n, EFFECTS)
+    options = FIT_OPTIONS if options is None else options
+    if baseline is None:
+        baseline = calibrate(calibration, model=model, params=params, effects=effects,
+                             spec=spec, validate=validation, options=options,
+                             max_nfev=max_nfev, preroll=preroll, tol=tol)
+    warnings = []
+    if not baseline.converged:
+        warnings.append(f"baseline calibration: {baseline.message}")
+    meas = np.concatenate([r.force for r in calibration])
+    den = float(np.sqrt(np.mean((meas - meas.mean()) ** 2)))
+    floors = [noise_floor(r) for r in calibration]
+    noise_std = float(np.sqrt(np.mean([f.force_std ** 2 for f in floors])))
+    noise_nrmse = noise_std / den
+    sig = signatures(baseline)
+    current = baseline
+    steps = []
+    stop = f"max_steps = {max_steps} reached"
+    last_round: tuple = ()
+    for _ in range(max_steps):
+        if current.nrmse_calibration <= noise_factor * noise_nrmse:
+            stop = (f"residual is noise: calibration NRMSE {current.nrmse_calibration:.4g} <= "
+                    f"{noise_factor:g} x noise floor {noise_nrmse:.4g}")
+            break
+        present = {e.name for e in current.effects}
+        dm = current.device_model
+        round_ = []
+        probes = {}
+        for n in names:
+            if n in present:
+                continue
+            why = _applicable(n, dm)
+            if why:
+                round_.append(Candidate(n, 0.0, 0.0, {}, note=f"not applicable: {why}"))
+                continue
+            cand, probe = _score(n, current, options, preroll)
+            probes[n] = probe
+            round_.append(cand)
+        ranked = sorted(round_, key=lambda c: -c.score)
+        refits = {}
+        for cand in [c for c in ranked if c.score > 0][:top]:
+            try:
+                res = _refit(cand, probes[cand.effect], current, validation, options, preroll,
+                             max_nfev, tol)
+            except (ConvergenceError, ParameterError) as exc:
+                i = ranked.index(cand)
+                ranked[i] = _with(cand, refitted=True, note=f"refit failed: {exc}")
+                continue
+            rel = 1.0 - res.nrmse_validation / current.nrmse_validation
+            dbic = res.bic - current.bic
+            acc = bool(rel > rel_threshold and dbic < -bic_threshold)
+            note = "" if res.converged else f"refit: {res.message}"
+            i = ranked.index(cand)
+            ranked[i] = _with(cand, refitted=True, nrmse_calibration=res.nrmse_calibration,
+                              nrmse_validation=res.nrmse_validation, relative_reduction=rel,
+                              delta_bic=dbic, accepted=acc, note=note,
+                              parameters=next(e.parameters for e in res.effects
+                                              if e.name == cand.effect))
+            refits[cand.effect] = res
+        last_round = tuple(ranked)
+        passed = sorted([c for c in ranked if c.accepted], key=lambda c: c.nrmse_validation)
+        if not passed:
+            best = next((c for c in ranked if c.refitted), None)
+            stop = ("no candidate improves the held-out error meaningfully"
+                    + (f" (best: {best.effect}, validation NRMSE change "
+                       f"{-(best.relative_reduction or 0):+.1%}, dBIC "
+                       f"{best.delta_bic if best.delta_bic is not None else float('nan'):.3g})"
+                       if best else ""))
+            break
+        tied = [c for c in passed
+                if c.nrmse_validation <= (1 + tie_tolerance) * passed[0].nrmse_validation]
+        chosen = min(tied, key=lambda c: c.delta_bic)  # parsimony among the tied
+        tie = ()
+        if len(tied) > 1:
+            tie = tuple(c.effect for c in tied)
+            warnings.append(
+                "tie: " + " and ".join(
+                    f"{c.effect} (validation NRMSE {c.nrmse_validation:.4g}, dBIC "
+                    f"{c.delta_bic:.4g})" for c in tied)
+                + f" explain the residual about equally (validation NRMSE within "
+                f"{tie_tolerance:.0%}); {chosen.effect} was added (lowest BIC)")
+        res = refits[chosen.effect]
+        if not res.converged:
+            warnings.append(f"fit with {chosen.effect}: {res.message}")
+        steps.append(Step(chosen.effect, chosen.parameters, res.nrmse_calibration,
+                          res.nrmse_validation, tuple(ranked), tie, res))
+        current = res
+        last_round = ()
+    unexplained = ""
+    if current.nrmse_calibration > structure_factor * noise_nrmse:
+        h = _harmonic_structure(current, noise_std)
+        if h:
+            unexplained = ("residual keeps structure that no candidate explains "
+                           f"(calibration NRMSE {current.nrmse_calibration:.3g} vs noise floor "
+                           f"{noise_nrmse:.3g}): {h}")
+    return Diagnosis(baseline=baseline, steps=tuple(steps), final=current,
+                     noise_nrmse=noise_nrmse, signatures=sig, stop_reason=stop,
+                     unexplained=unexplained, warnings=tuple(warnings),
+                     last_candidates=last_round)
+
+
+def _with(c: Candidate, **changes) -> Candidate:
+    from dataclasses import replace
+
+    return replace(c, **changes)
