@@ -64,8 +64,20 @@ from liquidamp.options import SolverOptions
 __all__ = ["Parameter", "FitSpec", "CalibrationResult", "RecordError", "calibrate",
            "predict", "physics_start", "FIT_OPTIONS", "PAPER_FOUR"]
 
-FIT_OPTIONS = SolverOptions(rtol=1e-6, atol_scale=1e-8)
-"""Solver options for fitting: looser than the defaults (rtol 1e-6)."""
+
+
+def _fit_engine() -> str:
+    try:
+        import numba  # noqa: F401
+    except ImportError:  # pragma: no cover - numba is optional
+        return "python"
+    return "compiled"
+
+
+FIT_OPTIONS = SolverOptions(rtol=1e-6, atol_scale=1e-8, engine=_fit_engine())
+"""Solver options for fitting: looser than the defaults (rtol 1e-6); the compiled
+engine where numba is installed (used for the models it supports, see
+:func:`liquidamp.analysis.records.simulate_record`)."""
 
 PAPER_FOUR = ("inv_gamma1", "inv_gamma2", "c1", "c2")
 """The multipliers the paper calibrated (Table 2)."""

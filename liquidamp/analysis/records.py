@@ -49,7 +49,7 @@ from pathlib import Path
 import numpy as np
 
 from liquidamp.coupled.testrig import DeviceResponse
-from liquidamp.device.models import DeviceModel, get_model
+from liquidamp.device.models import REGISTRY, DeviceModel, get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, DataFileError, ParameterError, PressureError
 from liquidamp.options import DEFAULT_OPTIONS, SolverOptions
@@ -477,9 +477,12 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
         and acceleration drive the model).
     options : SolverOptions, optional
         ``rtol``, ``atol_scale`` and ``pressure_floor`` are used.  With
-        ``engine="compiled"`` (when SolverOptions offers it) the runs go
-        through :func:`liquidamp.coupled.testrig.simulate`; otherwise they use
-        LSODA (:func:`integrate`).
+        ``engine="compiled"`` the runs of a registered model, or of one
+        composed with force-only effects (coulomb_friction, force_offset,
+        moving_mass: same states), go through
+        :func:`liquidamp.coupled.testrig.simulate` (the compiled engine);
+        effects with states, and the ``python`` engine, use LSODA
+        (:func:`integrate`).
     preroll : int
         Passes over the first cycle discarded before the record is run
         (module docstring) [-].
@@ -525,13 +528,18 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     y0 = float(stroke.displacement[0])
     x = model.initial_state(params, y0) if x0 is None else np.asarray(x0, float)
     engine = _engine(options)
-    if engine != "python" and model.n_states:
+
+    base = REGISTRY.get(model.name.split("+")[0])
+    if (engine != "python" and model.n_states and base is not None
+            and base.rhs is model.rhs and base.n_states == model.n_states):
+        # a registered model, or one with force-only effects (same states, same rhs):
+        # the states come from the compiled engine, the force from the composed model
         from liquidamp.coupled.testrig import simulate
 
         def run(t_eval, xs):
-            r = simulate(model, params, stroke, float(t_eval[-1]), t_start=float(t_eval[0]),
+            r = simulate(base, params, stroke, float(t_eval[-1]), t_start=float(t_eval[0]),
                          x0=xs, t_eval=t_eval, options=options)
-            return r.states
+            return np.array(r.states)
     else:
         fast = _Interp(stroke.time, stroke.displacement, stroke.velocity, stroke.acceleration)
 

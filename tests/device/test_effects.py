@@ -1,0 +1,116 @@
+"""Add-on effects: zero strength is the bare model, physics invariants, clear errors."""
+
+import math
+
+import numpy as np
+import pytest
+
+from liquidamp.analysis.records import integrate
+from liquidamp.device import preset
+from liquidamp.device.effects import (
+    EFFECTS,
+    Cavitation,
+    CoulombFriction,
+    Leakage,
+    SeriesCompliance,
+    make_effect,
+    with_effects,
+)
+from liquidamp.device.models import get_model
+from liquidamp.errors import ParameterError
+from liquidamp.structure.testmachine import HarmonicStroke
+
+P = preset("paper_calibrated")
+STROKE = HarmonicStroke(0.003, 3.0)
+
+
+def _stroke(t):
+    y, v, a = STROKE(t)
+    return float(y), float(v), float(a)
+
+
+def _run(model, t_end=0.7, n=141, params=P):
+    t = np.linspace(0, t_end, n)
+    X = integrate(model, params, _stroke, t, model.initial_state(params, 0.0), rtol=1e-9,
+                  atol_scale=1e-11)
+    u = STROKE(t)
+    return t, X, u, np.asarray(model.force(t, X, u, params)) * np.ones(t.size)
+
+
+ZERO = {"coulomb_friction": {"force_N": 0.0}, "smooth_friction": {"force_N": 0.0},
+        "force_offset": {"offset_N": 0.0}, "moving_mass": {"mass_kg": 0.0},
+        "series_compliance": {"stiffness_N_per_m": math.inf}, "freeplay": {"gap_m": 0.0},
+        "leakage": {"coefficient_m3_per_s_Pa": 0.0}, "cavitation": {"vapour_pressure_Pa": 1.0}}
+
+
+@pytest.mark.parametrize("name", list(EFFECTS))
+def test_zero_strength_is_bare_model(name):
+    bare = get_model("full")
+    F0 = _run(bare)[3]
+    F1 = _run(with_effects(bare, make_effect(name, **ZERO[name])))[3]
+    assert np.max(np.abs(F1 - F0)) < 1e-5 * np.max(np.abs(F0))
+
+
+def test_force_effects_add_their_force():
+    bare = get_model("full")
+    t, X, u, F0 = _run(bare)
+    m = with_effects(bare, CoulombFriction(30.0), make_effect("force_offset", offset_N=-5.0),
+                     make_effect("moving_mass", mass_kg=2.0))
+    F = np.asarray(m.force(t, X, u, P))
+    assert np.allclose(F - F0, 30.0 * np.sign(u[1]) - 5.0 + 2.0 * u[2])
+
+
+@pytest.mark.parametrize("model", ["full", "no_inertia", "constant_bulk", "inertial"])
+def test_leakage_conserves_mass_and_changes_force(model):
+    m = with_effects(get_model(model), Leakage(2e-10))
+    t, X, u, F = _run(m)
+    M = np.asarray(m.mass(X, u, P))
+    assert np.max(np.abs(M / M[0] - 1)) < 1e-7
+    F0 = _run(get_model(model))[3]
+    assert np.max(np.abs(F - F0)) > 0.02 * np.max(np.abs(F0))
+
+
+def test_cavitation_keeps_pressure_at_or_above_vapour_pressure():
+    pv = 40e3  # above the bare model's lowest pressure (about 30 kPa here)
+    bare = get_model("full")
+    t, X, u, _ = _run(bare)
+    assert min(X[0].min(), X[2].min()) < pv
+    m = with_effects(bare, Cavitation(pv))
+    t, X, u, F = _run(m)
+    p1, p2 = m.pressures(X, u, P)
+    assert min(p1.min(), p2.min()) > pv * (1 - 1e-3)
+    assert max(X[5].max(), X[6].max()) > 1e-8  # a cavity opened (m^3)
+    M = np.asarray(m.mass(X, u, P))
+    assert np.max(np.abs(M / M[0] - 1)) < 1e-7
+
+
+def test_compliance_softens_and_freeplay_delays():
+    bare = get_model("full")
+    F0 = _run(bare)[3]
+    Fc = _run(with_effects(bare, SeriesCompliance(2e5)))[3]
+    assert np.ptp(Fc) < 0.9 * np.ptp(F0)
+    Ff = _run(with_effects(bare, make_effect("freeplay", gap_m=3e-4)))[3]
+    assert np.ptp(Ff) < np.ptp(F0)
+
+
+def test_smooth_friction_tends_to_coulomb():
+    bare = get_model("full")
+    t, X, u, F0 = _run(bare)
+    Fs = _run(with_effects(bare, make_effect("smooth_friction", force_N=30.0,
+                                             stiffness_N_per_m=1e7)))[3]
+    late = t > 0.4
+    moving = np.abs(u[1]) > 0.01
+    assert np.allclose((Fs - F0)[late & moving], 30 * np.sign(u[1])[late & moving], atol=0.5)
+
+
+def test_errors():
+    with pytest.raises(ParameterError, match="needs a model with chamber pressure"):
+        with_effects(get_model("single_state"), Cavitation())
+    with pytest.raises(ParameterError, match="carried by its states"):
+        with_effects(get_model("dashpot"), SeriesCompliance(1e5))
+    with pytest.raises(ParameterError, match="given twice"):
+        with_effects(get_model("full"), CoulombFriction(1.0), CoulombFriction(2.0))
+    with pytest.raises(ParameterError, match="force_N"):
+        CoulombFriction(-1.0)
+    with pytest.raises(ParameterError, match="unknown coulomb_friction parameter"):
+        CoulombFriction(1.0).replace(mass_kg=1.0)
