@@ -105,6 +105,26 @@ _D31, _D32, _D33, _D34, _D35 = (-0.6762803392801253, 0.6087714651680015e01,
                                 -0.6594389125716872e01)
 
 
+_RA = np.array([
+    [0.0, 0.0, 0.0, 0.0, 0.0],
+    [_A21, 0.0, 0.0, 0.0, 0.0],
+    [_A31, _A32, 0.0, 0.0, 0.0],
+    [_A41, _A42, _A43, 0.0, 0.0],
+    [_A51, _A52, _A53, _A54, 0.0],
+    [_A51, _A52, _A53, _A54, 1.0],
+])
+_RCC = np.array([
+    [0.0, 0.0, 0.0, 0.0, 0.0],
+    [_C21, 0.0, 0.0, 0.0, 0.0],
+    [_C31, _C32, 0.0, 0.0, 0.0],
+    [_C41, _C42, _C43, 0.0, 0.0],
+    [_C51, _C52, _C53, _C54, 0.0],
+    [_C61, _C62, _C63, _C64, _C65],
+])
+_RC = np.array([0.0, _C2, _C3, _C4, 1.0, 1.0])
+_RD = np.array([_D1, _D2, _D3, _D4, 0.0, 0.0])
+
+
 # ------------------------------------------------------------------ fluid laws
 @njit(cache=True, error_model="numpy")
 def bulk(p, X0, prm):
@@ -179,6 +199,51 @@ def stroke_eval(kind, t, sp, st, sy, sv, sa):
             sa[lo] + w * (sa[hi] - sa[lo]))
 
 
+@njit(cache=True, error_model="numpy")
+def stroke_rate(kind, t, sp, st, sy, sv, sa):
+    """Time derivatives (dy/dt [m/s], dv/dt [m/s^2]) of the stroke as evaluated.
+
+    Harmonic: (v, a) exactly.  Recorded: the slopes of the linear
+    interpolant on the segment that starts at or before ``t`` (the
+    integrator never steps across a sample time, so this is exact there).
+    """
+    if kind == 0:
+        y, v, a = stroke_eval(kind, t, sp, st, sy, sv, sa)
+        return v, a
+    n = st.size
+    if t < st[0] or t >= st[n - 1]:
+        return 0.0, 0.0
+    lo, hi = 0, n - 1
+    while hi - lo > 1:
+        mid = (lo + hi) >> 1
+        if st[mid] <= t:
+            lo = mid
+        else:
+            hi = mid
+    d = st[hi] - st[lo]
+    return (sy[hi] - sy[lo]) / d, (sv[hi] - sv[lo]) / d
+
+
+@njit(cache=True, error_model="numpy")
+def _next_break(kind, t, st, tiny):
+    """First sample time of a recorded stroke after t + tiny (inf for harmonic)."""
+    if kind == 0:
+        return np.inf
+    n = st.size
+    if t + tiny >= st[n - 1]:
+        return np.inf
+    if t + tiny < st[0]:
+        return st[0]
+    lo, hi = 0, n - 1
+    while hi - lo > 1:
+        mid = (lo + hi) >> 1
+        if st[mid] <= t + tiny:
+            lo = mid
+        else:
+            hi = mid
+    return st[hi]
+
+
 # ------------------------------------------------------------ models: rhs, jac
 @njit(cache=True, error_model="numpy")
 def rhs(mid, x, y, v, prm, eff, out):
@@ -230,8 +295,8 @@ def rhs(mid, x, y, v, prm, eff, out):
 
 
 @njit(cache=True, error_model="numpy")
-def rhs_t(mid, x, y, v, a, prm, eff, out):
-    """Partial derivative d rhs / dt at fixed x through the stroke (y' = v, v' = a)."""
+def rhs_t(mid, x, y, v, yd, a, prm, eff, out):
+    """Partial derivative d rhs / dt at fixed x through the stroke (y' = yd, v' = a)."""
     Ap = prm[P_AP]
     V1 = prm[P_V01] - Ap * y
     V2 = prm[P_V02] + Ap * y
@@ -245,7 +310,7 @@ def rhs_t(mid, x, y, v, a, prm, eff, out):
             q = x[1]
             out[1] = 0.0
         B1, B2 = prm[P_B01], prm[P_B02]
-        out[0] = (B1 / (V1 * V1) - B2 / (V2 * V2)) * Ap * v * (Ap * v - q) + (
+        out[0] = (B1 / (V1 * V1) - B2 / (V2 * V2)) * Ap * yd * (Ap * v - q) + (
             B1 / V1 + B2 / V2) * Ap * a
         return
     if mid == M_FULL or mid == M_NO_INERTIA:
@@ -260,10 +325,10 @@ def rhs_t(mid, x, y, v, a, prm, eff, out):
         B2 = bulk(p2, prm[P_X02], prm)
         w1 = Ap * v - m / r1
         w2 = -Ap * v + m / r2
-        out[0] = B1 / V1 * (Ap * v / V1 * w1 + Ap * a)
-        out[1] = (r1 * Ap * a + (r1 * Ap * v - m) / V1 * Ap * v) / V1
-        out[2] = B2 / V2 * (-Ap * v / V2 * w2 - Ap * a)
-        out[3] = (-r2 * Ap * a - (-r2 * Ap * v + m) / V2 * Ap * v) / V2
+        out[0] = B1 / V1 * (Ap * yd / V1 * w1 + Ap * a)
+        out[1] = (r1 * Ap * a + (r1 * Ap * v - m) / V1 * Ap * yd) / V1
+        out[2] = B2 / V2 * (-Ap * yd / V2 * w2 - Ap * a)
+        out[3] = (-r2 * Ap * a - (-r2 * Ap * v + m) / V2 * Ap * yd) / V2
         return
     # constant_bulk, volumetric, inertial: two pressure equations of the same form
     B1, B2 = prm[P_B01], prm[P_B02]
@@ -279,8 +344,8 @@ def rhs_t(mid, x, y, v, a, prm, eff, out):
             m = loss_flow(x[0] - x[1], prm[P_G1], prm[P_G2])
         w1 = Ap * v - m / r_const(x[0], B1, prm)
         w2 = -Ap * v + m / r_const(x[1], B2, prm)
-    out[0] = B1 / V1 * (Ap * v / V1 * w1 + Ap * a)
-    out[1] = B2 / V2 * (-Ap * v / V2 * w2 - Ap * a)
+    out[0] = B1 / V1 * (Ap * yd / V1 * w1 + Ap * a)
+    out[1] = B2 / V2 * (-Ap * yd / V2 * w2 - Ap * a)
 
 
 @njit(cache=True, error_model="numpy")
@@ -471,6 +536,8 @@ def integrate(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, 
     piv = np.empty(n, np.int64)
     d2 = np.empty(n)
     d3 = np.empty(n)
+    kk = np.empty((6, n))
+    ks = np.empty(n)
     t = t0
     span = t1 - t0
     ie = 0
@@ -485,24 +552,10 @@ def integrate(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, 
     if span <= 0.0:
         info[2] = h0
         return x
-    # initial step
+    # initial step: small; the controller grows it by up to 5x per step
     h = h0
     if not h > 0.0:
-        y, v, a = stroke_eval(kind, t, sp, st, sy, sv, sa)
-        rhs(mid, x, y, v, prm, eff, f0)
-        d0 = 0.0
-        d1 = 0.0
-        for i in range(n):
-            sc = atol[i] + rtol * abs(x[i])
-            d0 += (x[i] / sc) ** 2
-            d1 += (f0[i] / sc) ** 2
-        d0 = math.sqrt(d0 / n)
-        d1 = math.sqrt(d1 / n)
-        if d0 < 1e-5 or d1 < 1e-5:
-            h = 1e-6 * span
-        else:
-            h = 0.01 * d0 / d1
-        h = min(h, 1e-3 * span)
+        h = 1e-5 * span
     h = min(h, hmax, span)
     hmin = 1e-14 * max(abs(t0), abs(t1), span)
     steps = 0
@@ -518,10 +571,17 @@ def integrate(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, 
         if t + h >= t1 - 1e-12 * span:
             h = t1 - t
             last = True
+        tb = _next_break(kind, t, st, 1e-12 * span)
+        hit_break = False
+        if t + h >= tb:
+            h = tb - t
+            last = tb >= t1
+            hit_break = not last
         y, v, a = stroke_eval(kind, t, sp, st, sy, sv, sa)
-        rhs(mid, x, y, v, prm, eff, f0)
         jac(mid, x, y, v, prm, eff, J)
-        rhs_t(mid, x, y, v, a, prm, eff, fdt)
+        yd, vd = stroke_rate(kind, t, sp, st, sy, sv, sa)
+        rhs_t(mid, x, y, v, yd, vd, prm, eff, fdt)
+        reuse_f0 = False
         while True:
             steps += 1
             fac = 1.0 / (h * _GAM)
@@ -532,52 +592,38 @@ def integrate(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, 
             ok = _lu(G, piv)
             finite = ok
             if ok:
-                # stage 1
+                for st_i in range(6):
+                    for i in range(n):
+                        acc = x[i]
+                        for j in range(st_i):
+                            acc += _RA[st_i, j] * kk[j, i]
+                        ys[i] = acc
+                    if st_i == 0 and reuse_f0:
+                        for i in range(n):
+                            ft[i] = f0[i]
+                    else:
+                        y, v, a = stroke_eval(kind, t + _RC[st_i] * h, sp, st, sy, sv, sa)
+                        rhs(mid, ys, y, v, prm, eff, ft)
+                        if st_i == 0:
+                            for i in range(n):
+                                f0[i] = ft[i]
+                            reuse_f0 = True
+                    for i in range(n):
+                        acc = ft[i] + h * _RD[st_i] * fdt[i]
+                        cs = 0.0
+                        for j in range(st_i):
+                            cs += _RCC[st_i, j] * kk[j, i]
+                        ks[i] = acc + cs / h
+                    _solve(G, piv, ks)
+                    for i in range(n):
+                        kk[st_i, i] = ks[i]
                 for i in range(n):
-                    k1[i] = f0[i] + h * _D1 * fdt[i]
-                _solve(G, piv, k1)
-                # stage 2
-                for i in range(n):
-                    ys[i] = x[i] + _A21 * k1[i]
-                y, v, a = stroke_eval(kind, t + _C2 * h, sp, st, sy, sv, sa)
-                rhs(mid, ys, y, v, prm, eff, ft)
-                for i in range(n):
-                    k2[i] = ft[i] + h * _D2 * fdt[i] + _C21 * k1[i] / h
-                _solve(G, piv, k2)
-                # stage 3
-                for i in range(n):
-                    ys[i] = x[i] + _A31 * k1[i] + _A32 * k2[i]
-                y, v, a = stroke_eval(kind, t + _C3 * h, sp, st, sy, sv, sa)
-                rhs(mid, ys, y, v, prm, eff, ft)
-                for i in range(n):
-                    k3[i] = ft[i] + h * _D3 * fdt[i] + (_C31 * k1[i] + _C32 * k2[i]) / h
-                _solve(G, piv, k3)
-                # stage 4
-                for i in range(n):
-                    ys[i] = x[i] + _A41 * k1[i] + _A42 * k2[i] + _A43 * k3[i]
-                y, v, a = stroke_eval(kind, t + _C4 * h, sp, st, sy, sv, sa)
-                rhs(mid, ys, y, v, prm, eff, ft)
-                for i in range(n):
-                    k4[i] = (ft[i] + h * _D4 * fdt[i]
-                             + (_C41 * k1[i] + _C42 * k2[i] + _C43 * k3[i]) / h)
-                _solve(G, piv, k4)
-                # stage 5
-                for i in range(n):
-                    ys[i] = x[i] + _A51 * k1[i] + _A52 * k2[i] + _A53 * k3[i] + _A54 * k4[i]
-                y, v, a = stroke_eval(kind, t + h, sp, st, sy, sv, sa)
-                rhs(mid, ys, y, v, prm, eff, ft)
-                for i in range(n):
-                    k5[i] = ft[i] + (_C51 * k1[i] + _C52 * k2[i] + _C53 * k3[i]
-                                     + _C54 * k4[i]) / h
-                _solve(G, piv, k5)
-                # stage 6 (embedded; error estimate k6)
-                for i in range(n):
-                    ys[i] = ys[i] + k5[i]
-                rhs(mid, ys, y, v, prm, eff, ft)
-                for i in range(n):
-                    k6[i] = ft[i] + (_C61 * k1[i] + _C62 * k2[i] + _C63 * k3[i]
-                                     + _C64 * k4[i] + _C65 * k5[i]) / h
-                _solve(G, piv, k6)
+                    k1[i] = kk[0, i]
+                    k2[i] = kk[1, i]
+                    k3[i] = kk[2, i]
+                    k4[i] = kk[3, i]
+                    k5[i] = kk[4, i]
+                    k6[i] = kk[5, i]
                 err = 0.0
                 for i in range(n):
                     xn[i] = ys[i] + k6[i]
@@ -589,6 +635,7 @@ def integrate(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, 
                 rejected += 1
                 h *= 0.25
                 last = False
+                hit_break = False
                 reject_prev = True
                 if h < hmin:
                     info[0] = ST_STEP_TOO_SMALL
@@ -603,6 +650,7 @@ def integrate(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, 
             rejected += 1
             reject_prev = True
             last = False
+            hit_break = False
             h = hnew
             if h < hmin:
                 info[0] = ST_STEP_TOO_SMALL
@@ -610,7 +658,7 @@ def integrate(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, 
                 info[2] = h
                 return x
         # accepted: dense output coefficients
-        tn = t1 if last else t + h
+        tn = t1 if last else (tb if hit_break else t + h)
         for i in range(n):
             d2[i] = (_D21 * k1[i] + _D22 * k2[i] + _D23 * k3[i] + _D24 * k4[i]
                      + _D25 * k5[i])

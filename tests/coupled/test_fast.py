@@ -66,7 +66,7 @@ def test_kernel_rhs_matches_python_and_jacobian_matches_differences(name, law):
                                        atol=1e-6 * np.max(np.abs(fd)) + 1e-300)
         # time derivative through the stroke (y' = v, v' = a)
         ft = np.empty_like(f)
-        K.rhs_t(mid, x, y, v, a, prm, eff, ft)
+        K.rhs_t(mid, x, y, v, v, a, prm, eff, ft)
         dt = 1e-6
         fp, fm = np.empty_like(f), np.empty_like(f)
         K.rhs(mid, x, y + v * dt, v + a * dt, prm, eff, fp)

@@ -1,0 +1,451 @@
+"""Benchmark of the fast routes against what a user would write with plain scipy.
+
+:func:`run_bench` measures, for each case, the median wall time
+(:func:`time.perf_counter`, several repeats) of the fast route, the median
+of a baseline written the way a user would (scipy ``solve_ivp`` with LSODA
+and the model's plain-Python right-hand side, at a tolerance giving the
+same accuracy, which is measured and reported) and their ratio, and the
+first call's time in a fresh process (compiled code loaded from the on-disk
+cache).  The compilation itself is measured once in a fresh process with an
+empty numba cache directory, followed by a second fresh process that reuses
+that cache.
+
+Cases (keys of ``"cases"``):
+
+``steady_state_loop``
+    Periodic steady state of the full model (eq. 10), reference design,
+    3 Hz, 3 mm: :func:`~liquidamp.coupled.testrig.steady_state` with
+    ``engine="compiled"``.
+``calibration``
+    Least-squares fit of four multipliers (1/gamma1, 1/gamma2, c1, c2) to two
+    synthetic eight-cycle records (2 Hz and 5 Hz, 3 mm, 200 Hz sampling,
+    0.5 % noise) with :func:`scipy.optimize.least_squares` around the
+    compiled :func:`~liquidamp.coupled.testrig.simulate` (the calibration
+    module's own API is used when it is available).
+``floquet_sweep``
+    Hammond (1974) rotor with one lag damper inoperative, 201 rotor speeds,
+    Floquet analysis (:func:`~liquidamp.analysis.ground_resonance.ground_resonance_sweep`).
+``coupled_rotor``, ``diagnosis``
+    Recorded as ``{"skipped": reason}`` until their modules exist.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from importlib import util as _importlib_util
+
+import numpy as np
+
+__all__ = ["run_bench", "GOALS", "CASES"]
+
+CASES = ("steady_state_loop", "calibration", "floquet_sweep", "coupled_rotor", "diagnosis")
+
+#: The issue's goals: case -> (quantity, comparison, target).
+GOALS = {
+    "steady_state_loop": [("seconds", "<", 2e-3), ("speedup", ">=", 50.0)],
+    "calibration": [("seconds", "<", 2.0)],
+    "floquet_sweep": [("seconds", "<", 2.0)],
+    "coupled_rotor": [("real_time_factor", ">=", 50.0)],
+    "first_call": [("cold_cache_seconds", "<", 10.0)],
+}
+
+
+def _median_time(fn, repeats: int) -> tuple[float, object]:
+    out = None
+    times = []
+    for _ in range(repeats):
+        t = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t)
+    return float(np.median(times)), out
+
+
+# ------------------------------------------------------------ steady state
+def _steady_setup():
+    from liquidamp.device import preset
+    from liquidamp.structure.testmachine import HarmonicStroke
+
+    return preset("reference"), HarmonicStroke(0.003, 3.0)
+
+
+def _fast_steady():
+    from liquidamp.coupled.testrig import steady_state
+    from liquidamp.options import SolverOptions
+
+    p, s = _steady_setup()
+    return steady_state("full", p, s, options=SolverOptions(engine="compiled"))
+
+
+def baseline_steady_state(model, params, stroke, rtol: float, *, steady_tol: float = 1e-6,
+                          samples: int = 512, max_cycles: int = 400):
+    """A user's periodic steady state: scipy LSODA, plain-Python rhs, cycle by cycle.
+
+    Marches one period per ``solve_ivp`` call (no Jacobian given, ``atol`` =
+    ``rtol`` times the state scales) and stops on the same rule as
+    :func:`~liquidamp.coupled.testrig.steady_state` (extrapolated remaining
+    change of the force waveform below ``steady_tol``, twice).
+
+    Returns
+    -------
+    tuple
+        ``(K, cycles)``: complex dynamic stiffness [N/m] and cycles marched.
+    """
+    from scipy.integrate import solve_ivp
+
+    from liquidamp.analysis.harmonics import first_harmonic
+    from liquidamp.device.models import get_model
+
+    m = get_model(model)
+    T = stroke.period
+    grid = np.arange(samples + 1) * (T / samples)
+    atol = rtol * m.state_scales(params)
+    x = m.initial_state(params, 0.0)
+    prev, prev_change, residual, hits = None, math.inf, math.inf, 0
+    for k in range(max_cycles):
+        sol = solve_ivp(lambda t, x: m.rhs(t, x, stroke(t), params), (k * T, (k + 1) * T), x,
+                        method="LSODA", rtol=rtol, atol=atol, t_eval=k * T + grid)
+        x = sol.y[:, -1]
+        tt = sol.t[:samples]
+        force = m.force(tt, sol.y[:, :samples], stroke(tt), params)
+        if prev is not None:
+            change = float(np.sqrt(np.mean((force - prev) ** 2)) / np.max(np.abs(force)))
+            rho = change / prev_change if prev_change > 0 else 0.0
+            residual = (change * rho / (1 - rho) if k > 1 else change) if rho < 1 else max(
+                change, residual if math.isfinite(residual) else change)
+            hits = hits + 1 if ((residual < steady_tol or change < 50 * rtol)
+                                and k + 1 >= 3) else 0
+            if hits >= 2:
+                K = first_harmonic(tt - k * T, force, stroke.frequency) / stroke.amplitude
+                return complex(K), k + 1
+            prev_change = change
+        prev = force
+    raise RuntimeError("baseline steady state did not converge")
+
+
+def _case_steady(quick: bool, repeats: int) -> dict:
+    from liquidamp.analysis.harmonics import dynamic_stiffness
+    from liquidamp.coupled.testrig import steady_state
+    from liquidamp.options import SolverOptions
+
+    p, s = _steady_setup()
+    _fast_steady()  # warm (cache load)
+    seconds, r = _median_time(_fast_steady, repeats)
+    K_fast = dynamic_stiffness(r).value
+    if quick:
+        ref_opts = SolverOptions(engine="compiled", rtol=1e-11, atol_scale=1e-12)
+    else:  # the Python reference path, tight
+        ref_opts = SolverOptions(rtol=1e-11, atol_scale=1e-12)
+    K_ref = dynamic_stiffness(steady_state("full", p, s, options=ref_opts)).value
+    err_fast = abs(K_fast - K_ref) / abs(K_ref)
+    # the loosest LSODA tolerance that is at least as accurate as the fast route
+    ladder = (1e-8,) if quick else (1e-6, 1e-7, 1e-8, 1e-9, 1e-10)
+    chosen = None
+    tried = {}
+    for rtol in ladder:
+        K_b, cyc = baseline_steady_state("full", p, s, rtol)
+        tried[f"{rtol:g}"] = abs(K_b - K_ref) / abs(K_ref)
+        chosen = rtol
+        if tried[f"{rtol:g}"] <= max(err_fast, 1e-9):
+            break
+    b_rep = 1 if quick else max(3, repeats // 10)
+    baseline, (K_b, cyc) = _median_time(
+        lambda: baseline_steady_state("full", p, s, chosen), b_rep)
+    return {
+        "description": "full model (eq. 10), reference design, 3 Hz, 3 mm: periodic steady "
+                       "state, compiled engine vs user-style scipy LSODA cycle loop",
+        "seconds": seconds,
+        "repeats": repeats,
+        "baseline_seconds": baseline,
+        "baseline_repeats": b_rep,
+        "speedup": baseline / seconds,
+        "cycles": r.cycles,
+        "baseline_cycles": cyc,
+        "accuracy": {
+            "reference": "engine " + ref_opts.engine + ", rtol 1e-11",
+            "fast_K_rel_error": err_fast,
+            "baseline_rtol": chosen,
+            "baseline_K_rel_error": tried[f"{chosen:g}"],
+            "baseline_K_rel_error_by_rtol": tried,
+        },
+        "K_magnitude [N/m]": abs(K_fast),
+    }
+
+
+# -------------------------------------------------------------- calibration
+_TRUE_MULT = {"inv_gamma1": 0.8, "inv_gamma2": 1.2, "c1": 1.15, "c2": 0.9}
+
+
+def _records(quick: bool):
+    """Two synthetic eight-cycle records (2 and 5 Hz, 3 mm, 200 Hz, 0.5 % noise)."""
+    from liquidamp.coupled.testrig import simulate
+    from liquidamp.device import preset
+    from liquidamp.options import SolverOptions
+    from liquidamp.structure.testmachine import HarmonicStroke, RecordedStroke
+
+    truth = preset("reference").scaled(**_TRUE_MULT)
+    rng = np.random.default_rng(7)
+    out = []
+    cycles = 2 if quick else 8
+    for f in (2.0, 5.0):
+        t = np.arange(0.0, cycles / f, 1.0 / 200.0)
+        y = HarmonicStroke(0.003, f)(t)[0]
+        stroke = RecordedStroke.from_displacement(t, y + rng.normal(0, 2e-6, t.size))
+        r = simulate("full", truth, stroke, t[-1], t_eval=t,
+                     options=SolverOptions(engine="compiled"))
+        noise = 0.005 * np.max(np.abs(r.force))
+        out.append((stroke, t, r.force + rng.normal(0.0, noise, t.size)))
+    return out
+
+
+def calibrate_multipliers(records, engine: str = "compiled", *, max_nfev: int | None = None):
+    """Fit the four multipliers of the reference design to ``records`` (log-scale LSQ).
+
+    Returns
+    -------
+    tuple
+        ``(multipliers dict, scipy OptimizeResult, residual evaluations)``.
+    """
+    from scipy.optimize import least_squares
+
+    from liquidamp.coupled.testrig import simulate
+    from liquidamp.device import preset
+    from liquidamp.options import SolverOptions
+
+    base = preset("reference")
+    keys = tuple(_TRUE_MULT)
+    opts = SolverOptions(engine=engine)
+    count = [0]
+
+    def resid(z):
+        count[0] += 1
+        p = base.scaled(**dict(zip(keys, np.exp(z), strict=True)))
+        res = []
+        for stroke, t, F in records:
+            r = simulate("full", p, stroke, t[-1], t_eval=t, options=opts)
+            res.append((r.force - F) / np.max(np.abs(F)))
+        return np.concatenate(res)
+
+    sol = least_squares(resid, np.zeros(len(keys)), x_scale=1.0, diff_step=1e-4,
+                        xtol=1e-8, ftol=1e-10, max_nfev=max_nfev)
+    return dict(zip(keys, np.exp(sol.x).tolist(), strict=True)), sol, count[0]
+
+
+def _case_calibration(quick: bool, repeats: int) -> dict:
+    recs = _records(quick)
+    calibrate_multipliers(recs, max_nfev=2)  # warm
+    reps = 1 if quick else max(1, min(3, repeats // 10))
+    seconds, (mult, sol, nfev) = _median_time(lambda: calibrate_multipliers(recs), reps)
+    # baseline: the same fit on the Python path costs nfev times one residual evaluation
+    from liquidamp.coupled.testrig import simulate
+    from liquidamp.device import preset
+    from liquidamp.options import SolverOptions
+
+    p = preset("reference")
+    py = SolverOptions(method="LSODA", rtol=1e-8)
+
+    def one_eval():
+        for stroke, t, _F in recs:
+            simulate("full", p, stroke, t[-1], t_eval=t, options=py)
+
+    t_eval, _ = _median_time(one_eval, 1 if quick else 3)
+    baseline = t_eval * nfev
+    err = max(abs(mult[k] / v - 1.0) for k, v in _TRUE_MULT.items())
+    return {
+        "description": "least-squares fit of 4 multipliers (inv_gamma1, inv_gamma2, c1, c2) "
+                       "to two synthetic 8-cycle records (2, 5 Hz, 3 mm, 0.5 % noise), "
+                       "scipy least_squares around the compiled simulate",
+        "api": "liquidamp.analysis.bench.calibrate_multipliers (calibration module not "
+               "available)",
+        "seconds": seconds,
+        "repeats": reps,
+        "baseline_seconds": baseline,
+        "baseline_method": "residual evaluations of the fit x median time of one evaluation "
+                           "on the Python path (solve_ivp LSODA, rtol 1e-8)",
+        "speedup": baseline / seconds,
+        "residual_evaluations": nfev,
+        "fitted_multipliers": mult,
+        "true_multipliers": dict(_TRUE_MULT),
+        "max_multiplier_rel_error": err,
+        "cycles_per_record": 2 if quick else 8,
+    }
+
+
+# ------------------------------------------------------------------ floquet
+def _case_floquet(quick: bool, repeats: int) -> dict:
+    try:
+        from liquidamp.analysis.ground_resonance import ground_resonance_sweep, rpm_to_rad_s
+        from liquidamp.structure.hostio import load_rotor
+    except ImportError as exc:  # pragma: no cover - depends on other modules
+        return {"skipped": f"rotor/Floquet modules not available: {exc}"}
+    rotor = load_rotor("hammond1974").with_inoperative_damper(1)
+    n = 11 if quick else 201
+    W = rpm_to_rad_s(np.linspace(150.0, 350.0, n))
+    reps = 1 if quick else 3
+    seconds, sweep = _median_time(lambda: ground_resonance_sweep(rotor, W, method="floquet"),
+                                  reps)
+    return {
+        "description": f"Hammond (1974) rotor, one lag damper inoperative, {n} rotor speeds "
+                       "150-350 rpm, Floquet analysis (liquidamp.analysis.ground_resonance; "
+                       "not part of the compiled core)",
+        "seconds": seconds,
+        "repeats": reps,
+        "points": n,
+        "unstable_ranges [rpm]": sweep.unstable_ranges_rpm,
+    }
+
+
+def _case_coupled(quick: bool, repeats: int) -> dict:
+    if _importlib_util.find_spec("liquidamp.coupled.rotor_devices") is None and \
+            _importlib_util.find_spec("liquidamp.coupled.assembly") is None:
+        return {"skipped": "no nonlinear host+device coupling module yet (liquidamp.coupled "
+                           "holds only the test rig); the rotor with four full liquid devices "
+                           "cannot be run"}
+    return {"skipped": "coupling module present but its API is not wired into the bench yet"}
+
+
+def _case_diagnosis(quick: bool, repeats: int) -> dict:
+    if _importlib_util.find_spec("liquidamp.analysis.diagnosis") is None:
+        return {"skipped": "liquidamp.analysis.diagnosis does not exist yet"}
+    return {"skipped": "diagnosis module present but its API is not wired into the bench yet"}
+
+
+_RUNNERS = {"steady_state_loop": _case_steady, "calibration": _case_calibration,
+            "floquet_sweep": _case_floquet, "coupled_rotor": _case_coupled,
+            "diagnosis": _case_diagnosis}
+
+# ------------------------------------------------------------ first calls
+_FIRST_CALL_CODE = {
+    "steady_state_loop": "from liquidamp.analysis.bench import _fast_steady as f; f()",
+    "calibration": ("from liquidamp.analysis.bench import _records, calibrate_multipliers; "
+                    "calibrate_multipliers(_records(True), max_nfev=1)"),
+}
+
+
+def _fresh_process(code: str, env_extra: dict | None = None) -> dict:
+    """Run ``code`` in a fresh interpreter; time the imports and the first call."""
+    script = (
+        "import time, json\n"
+        "t0 = time.perf_counter()\n"
+        "import liquidamp.coupled.testrig, liquidamp.analysis.bench\n"
+        "t1 = time.perf_counter()\n"
+        f"{code}\n"
+        "t2 = time.perf_counter()\n"
+        "print(json.dumps({'import_seconds': t1 - t0, 'first_call_seconds': t2 - t1}))\n"
+    )
+    env = dict(os.environ)
+    env.update(env_extra or {})
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                         env=env, timeout=600, check=False)
+    if out.returncode != 0:
+        return {"error": out.stderr.strip().splitlines()[-1] if out.stderr else "failed"}
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def _first_call(cold: bool) -> dict:
+    """Compilation with an empty numba cache, then a second fresh process reusing it."""
+    code = _FIRST_CALL_CODE["steady_state_loop"]
+    if not cold:
+        warm = _fresh_process(code)
+        return {"cold_cache": None, "note": "cold-cache compilation not measured (--quick)",
+                "cached_seconds": warm.get("first_call_seconds"),
+                "cached_import_seconds": warm.get("import_seconds")}
+    with tempfile.TemporaryDirectory(prefix="liquidamp-numba-") as d:
+        env = {"NUMBA_CACHE_DIR": d}
+        cold_run = _fresh_process(code, env)
+        warm = _fresh_process(code, env)
+    return {
+        "description": "steady_state_loop's first call in a fresh process: with an empty "
+                       "numba cache (compilation included), then again in a second fresh "
+                       "process reusing the cache just written",
+        "cold_cache_seconds": cold_run.get("first_call_seconds"),
+        "cached_seconds": warm.get("first_call_seconds"),
+        "import_seconds": warm.get("import_seconds"),
+    }
+
+
+def _goals(result: dict) -> dict:
+    out = {}
+    for case, checks in GOALS.items():
+        data = result["first_call"] if case == "first_call" else result["cases"].get(case, {})
+        for key, op, target in checks:
+            value = data.get(key)
+            reached = None
+            if isinstance(value, (int, float)):
+                reached = bool(value < target) if op == "<" else bool(value >= target)
+            out[f"{case}.{key} {op} {target:g}"] = {"value": value, "reached": reached}
+    return out
+
+
+def run_bench(*, quick: bool = False, repeats: int | None = None, cases=None,
+              cold: bool | None = None, progress=None) -> dict:
+    """Run the benchmark; return a JSON-ready dictionary.
+
+    Parameters
+    ----------
+    quick : bool
+        Tiny configuration (few repeats, short records, 11 Floquet points,
+        no tolerance search, no cold-cache compile) for tests.
+    repeats : int, optional
+        Repeats of the fast routes (default 30, 3 when quick).
+    cases : iterable of str, optional
+        Subset of :data:`CASES`.
+    cold : bool, optional
+        Measure compilation with an empty cache (default: not quick).
+    progress : callable, optional
+        ``progress(text)`` called before each case.
+
+    Returns
+    -------
+    dict
+        ``{"cases": {name: {...}}, "first_call": {...}, "goals": {...}, ...}``;
+        each run case holds ``seconds``, ``first_call_seconds`` (fresh
+        process, cached compiled code) and, where a baseline exists,
+        ``baseline_seconds`` and ``speedup``; a case that cannot run holds
+        ``{"skipped": reason}``.
+    """
+    from liquidamp.errors import check_choice
+
+    repeats = repeats or (3 if quick else 30)
+    cases = tuple(CASES if cases is None else cases)
+    for c in cases:
+        check_choice("bench case", c, CASES)
+    cold = (not quick) if cold is None else cold
+    import numba
+
+    result = {
+        "liquidamp_bench": 1,
+        "quick": quick,
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "numba": numba.__version__,
+        "platform": platform.platform(),
+        "cpu_count": os.cpu_count(),
+        "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
+        "timer": "time.perf_counter, medians over repeats",
+        "cases": {},
+    }
+    for name in cases:
+        if progress:
+            progress(name)
+        data = _RUNNERS[name](quick, repeats)
+        if "skipped" not in data and name in _FIRST_CALL_CODE:
+            fc = _fresh_process(_FIRST_CALL_CODE[name])
+            data["first_call_seconds"] = fc.get("first_call_seconds")
+            data["first_call_note"] = ("fresh process, compiled code loaded from the numba "
+                                       "cache; imports excluded")
+        elif "skipped" not in data:
+            data["first_call_seconds"] = None
+            data["first_call_note"] = "no compiled code involved"
+        result["cases"][name] = data
+    if progress:
+        progress("first call")
+    result["first_call"] = _first_call(cold)
+    result["goals"] = _goals(result)
+    return result

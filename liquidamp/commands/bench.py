@@ -1,0 +1,49 @@
+"""``liquidamp bench``: speed of the compiled core against a plain-scipy baseline."""
+
+from __future__ import annotations
+
+import sys
+
+from liquidamp.commands._args import write_json
+
+
+def register(sub) -> None:
+    """Add the ``bench`` sub-command."""
+    p = sub.add_parser(
+        "bench", help="benchmark the fast simulation routes",
+        description="Median wall times of the fast routes (compiled engine), of a user-style "
+                    "scipy LSODA baseline at the same accuracy, their ratio and the first "
+                    "call's time (compilation included) in fresh processes; JSON output.")
+    p.add_argument("--json", default=None, help="output JSON file (default stdout)")
+    p.add_argument("--quick", action="store_true",
+                   help="tiny configuration (seconds, for tests); numbers not representative")
+    p.add_argument("--repeats", type=int, default=None, help="repeats of the fast routes")
+    p.add_argument("--cases", default=None,
+                   help="comma list of cases (default all: steady_state_loop, calibration, "
+                        "floquet_sweep, coupled_rotor, diagnosis)")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    """Run the benchmark and write the JSON."""
+    import json
+
+    from liquidamp.analysis.bench import run_bench
+    from liquidamp.errors import ParameterError
+
+    if args.repeats is not None and args.repeats < 1:
+        raise ParameterError(f"--repeats must be >= 1, got {args.repeats}")
+    cases = None
+    if args.cases:
+        cases = [c.strip() for c in args.cases.split(",") if c.strip()]
+
+    def progress(name):
+        print(f"bench: {name} ...", file=sys.stderr, flush=True)
+
+    data = run_bench(quick=args.quick, repeats=args.repeats, cases=cases, progress=progress)
+    if args.json:
+        write_json(args.json, data)
+    else:
+        json.dump(data, sys.stdout, indent=2)
+        print()
+    return 0

@@ -1,0 +1,50 @@
+"""`liquidamp bench --quick`: the JSON holds every case with the documented keys (no timings
+are asserted)."""
+
+import json
+
+from liquidamp.analysis.bench import CASES, baseline_steady_state
+from liquidamp.cli import main
+from liquidamp.device import preset
+from liquidamp.structure.testmachine import HarmonicStroke
+
+
+def test_quick_bench_writes_the_documented_keys(tmp_path):
+    out = tmp_path / "bench.json"
+    code = main(["bench", "--quick", "--repeats", "2", "--cases",
+                 "steady_state_loop,coupled_rotor,diagnosis", "--json", str(out)])
+    assert code == 0
+    data = json.loads(out.read_text())
+    assert set(data["cases"]) == {"steady_state_loop", "coupled_rotor", "diagnosis"}
+    s = data["cases"]["steady_state_loop"]
+    for key in ("seconds", "baseline_seconds", "speedup", "first_call_seconds", "accuracy"):
+        assert key in s
+    assert s["seconds"] > 0 and s["baseline_seconds"] > 0
+    assert abs(s["speedup"] - s["baseline_seconds"] / s["seconds"]) < 1e-9 * s["speedup"]
+    # both routes agree with the tight reference far inside the steady-state tolerance
+    assert s["accuracy"]["fast_K_rel_error"] < 1e-6
+    assert s["accuracy"]["baseline_K_rel_error"] < 1e-5
+    assert "cached_seconds" in data["first_call"]
+    for name in ("coupled_rotor", "diagnosis"):
+        case = data["cases"][name]
+        assert "skipped" in case or "seconds" in case
+    assert set(CASES) >= set(data["cases"])
+    assert any(k.startswith("steady_state_loop.seconds") for k in data["goals"])
+
+
+def test_unknown_case_is_an_error(capsys):
+    assert main(["bench", "--quick", "--cases", "nope"]) == 2
+    assert "unknown bench case 'nope'" in capsys.readouterr().err
+
+
+def test_user_style_baseline_gives_the_paper_stiffness():
+    """The baseline is a correct (if slow) steady state: same K* as the library's."""
+    from liquidamp.analysis.harmonics import dynamic_stiffness
+    from liquidamp.coupled.testrig import steady_state
+    from liquidamp.options import SolverOptions
+
+    p, s = preset("device_b"), HarmonicStroke(0.003, 3.0)
+    K_b, cycles = baseline_steady_state("full", p, s, 1e-8)
+    K = dynamic_stiffness(steady_state("full", p, s, options=SolverOptions(engine="compiled")))
+    assert abs(K_b - K.value) / abs(K.value) < 1e-6
+    assert cycles >= 3
