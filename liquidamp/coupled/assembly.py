@@ -1,0 +1,847 @@
+"""The device inside the structure: host + device(s) as one nonlinear system.
+
+A *host* is a linear state-space structure with named signals and device
+ports (:mod:`liquidamp.structure.port`): constant (a wing section,
+:class:`control.StateSpace`) or periodic (a rotor in the rotating frame,
+:class:`~liquidamp.structure.port.PeriodicStateSpace`).  A *device* is any
+:class:`~liquidamp.device.models.DeviceModel` (every registered variant, with
+or without add-on effects) with its parameters.  :func:`couple` joins them by
+port name; the coupled state is the host state followed by each device's
+states::
+
+    x_h' = A(t) x_h + B_F(t) F                 (host, forces F at its ports)
+    y_j  = C_y,j x_h,  v_j = C_v,j x_h          (stroke [m] and rate [m/s] of port j)
+    a_j  = C_v,j (A x_h + B_F F)                (stroke acceleration [m/s^2])
+    z_j' = f_j(t, z_j, (y_j, v_j, a_j))         (device j, full nonlinear model)
+    F_j  = F_j(t, z_j, (y_j, v_j, a_j))         (device force, host convention of the port)
+
+Algebraic loop of the acceleration
+    Devices with ``uses_acceleration`` (``dashpot_inerter``, ``inerter``, a
+    moving-mass effect) have a force that depends on the stroke
+    acceleration, which in turn depends on the force through the host's
+    input matrix.  Every model is affine in the acceleration, so
+    F = F0 + b a with b = F(a = 1) - F(a = 0) [kg] evaluated at each call,
+    and the loop is solved exactly each time:
+
+    .. math:: (I - \\mathrm{diag}(b) C_v B_F) F = F_0 + \\mathrm{diag}(b) C_v A x_h .
+
+    For a rotor this is the same as adding ``b arm^2`` [kg m^2] to the
+    blade's lag inertia (the inerter is a mass seen through the arm): the
+    second-order form M q'' = G u - C q' - K q with u containing b arm q_k''
+    gives (M + arm^2 b e_k e_k^T) q'' = ...
+
+Viscous damper as a device
+    :func:`viscous` makes F = c v [N s/m] a device (a stateless
+    :class:`~liquidamp.device.models.DeviceModel` with :class:`ViscousParams`),
+    so the host's own dampers come back through the coupled path.
+
+Time domain
+    :func:`simulate_coupled` integrates the coupled system with
+    :func:`scipy.integrate.solve_ivp` (the Python engine; the compiled
+    engine of :mod:`liquidamp.coupled.fast` drives prescribed strokes only),
+    stops at a chamber end or at the pressure floor (status, not NaN), and
+    returns a :class:`CoupledResponse` with strokes, forces, device states
+    and, for a host with second-order mechanics (the rotor), the energy
+    balance :class:`EnergyBalance`.
+
+References
+----------
+.. [1] B. Titurus, "Generalized Liquid-Based Damping Device for Passive
+   Vibration Control", AIAA J. 56(10), 4134-4145, 2018, eqs. (10)-(20).
+.. [2] C. E. Hammond, J. American Helicopter Society 19(4), 14-23, 1974.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+
+import control
+import numpy as np
+from scipy.integrate import cumulative_simpson, solve_ivp
+
+from liquidamp.device.models import DeviceModel, get_model
+from liquidamp.device.params import DeviceParams
+from liquidamp.errors import (
+    ConvergenceError,
+    ParameterError,
+    PressureError,
+    check_nonnegative,
+    check_positive,
+)
+from liquidamp.options import DEFAULT_OPTIONS, SolverOptions
+from liquidamp.structure.port import DevicePort, PeriodicStateSpace, find_port
+
+__all__ = [
+    "VISCOUS",
+    "ViscousParams",
+    "Device",
+    "viscous",
+    "HostMatrices",
+    "CoupledSystem",
+    "couple",
+    "rotor_system",
+    "section_system",
+    "EnergyBalance",
+    "CoupledResponse",
+    "simulate_coupled",
+]
+
+
+# ---------------------------------------------------------------------------
+# devices
+
+
+@dataclass(frozen=True)
+class ViscousParams:
+    """Parameters of the linear viscous damper F = c v.
+
+    Parameters
+    ----------
+    c : float
+        Damping coefficient >= 0 [N s/m].
+
+    Examples
+    --------
+    >>> ViscousParams(65080.0).c
+    65080.0
+    """
+
+    c: float
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "c", check_nonnegative("viscous damping c", self.c, "N s/m"))
+
+    @property
+    def friction_N(self) -> float:
+        """No friction [N] (the DeviceModel interface asks for it)."""
+        return 0.0
+
+
+def _no_rhs(t, x, u, p):
+    return np.zeros(0)
+
+
+#: The viscous damper F = c v [N] as a stateless device model.
+VISCOUS = DeviceModel(
+    name="viscous",
+    equation="-",
+    description="linear viscous damper F = c v (the host's own lag damper as a device)",
+    state_names=(),
+    state_units=(),
+    limits="linear ideal element",
+    rhs=_no_rhs,
+    fluid_force=lambda t, x, u, p: p.c * u[1],
+    initial_state=lambda p, y0=0.0: np.zeros(0),
+    state_scales=lambda p: np.zeros(0),
+)
+
+
+@dataclass(frozen=True)
+class Device:
+    """A device model with its parameters, ready to attach to a port.
+
+    Parameters
+    ----------
+    model : str or DeviceModel
+        Registered name or any DeviceModel (e.g. from ``with_effects``).
+    params : DeviceParams or ViscousParams
+        Its parameters (checked against ``model.requires``).
+    label : str
+        Name for reports (default: the model name).
+
+    Examples
+    --------
+    >>> from liquidamp.device import preset
+    >>> d = Device("full", preset("reference"))
+    >>> d.model.name, d.n_states, d.label
+    ('full', 5, 'full')
+    """
+
+    model: DeviceModel
+    params: object
+    label: str = ""
+
+    def __post_init__(self) -> None:
+        model = get_model(self.model)
+        object.__setattr__(self, "model", model)
+        if isinstance(self.params, DeviceParams):
+            model.check_params(self.params)
+        elif not isinstance(self.params, ViscousParams):
+            raise ParameterError(
+                f"device params must be DeviceParams or ViscousParams, got "
+                f"{type(self.params).__name__}")
+        if not self.label:
+            object.__setattr__(self, "label", model.name)
+
+    @property
+    def n_states(self) -> int:
+        """Number of device states."""
+        return self.model.n_states
+
+    @property
+    def stroke_limit(self) -> float:
+        """Largest stroke before a chamber end [m] (inf for the viscous damper)."""
+        return getattr(self.params, "stroke_limit", math.inf)
+
+    def acceleration_gain(self, t: float, x, y: float, v: float) -> float:
+        """b = dF/da [kg] (0 unless ``uses_acceleration``; the models are affine in a)."""
+        if not self.model.uses_acceleration:
+            return 0.0
+        f1 = self.model.force(t, x, (y, v, 1.0), self.params)
+        f0 = self.model.force(t, x, (y, v, 0.0), self.params)
+        return float(f1 - f0)
+
+
+def viscous(c: float, label: str = "") -> Device:
+    """The viscous damper F = c v [N], c [N s/m], as a :class:`Device`.
+
+    Examples
+    --------
+    >>> d = viscous(65080.0)
+    >>> float(d.model.force(0.0, np.zeros(0), (0.0, 0.01, 0.0), d.params))
+    650.8
+    """
+    return Device(VISCOUS, ViscousParams(float(c)), label or f"viscous({c:g} N s/m)")
+
+
+# ---------------------------------------------------------------------------
+# host matrices
+
+
+@dataclass(frozen=True, eq=False)
+class HostMatrices:
+    """A host in one form: A(t), B(t), constant C, named signals, ports.
+
+    Attributes
+    ----------
+    A, B : callable
+        ``t [s] -> ndarray``; constant for a time-invariant host.
+    C : ndarray
+        Output matrix (the port outputs must not feed through the inputs).
+    state_names, input_names, output_names : tuple of str
+    ports : tuple of DevicePort
+    period : float or None
+        Period of A and B [s]; None for a constant host.
+    name : str
+    mechanics : callable or None
+        ``t -> (M, C, K)`` of the second-order form ``M q'' + C q' + K q =
+        G u`` with host state ``[q, q']`` (for the energy balance).
+    AB : callable or None
+        ``t -> (A(t), B(t))`` in one call (faster where both come from one
+        factorization, e.g. the rotor's mass matrix); optional.
+    """
+
+    A: Callable[[float], np.ndarray]
+    B: Callable[[float], np.ndarray]
+    C: np.ndarray
+    state_names: tuple[str, ...]
+    input_names: tuple[str, ...]
+    output_names: tuple[str, ...]
+    ports: tuple[DevicePort, ...]
+    period: float | None = None
+    name: str = "host"
+    mechanics: Callable | None = None
+    AB: Callable | None = None
+
+    @property
+    def nstates(self) -> int:
+        """Number of host states."""
+        return len(self.state_names)
+
+
+def _as_host(system, ports=None, mechanics=None) -> tuple[HostMatrices, np.ndarray]:
+    """(HostMatrices, D) from a StateSpace, a PeriodicStateSpace or a HostMatrices."""
+    if isinstance(system, HostMatrices):
+        return system, np.zeros((len(system.output_names), len(system.input_names)))
+    if isinstance(system, PeriodicStateSpace):
+        return HostMatrices(system.A, system.B, np.asarray(system.C, float),
+                            tuple(system.state_names), tuple(system.input_names),
+                            tuple(system.output_names),
+                            tuple(ports if ports is not None else system.ports),
+                            float(system.period), system.name, mechanics), \
+            np.asarray(system.D, float)
+    if isinstance(system, control.StateSpace):
+        A = np.array(system.A, float)
+        B = np.array(system.B, float)
+        host = HostMatrices(lambda t: A, lambda t: B, np.array(system.C, float),
+                            tuple(system.state_labels), tuple(system.input_labels),
+                            tuple(system.output_labels), tuple(ports or ()), None,
+                            system.name or "host", mechanics)
+        return host, np.array(system.D, float)
+    raise ParameterError(
+        f"host must be a control.StateSpace or PeriodicStateSpace, got {type(system).__name__}")
+
+
+# ---------------------------------------------------------------------------
+# the coupled system
+
+
+@dataclass(frozen=True, eq=False)
+class CoupledSystem:
+    """A host with devices on some of its ports (see the module notes).
+
+    Attributes
+    ----------
+    host : HostMatrices
+    ports : tuple of DevicePort
+        The ports that carry a device, in order.
+    devices : tuple of Device
+        One per port.
+    name : str
+    """
+
+    host: HostMatrices
+    ports: tuple[DevicePort, ...]
+    devices: tuple[Device, ...]
+    name: str = "coupled"
+    _idx: dict = field(default_factory=dict, repr=False)
+
+    def __post_init__(self) -> None:
+        h = self.host
+        out = {n: i for i, n in enumerate(h.output_names)}
+        inp = {n: i for i, n in enumerate(h.input_names)}
+        iy, iv, iF = [], [], []
+        for p in self.ports:
+            for sig, table in ((p.stroke_output, out), (p.rate_output, out),
+                               (p.force_input, inp)):
+                if sig not in table:
+                    raise ParameterError(f"port {p.name!r}: host {h.name!r} has no signal "
+                                         f"{sig!r}")
+            iy.append(out[p.stroke_output])
+            iv.append(out[p.rate_output])
+            iF.append(inp[p.force_input])
+        offs = [h.nstates]
+        for d in self.devices:
+            offs.append(offs[-1] + d.n_states)
+        self._idx.update(iy=np.array(iy, int), iv=np.array(iv, int), iF=np.array(iF, int),
+                         offs=offs, acc=any(d.model.uses_acceleration for d in self.devices))
+
+    # ----------------------------------------------------------- layout
+    @property
+    def port_names(self) -> tuple[str, ...]:
+        """Names of the ports with a device."""
+        return tuple(p.name for p in self.ports)
+
+    @property
+    def n_states(self) -> int:
+        """Host states plus all device states."""
+        return self._idx["offs"][-1]
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        """Host state names, then ``PORT.STATE`` for each device state."""
+        names = list(self.host.state_names)
+        for p, d in zip(self.ports, self.devices, strict=True):
+            names += [f"{p.name}.{s}" for s in d.model.state_names]
+        return tuple(names)
+
+    def device_slice(self, j: int) -> slice:
+        """Slice of device ``j``'s states in the coupled state vector."""
+        offs = self._idx["offs"]
+        return slice(offs[j], offs[j + 1])
+
+    @property
+    def stroke_matrix(self) -> np.ndarray:
+        """Rows of C giving the strokes of the device ports [m per state unit]."""
+        return self.host.C[self._idx["iy"]]
+
+    @property
+    def rate_matrix(self) -> np.ndarray:
+        """Rows of C giving the stroke rates [m/s per state unit]."""
+        return self.host.C[self._idx["iv"]]
+
+    def force_matrix(self, t: float) -> np.ndarray:
+        """Columns of B(t) taking the device forces [state rate per N]."""
+        return self.host.B(t)[:, self._idx["iF"]]
+
+    def initial_state(self, host_state=None) -> np.ndarray:
+        """Coupled state with the host at ``host_state`` and each device at rest.
+
+        Parameters
+        ----------
+        host_state : array or mapping, optional
+            Host state (array in ``host.state_names`` order, or
+            ``{name: value}``; missing names are 0) [host units].  Each device
+            starts at rest (``model.initial_state(params, y0)``) at its
+            initial stroke.
+        """
+        h = self.host
+        xh = np.zeros(h.nstates)
+        if isinstance(host_state, Mapping):
+            for k, v in host_state.items():
+                if k not in h.state_names:
+                    raise ParameterError(f"unknown host state {k!r}; valid: "
+                                         f"{', '.join(h.state_names)}")
+                xh[h.state_names.index(k)] = float(v)
+        elif host_state is not None:
+            xh = np.asarray(host_state, float).reshape(-1)
+            if xh.size != h.nstates:
+                raise ParameterError(f"host state needs {h.nstates} values, got {xh.size}")
+        y = self.stroke_matrix @ xh
+        parts = [xh]
+        for j, d in enumerate(self.devices):
+            if abs(y[j]) >= d.stroke_limit:
+                raise ParameterError(f"initial stroke {y[j]:g} m at port {self.ports[j].name!r}"
+                                     f" is beyond the chamber end {d.stroke_limit:g} m")
+            parts.append(np.asarray(d.model.initial_state(d.params, float(y[j])), float))
+        return np.concatenate(parts)
+
+    # ----------------------------------------------------------- dynamics
+    def evaluate(self, t: float, x):
+        """Port signals and state derivative at (t, x).
+
+        Returns
+        -------
+        dict
+            ``xdot`` (coupled state rate), ``stroke`` [m], ``rate`` [m/s],
+            ``acceleration`` [m/s^2], ``force`` [N] (arrays over the ports).
+        """
+        idx = self._idx
+        x = np.asarray(x, float)
+        nh = self.host.nstates
+        xh = x[:nh]
+        if self.host.AB is not None:
+            A, B = self.host.AB(t)
+        else:
+            A, B = self.host.A(t), self.host.B(t)
+        Bf = B[:, idx["iF"]]
+        Cv = self.rate_matrix
+        y = self.stroke_matrix @ xh
+        v = Cv @ xh
+        m = len(self.devices)
+        F0 = np.empty(m)
+        b = np.zeros(m)
+        zs = [x[self.device_slice(j)] for j in range(m)]
+        for j, d in enumerate(self.devices):
+            F0[j] = d.model.force(t, zs[j], (y[j], v[j], 0.0), d.params)
+            if idx["acc"]:
+                b[j] = d.acceleration_gain(t, zs[j], y[j], v[j])
+        Axh = A @ xh
+        if idx["acc"] and np.any(b != 0.0):
+            CvB = Cv @ Bf
+            F = np.linalg.solve(np.eye(m) - b[:, None] * CvB, F0 + b * (Cv @ Axh))
+        else:
+            F = F0
+        xhd = Axh + Bf @ F
+        a = Cv @ xhd
+        parts = [xhd]
+        for j, d in enumerate(self.devices):
+            if d.n_states:
+                parts.append(np.asarray(d.model.rhs(t, zs[j], (y[j], v[j], a[j]), d.params),
+                                        float))
+        return {"xdot": np.concatenate(parts), "stroke": y, "rate": v, "acceleration": a,
+                "force": F}
+
+    def rhs(self, t: float, x) -> np.ndarray:
+        """d x / d t of the coupled system [state units / s]."""
+        return self.evaluate(t, x)["xdot"]
+
+
+def couple(host, devices: Mapping[str, Device], ports=None, *, mechanics=None,
+           name: str = "") -> CoupledSystem:
+    """Join devices to a host's ports by port name.
+
+    Parameters
+    ----------
+    host : control.StateSpace, PeriodicStateSpace or HostMatrices
+        The structure (constant or periodic coefficients).
+    devices : mapping
+        ``{port name: Device}``.
+    ports : sequence of DevicePort, optional
+        The host's ports (default ``host.ports``; a plain StateSpace has none).
+    mechanics : callable, optional
+        ``t -> (M, C, K)`` for the energy balance (see :class:`HostMatrices`).
+    name : str
+
+    Returns
+    -------
+    CoupledSystem
+
+    Examples
+    --------
+    >>> from liquidamp.structure.hostio import load_section
+    >>> s = load_section("hodges-pierce")
+    >>> sys = couple(s.statespace(10.0, "jones"), {"plunge": viscous(20.0)}, s.ports)
+    >>> sys.port_names, sys.n_states
+    (('plunge',), 6)
+    """
+    h, D = _as_host(host, ports, mechanics)
+    if np.any(D != 0.0):
+        raise ParameterError("the host must not feed its inputs through to its outputs "
+                             "(D != 0): strokes must be functions of the host state")
+    if not devices:
+        raise ParameterError("give at least one {port: Device}")
+    ps, ds = [], []
+    for pname, dev in devices.items():
+        if not isinstance(dev, Device):
+            raise ParameterError(f"port {pname!r}: expected a Device, got {type(dev).__name__}")
+        ps.append(find_port(h.ports, pname))
+        ds.append(dev)
+    return CoupledSystem(h, tuple(ps), tuple(ds), name or h.name)
+
+
+def rotor_system(rotor, Omega: float, device, *, inoperative=()) -> CoupledSystem:
+    """A rotor with a device on each blade's port (rotating frame, periodic).
+
+    The rotor's own lag damper is removed on every blade that gets a device
+    and on every ``inoperative`` blade (failed damper: no device there
+    either).
+
+    Parameters
+    ----------
+    rotor : GroundResonanceRotor
+    Omega : float
+        Rotor speed > 0 [rad/s].
+    device : Device or mapping
+        The same device on every operative blade, or ``{blade k (1-based): Device}``.
+    inoperative : sequence of int
+        Blades whose damper has failed.
+
+    Returns
+    -------
+    CoupledSystem
+        With ``host.mechanics`` set (energy balance available).
+
+    Examples
+    --------
+    >>> from liquidamp.structure.hostio import load_rotor
+    >>> sys = rotor_system(load_rotor("hammond1974"), 25.0, viscous(65080.0), inoperative=[1])
+    >>> sys.port_names
+    ('blade_2', 'blade_3', 'blade_4')
+    """
+    W = check_positive("rotor speed Omega", Omega, "rad/s")
+    failed = {rotor.check_blade(k) for k in inoperative}
+    if isinstance(device, Device):
+        mapping = {k: device for k in range(1, rotor.n_blades + 1) if k not in failed}
+    else:
+        mapping = {rotor.check_blade(k): d for k, d in dict(device).items()}
+        bad = failed & set(mapping)
+        if bad:
+            raise ParameterError(f"blades {sorted(bad)} are inoperative and also have a device")
+    c = list(rotor.blade_damping)
+    for k in set(mapping) | failed:
+        c[k - 1] = 0.0
+    host = rotor.with_lag_dampers(c)
+    pss = host.periodic_statespace(W)
+
+    def mechanics(t, host=host, W=W):
+        return host.second_order(W, W * t)
+
+    def AB(t, host=host, W=W):
+        return host.first_order(W, W * t)
+
+    h = HostMatrices(pss.A, pss.B, np.asarray(pss.C, float), tuple(pss.state_names),
+                     tuple(pss.input_names), tuple(pss.output_names), tuple(pss.ports),
+                     float(pss.period), pss.name, mechanics, AB)
+    return couple(h, {f"blade_{k}": mapping[k] for k in sorted(mapping)},
+                  name=f"{rotor.name}@{W:.4g}rad/s")
+
+
+def section_system(section, U: float, devices: Mapping[str, Device], aero: str = "jones"
+                   ) -> CoupledSystem:
+    """A typical section at airspeed ``U`` [m/s] with devices on ``plunge``/``pitch``.
+
+    Examples
+    --------
+    >>> from liquidamp.structure.hostio import load_section
+    >>> sys = section_system(load_section("hodges-pierce"), 5.0, {"pitch": viscous(10.0)})
+    >>> sys.state_names[:4]
+    ('h', 'theta', 'h_dot', 'theta_dot')
+    """
+    return couple(section.statespace(U, aero), devices, section.ports,
+                  name=f"{section.name}@{U:.4g}m/s")
+
+
+# ---------------------------------------------------------------------------
+# time domain
+
+
+@dataclass(frozen=True, eq=False)
+class EnergyBalance:
+    """Energy of a second-order host and the work done on it (cumulative, from t = 0).
+
+    With E = T + V, T = q'^T M q'/2, V = q^T K_s q/2 (K_s the symmetric part
+    of K):
+
+    .. math:: E(t) - E(0) = -\\sum_k W_k - D + W_{drive}
+
+    where W_k = int F_k v_k dt is the work the host does on device k [J],
+    D = int q'^T C_s q' dt the host's own dissipation [J] and W_drive =
+    int (q'^T M' q'/2 + q^T K_s' q/2 - q'^T K_a q) dt the work of the
+    time-varying (rotating) coefficients, supplied by the rotor drive [J].
+
+    Attributes
+    ----------
+    kinetic, potential : ndarray
+        T and V [J].
+    device_work : ndarray, shape (n_ports, N)
+        W_k [J].
+    host_dissipation, drive_work : ndarray
+        D and W_drive [J].
+    residual : ndarray
+        E - E(0) + sum W_k + D - W_drive [J] (zero up to quadrature error).
+    """
+
+    kinetic: np.ndarray
+    potential: np.ndarray
+    device_work: np.ndarray
+    host_dissipation: np.ndarray
+    drive_work: np.ndarray
+    residual: np.ndarray
+
+    @property
+    def relative_residual(self) -> float:
+        """max |residual| / max(E, sum |W_k|, D, |W_drive|) [-]."""
+        E = self.kinetic + self.potential
+        scale = max(float(np.max(np.abs(E))), float(np.max(np.abs(self.device_work))),
+                    float(np.max(np.abs(self.host_dissipation))),
+                    float(np.max(np.abs(self.drive_work))), 1e-300)
+        return float(np.max(np.abs(self.residual)) / scale)
+
+
+@dataclass(frozen=True, eq=False)
+class CoupledResponse:
+    """Time history of a coupled run.
+
+    Attributes
+    ----------
+    name : str
+    time : ndarray
+        [s].
+    host_state_names : tuple of str
+    host_states : ndarray, shape (n_host, N)
+        Host states [host units].
+    port_names : tuple of str
+    device_labels : tuple of str
+    device_state_names : tuple of tuple of str
+    device_states : tuple of ndarray
+        Per port, shape (n_states_j, N) [model units].
+    strokes, stroke_rates, stroke_accelerations : ndarray, shape (n_ports, N)
+        [m], [m/s], [m/s^2].
+    forces : ndarray, shape (n_ports, N)
+        Device forces [N] (positive resisting a positive stroke).
+    energy : EnergyBalance or None
+        Where the host has second-order mechanics.
+    status : str
+        ``completed``, ``stroke_limit`` or ``pressure_floor``.
+    message : str
+    warnings : tuple of str
+    """
+
+    name: str
+    time: np.ndarray
+    host_state_names: tuple[str, ...]
+    host_states: np.ndarray
+    port_names: tuple[str, ...]
+    device_labels: tuple[str, ...]
+    device_state_names: tuple[tuple[str, ...], ...]
+    device_states: tuple[np.ndarray, ...]
+    strokes: np.ndarray
+    stroke_rates: np.ndarray
+    stroke_accelerations: np.ndarray
+    forces: np.ndarray
+    energy: EnergyBalance | None
+    status: str
+    message: str
+    warnings: tuple[str, ...] = ()
+
+    def host_state(self, name: str) -> np.ndarray:
+        """Host state ``name`` over time."""
+        if name not in self.host_state_names:
+            raise ParameterError(f"unknown host state {name!r}; valid: "
+                                 f"{', '.join(self.host_state_names)}")
+        return self.host_states[self.host_state_names.index(name)]
+
+    def device_state(self, port: str, name: str) -> np.ndarray:
+        """State ``name`` of the device at ``port`` over time."""
+        if port not in self.port_names:
+            raise ParameterError(f"unknown port {port!r}; valid: {', '.join(self.port_names)}")
+        j = self.port_names.index(port)
+        names = self.device_state_names[j]
+        if name not in names:
+            raise ParameterError(f"device at {port!r} has no state {name!r}; valid: "
+                                 f"{', '.join(names) or 'none'}")
+        return self.device_states[j][names.index(name)]
+
+
+def _pressure_indices(model: DeviceModel):
+    if model.pressures is None or not model.uses_bulk_law:
+        return None
+    names = model.state_names
+    if "p1" in names and "p2" in names:
+        return names.index("p1"), names.index("p2")
+    return None
+
+
+def _energy(system: CoupledSystem, t, xh, F, v) -> EnergyBalance:
+    mech = system.host.mechanics
+    n = xh.shape[0] // 2
+    q, qd = xh[:n], xh[n:2 * n]
+    N = t.size
+    T = np.empty(N)
+    V = np.empty(N)
+    Pd = np.empty(N)
+    Pw = np.empty(N)
+    h = 1e-6 * (system.host.period or 1.0)
+    for i in range(N):
+        M, C, K = mech(t[i])
+        Mp, _, Kp = mech(t[i] + h)
+        Mm, _, Km = mech(t[i] - h)
+        Ks, Ka = 0.5 * (K + K.T), 0.5 * (K - K.T)
+        Cs = 0.5 * (C + C.T)
+        Md, Kd = (Mp - Mm) / (2 * h), 0.5 * ((Kp + Kp.T) - (Km + Km.T)) / (2 * h)
+        a, b = q[:, i], qd[:, i]
+        T[i] = 0.5 * b @ M @ b
+        V[i] = 0.5 * a @ Ks @ a
+        Pd[i] = b @ Cs @ b
+        Pw[i] = 0.5 * b @ Md @ b + 0.5 * a @ Kd @ a - b @ Ka @ a
+    W = cumulative_simpson(F * v, x=t, initial=0.0, axis=-1)
+    D = cumulative_simpson(Pd, x=t, initial=0.0)
+    Wd = cumulative_simpson(Pw, x=t, initial=0.0)
+    E = T + V
+    res = E - E[0] + W.sum(axis=0) + D - Wd
+    return EnergyBalance(T, V, W, D, Wd, res)
+
+
+def simulate_coupled(system: CoupledSystem, t_end: float, x0=None, *, t_eval=None,
+                     samples_per_second: float | None = None,
+                     options: SolverOptions | None = None, strict: bool = True,
+                     energy: bool = True, max_step: float | None = None) -> CoupledResponse:
+    """Integrate the coupled nonlinear system from 0 to ``t_end`` [s].
+
+    Parameters
+    ----------
+    system : CoupledSystem
+    t_end : float
+        End time > 0 [s].
+    x0 : array or mapping, optional
+        Coupled initial state (length ``system.n_states``) or a host state
+        (array or ``{name: value}``) with the devices at rest.
+    t_eval : array, optional
+        Output times [s] (default: uniform, ``samples_per_second``).
+    samples_per_second : float, optional
+        Default output rate [1/s] (default 200, or 64 per host period).
+    options : SolverOptions, optional
+        ``method``, ``rtol``, ``atol_scale`` (atol = atol_scale x state
+        scale: the device's ``state_scales``, the host's largest initial
+        state), ``pressure_floor``, ``vapour_pressure``.
+    strict : bool
+        Raise (PressureError, ParameterError) when a chamber pressure reaches
+        the floor or a stroke reaches a chamber end; else stop and return
+        with that ``status``.
+    energy : bool
+        Compute the :class:`EnergyBalance` where the host has mechanics.
+    max_step : float, optional
+        Largest step [s] (default 1/20 of the host period, else unbounded).
+
+    Returns
+    -------
+    CoupledResponse
+    """
+    opts = DEFAULT_OPTIONS if options is None else options
+    T_end = check_positive("t_end", t_end, "s")
+    n = system.n_states
+    if x0 is None or isinstance(x0, Mapping) or np.size(x0) == system.host.nstates:
+        if x0 is not None and np.size(x0) == n and not isinstance(x0, Mapping):
+            X0 = np.asarray(x0, float).reshape(-1)
+        else:
+            X0 = system.initial_state(x0)
+    else:
+        X0 = np.asarray(x0, float).reshape(-1)
+        if X0.size != n:
+            raise ParameterError(f"x0 needs {n} values (coupled) or {system.host.nstates} "
+                                 f"(host), got {X0.size}")
+    if not np.all(np.isfinite(X0)):
+        raise ParameterError("x0 must be finite")
+    nh = system.host.nstates
+    host_scale = max(float(np.max(np.abs(X0[:nh]))), 1e-12)
+    atol = [np.full(nh, opts.atol_scale * host_scale)]
+    for d in system.devices:
+        if d.n_states:
+            atol.append(opts.atol_scale * np.asarray(d.model.state_scales(d.params), float))
+    atol = np.concatenate(atol)
+    period = system.host.period
+    if t_eval is None:
+        rate = samples_per_second or (64.0 / period if period else 200.0)
+        t_eval = np.linspace(0.0, T_end, int(math.ceil(T_end * rate)) + 1)
+    t_eval = np.asarray(t_eval, float)
+    if max_step is None:
+        max_step = period / 20.0 if period else np.inf
+
+    events = []
+    kinds = []
+    for j, d in enumerate(system.devices):
+        C_y = system.stroke_matrix[j]
+        lim = d.stroke_limit
+        if math.isfinite(lim):
+            def ev(t, x, C_y=C_y, lim=lim):
+                return lim - abs(C_y @ x[:nh])
+            ev.terminal = True
+            events.append(ev)
+            kinds.append(("stroke_limit", j))
+        pi = _pressure_indices(d.model)
+        if pi is not None:
+            sl = system.device_slice(j)
+
+            def evp(t, x, sl=sl, pi=pi):
+                z = x[sl]
+                return min(z[pi[0]], z[pi[1]]) - opts.pressure_floor
+            evp.terminal = True
+            events.append(evp)
+            kinds.append(("pressure_floor", j))
+
+    sol = solve_ivp(system.rhs, (0.0, T_end), X0, method=opts.method, t_eval=t_eval,
+                    rtol=opts.rtol, atol=atol, max_step=max_step, events=events or None)
+    if sol.status == -1:
+        raise ConvergenceError(f"coupled integration failed: {sol.message}")
+    status, message = "completed", "integrated to t_end"
+    if sol.status == 1:
+        for k, te in enumerate(sol.t_events):
+            if te.size:
+                kind, j = kinds[k]
+                status = kind
+                port = system.ports[j].name
+                message = (f"stopped at t = {te[0]:.6g} s: "
+                           + (f"stroke at port {port!r} reached the chamber end "
+                              f"{system.devices[j].stroke_limit:g} m" if kind == "stroke_limit"
+                              else f"a chamber pressure of the device at port {port!r} reached "
+                              f"the floor {opts.pressure_floor:g} Pa"))
+                break
+        if strict:
+            raise (PressureError if status == "pressure_floor" else ParameterError)(message)
+    t = sol.t
+    X = sol.y
+    m = len(system.devices)
+    N = t.size
+    Y = np.empty((m, N))
+    Vv = np.empty((m, N))
+    Aa = np.empty((m, N))
+    Fo = np.empty((m, N))
+    for i in range(N):
+        ev_ = system.evaluate(t[i], X[:, i])
+        Y[:, i], Vv[:, i], Aa[:, i], Fo[:, i] = (ev_["stroke"], ev_["rate"],
+                                                 ev_["acceleration"], ev_["force"])
+    warns = []
+    dstates = []
+    for j, d in enumerate(system.devices):
+        z = X[system.device_slice(j)]
+        dstates.append(z)
+        if d.model.pressures is not None and d.n_states and N:
+            p1, p2 = d.model.pressures(z, (Y[j], Vv[j], Aa[j]), d.params)
+            pmin = float(min(np.min(p1), np.min(p2)))
+            if pmin < opts.vapour_pressure:
+                warns.append(f"port {system.ports[j].name!r}: lowest chamber pressure "
+                             f"{pmin:.4g} Pa is below the vapour pressure "
+                             f"{opts.vapour_pressure:g} Pa (cavitation not modelled)")
+    eb = None
+    if energy and system.host.mechanics is not None and N >= 3:
+        eb = _energy(system, t, X[:nh], Fo, Vv)
+    return CoupledResponse(
+        name=system.name, time=t, host_state_names=system.host.state_names,
+        host_states=X[:nh], port_names=system.port_names,
+        device_labels=tuple(d.label for d in system.devices),
+        device_state_names=tuple(d.model.state_names for d in system.devices),
+        device_states=tuple(dstates), strokes=Y, stroke_rates=Vv, stroke_accelerations=Aa,
+        forces=Fo, energy=eb, status=status, message=message, warnings=tuple(warns))
