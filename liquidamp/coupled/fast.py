@@ -23,7 +23,8 @@ Design
   step is ``max_step_fraction`` of the period, as there.
 * The harmonic stroke is evaluated analytically inside the compiled code; a
   recorded stroke by compiled linear interpolation of its arrays (ends held,
-  as :func:`numpy.interp`).
+  as :func:`numpy.interp`); the integrator never steps across a sample time,
+  where the interpolant has a kink, so each step sees a smooth input.
 * The periodic-steady-state loop (march a period, compare the force
   waveform, stop on the same rule as the Python path) runs entirely in
   compiled code.
