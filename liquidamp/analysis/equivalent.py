@@ -317,7 +317,7 @@ def equivalent_linearization(params: DeviceParams, frequency_hz: float, amplitud
         B1, B2 = p.B01, p.B02
         B1, B2 = p.B01, p.B02
 
-        def solve_c(B):
+        def solve_c(B, Y=Y):
             """Unique root of c = c1 + 8 c2 q_hat(c) / (3 pi) (q_hat falls as c rises)."""
             if p.c2 == 0.0:
                 return p.c1
@@ -331,11 +331,11 @@ def equivalent_linearization(params: DeviceParams, frequency_hz: float, amplitud
                 return hi
             return brentq(resid, lo, hi, xtol=1e-14 * hi, rtol=1e-13, maxiter=200)
 
-        def bulk_map(lnB):
+        def bulk_map(lnB, Y=Y):
             """ln B_i,eq(e_i) - ln B_i for the trial ln B_i (both chambers)."""
             b1, b2 = np.exp(lnB)
             B = b1 / p.V01 + b2 / p.V02
-            K_f, _ = _k_and_q(A_p, B, L_t, solve_c(B), s)
+            K_f, _ = _k_and_q(A_p, B, L_t, solve_c(B, Y), s)
             dp = abs(K_f) * Y / A_p
             n1 = _bulk_df((b1 / p.V01) / B * dp / b1, tables[0], p.B01, p.p0)
             n2 = _bulk_df((b2 / p.V02) / B * dp / b2, tables[1], p.B02, p.p0)
@@ -349,6 +349,17 @@ def equivalent_linearization(params: DeviceParams, frequency_hz: float, amplitud
             sol = root(bulk_map, np.log([B1, B2]), method="hybr", options={"xtol": 1e-12})
             r = bulk_map(sol.x)
             iters = int(sol.nfev)
+            if not (sol.success and np.all(np.isfinite(r)) and np.max(np.abs(r)) < 1e-9):
+                # continuation in the amplitude from the small-signal solution
+                z = np.log([B1, B2])
+                for frac in np.linspace(0.125, 1.0, 8):
+                    sol = root(bulk_map, z, args=(Y * frac,), method="hybr",
+                               options={"xtol": 1e-12})
+                    iters += int(sol.nfev)
+                    if not sol.success:
+                        break
+                    z = sol.x
+                r = bulk_map(sol.x)
             if sol.success and np.all(np.isfinite(r)) and np.max(np.abs(r)) < 1e-9:
                 B1, B2 = np.exp(sol.x)
             else:
@@ -356,7 +367,9 @@ def equivalent_linearization(params: DeviceParams, frequency_hz: float, amplitud
                 warns.append(
                     "no amplitude-dependent bulk modulus found (the chamber pressure swing "
                     "takes the pressure near 0 over part of the cycle, where eq. (2) is "
-                    f"singular, or the iteration stalled: {sol.message.strip()}); B at p0 used")
+                    "singular, or the stiffening chambers fold the response near the "
+                    "resonance -- a jump, several solutions -- and the continuation in the "
+                    f"amplitude stalled: {' '.join(sol.message.split())}); B at p0 used")
         c_eq = solve_c(B1 / p.V01 + B2 / p.V02)
         B = B1 / p.V01 + B2 / p.V02
         K_fluid, q_per_y = _k_and_q(A_p, B, L_t, c_eq, s)

@@ -17,7 +17,8 @@ Im K*/Re K*.
 Warm start
 ----------
 By default each nonlinear steady state starts from the periodic solution of
-the model linearized at rest (x(0) = x0 + Im X, X the state phasor), projected
+the model linearized at rest with the quadratic loss replaced by its
+equivalent c_eq at that amplitude (x(0) = x0 + Im X, X the state phasor), projected
 onto the invariants of the sealed device (each chamber's density on its
 pressure curve, total mass equal to the filling mass), so the march starts
 on the same family of periodic orbits as a start from rest and needs fewer
@@ -280,6 +281,8 @@ def warm_start_state(model, params: DeviceParams, frequency_hz: float, amplitude
     its pressure curve (eq. 3 with eq. 2, or exp((p - p0)/B0) for a constant
     bulk modulus), and for mass-conserving models a common pressure shift
     restores the filling mass.  Friction is ignored (it only sets the start).
+    Where the linear orbit would take a chamber pressure below 0.2 p0 the
+    rest state is returned instead.
 
     Returns
     -------
@@ -307,6 +310,9 @@ def warm_start_state(model, params: DeviceParams, frequency_hz: float, amplitude
         return x
     names = m.state_names
     i1, i2 = (names.index("p1"), names.index("p2"))
+    if min(x[i1], x[i2]) <= 0.2 * p.p0:
+        # the linear orbit would take a chamber near or through zero pressure: start at rest
+        return m.initial_state(p, 0.0)
     r1 = names.index("rho1") if "rho1" in names else None
     r2 = names.index("rho2") if "rho2" in names else None
 
@@ -339,6 +345,19 @@ def warm_start_state(model, params: DeviceParams, frequency_hz: float, amplitude
         return m.initial_state(p, 0.0)
     d = brentq(g, lo, hi, xtol=1e-9, rtol=1e-15)
     return shifted(d)
+
+
+def _warm(m, params: DeviceParams, f: float, Y: float) -> np.ndarray:
+    """Warm start from the model linearized with the equivalent loss c_eq (rest bulk)."""
+    from liquidamp.analysis.equivalent import equivalent_linearization
+
+    peq = params
+    if params.c2 > 0.0 and params.c1 > 0.0:
+        kind = "inertial_2state" if params.S_t > 0 else "single_state"
+        c_eq = equivalent_linearization(params.replace(friction_N=0.0), f, Y, kind,
+                                        bulk="rest").c_eq
+        peq = params.replace(c1=c_eq, c2=0.0)
+    return warm_start_state(m, params, f, Y, linearize(m, peq))
 
 
 def nonlinear_stiffness(params: DeviceParams, frequencies_hz, amplitudes_m,
@@ -392,10 +411,9 @@ def nonlinear_stiffness(params: DeviceParams, frequencies_hz, amplitudes_m,
     cyc = np.zeros(value.shape, int)
     warns, fails = [], []
     use_warm = warm_start and m.n_states > 0 and (m.pressures is None or m.conserves_mass)
-    lin = linearize(m, params) if use_warm else None
     for i, Y in enumerate(a):
         for j, fj in enumerate(f):
-            x0 = warm_start_state(m, params, fj, Y, lin) if use_warm else None
+            x0 = _warm(m, params, float(fj), float(Y)) if use_warm else None
             try:
                 r = steady_state(m, params, HarmonicStroke(float(Y), float(fj)),
                                  options=options, x0=x0)
