@@ -17,6 +17,8 @@ def register(sub) -> None:
     )
     p.add_argument("--out", default="liquidamp-demo", help="output directory (default %(default)s)")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
+    p.add_argument("--engine", choices=("compiled", "python"), default="compiled",
+                   help="integration engine (default %(default)s; python is the reference)")
     p.set_defaults(func=run)
 
 
@@ -30,8 +32,10 @@ def run(args) -> int:
         if not args.quiet:
             print(f"[{time.perf_counter() - start:6.1f} s] {msg}", file=sys.stderr)
 
+    from liquidamp.options import SolverOptions
+
     out = Path(args.out)
-    study = run_case_study(progress=progress)
+    study = run_case_study(options=SolverOptions(engine=args.engine), progress=progress)
     index = write_case_study(study, out)
     progress(f"wrote {index}")
     print(index)

@@ -20,6 +20,8 @@ def register(sub) -> None:
     p.add_argument("--frequency", required=True, type=float, help="excitation frequency [Hz]")
     p.add_argument("--amplitude", required=True,
                    help="stroke amplitude, SI metres or with unit (3mm)")
+    p.add_argument("--engine", choices=("compiled", "python"), default="compiled",
+                   help="integration engine (default %(default)s; python is the reference)")
     p.add_argument("--json", default=None, help="output JSON (default stdout)")
     p.add_argument("--plot", default=None, help="three-panel loop figure (PNG)")
     p.set_defaults(func=run)
@@ -60,7 +62,9 @@ def run(args) -> int:
     params = device_from_args(args)
     model = get_model(args.model)
     stroke = HarmonicStroke(parse_length(args.amplitude, "amplitude"), args.frequency)
-    response = steady_state(model, params, stroke)
+    from liquidamp.options import SolverOptions
+
+    response = steady_state(model, params, stroke, options=SolverOptions(engine=args.engine))
     data = summary(response)
     for w in response.warnings:
         print(f"warning: {w}", file=sys.stderr)

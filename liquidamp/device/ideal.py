@@ -16,34 +16,47 @@ References
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
-from scipy.optimize import brentq
 
-from liquidamp.device.fluid import density_gholizadeh, loss_pressure
+from liquidamp.device.fluid import bulk_modulus_gholizadeh, loss_pressure
 from liquidamp.device.params import DeviceParams
 
 __all__ = ["ideal_spring_force", "ideal_damper_force", "ideal_inerter_force"]
 
 
-def _pressure_for_density(rho: float, X0: float, params: DeviceParams) -> float:
-    """Invert the chamber's density law rho(p) for p [Pa]."""
+def _pressure_of_density(X0: float, params: DeviceParams):
+    """Inverse of the chamber's density law, p(rho) [Pa], as a callable on arrays.
+
+    For eq. (2) the law ln(rho/rho0) = integral dp/B is tabulated on a
+    logarithmic pressure grid (Simpson-accurate cumulative quadrature) and
+    inverted by a monotone cubic interpolant; the constant-bulk law is
+    inverted in closed form.
+    """
+    from scipy.integrate import cumulative_simpson
+    from scipy.interpolate import PchipInterpolator
+
     if params.bulk_law == "constant":
-        B0 = params.B01 if X0 == params.X01 else params.B02
-        return params.p0 + B0 * math.log(rho / params.rho0)
+        B0 = bulk_modulus_gholizadeh(params.p0, params.B_l, X0, params.p0, params.n)
+        return lambda rho: params.p0 + B0 * np.log(rho / params.rho0)
+    s = np.linspace(np.log(params.p0 * 1e-3), np.log(params.p0 * 1e3), 4001)
+    p = np.exp(s)
+    B = np.array([bulk_modulus_gholizadeh(q, params.B_l, X0, params.p0, params.n) for q in p])
+    ln_rho = cumulative_simpson(p / B, x=s, initial=0.0)
+    ln_rho -= np.interp(np.log(params.p0), s, ln_rho)
+    inverse = PchipInterpolator(ln_rho, s, extrapolate=False)
 
-    def g(p):
-        return density_gholizadeh(p, params.rho0, params.B_l, X0, params.p0, params.n) - rho
+    def pressure(rho):
+        out = np.exp(inverse(np.log(np.asarray(rho, float) / params.rho0)))
+        if not np.all(np.isfinite(out)):
+            from liquidamp.errors import ParameterError
 
-    lo, hi = params.p0, params.p0
-    while g(lo) > 0.0:
-        lo *= 0.5
-        if lo < 1e-6:
-            return 0.0
-    while g(hi) < 0.0:
-        hi *= 2.0
-    return brentq(g, lo, hi, xtol=1e-9, rtol=1e-12)
+            raise ParameterError(
+                "ideal spring: chamber density outside the tabulated range "
+                f"[{params.p0 * 1e-3:g}, {params.p0 * 1e3:g}] Pa of pressure"
+            )
+        return out
+
+    return pressure
 
 
 def ideal_spring_force(y, params: DeviceParams):
@@ -75,13 +88,11 @@ def ideal_spring_force(y, params: DeviceParams):
     1.0
     """
     ys = np.atleast_1d(np.asarray(y, float))
-    out = np.empty_like(ys)
     M1, M2 = params.rho0 * params.V01, params.rho0 * params.V02
-    for i, yi in enumerate(ys):
-        V1, V2 = params.V01 - params.A_p * yi, params.V02 + params.A_p * yi
-        p1 = _pressure_for_density(M1 / V1, params.X01, params)
-        p2 = _pressure_for_density(M2 / V2, params.X02, params)
-        out[i] = params.A_p * (p1 - p2)
+    V1, V2 = params.V01 - params.A_p * ys, params.V02 + params.A_p * ys
+    p1 = _pressure_of_density(params.X01, params)(M1 / V1)
+    p2 = _pressure_of_density(params.X02, params)(M2 / V2)
+    out = params.A_p * (p1 - p2)
     return out if np.ndim(y) else float(out[0])
 
 
