@@ -8,10 +8,20 @@ rpm ranges with ends found by Brent's method.  A rotor with dissimilar
 blades (``--inoperative``) has periodic coefficients and is analysed with
 Floquet theory whatever ``--method`` says (noted in the JSON and on stderr).
 
+With ``--damper PRESET`` (a device preset, a device file or ``maxwell``;
+default ``viscous``, the rotor's own dampers) the liquid device, sized by
+:func:`liquidamp.analysis.sizing.size_lag_damper` through the arm
+``--arm`` (default the rotor's), replaces every blade's lag damper and the
+small-signal closed loop is analysed (Coleman, or Floquet with
+``--inoperative``).
+
 ``liquidamp sweep flutter --section hodges-pierce --aero theodorsen
 --method pk --json FILE [--plot FILE]`` writes the flutter speed
 U_F/(b omega_theta), the flutter frequency omega_F/omega_theta, the
-divergence speed and the V-g / V-f data per mode.
+divergence speed and the V-g / V-f data per mode.  With ``--damper PRESET
+[--port plunge|pitch] [--zeta Z]`` the sized device (or ``viscous``) sits
+on the port and the p method with Jones' aerodynamics (or the state-space
+model given by ``--aero``) is used with the linearized device in the loop.
 """
 
 from __future__ import annotations
@@ -43,6 +53,12 @@ def register(subparsers) -> None:
     g.add_argument("--inoperative", action="append", default=[], metavar="K",
                    help="blade whose lag damper has failed (1-based; repeat for several)")
     g.add_argument("--method", default="coleman", help="coleman (default) or floquet")
+    g.add_argument("--damper", default="viscous",
+                   help="viscous (default: the rotor's own dampers), maxwell, a device preset "
+                   "or a device file (sized to replace the lag damper)")
+    g.add_argument("--arm", default=None,
+                   help="damper arm, metres or with unit (250mm); default the rotor's")
+    g.add_argument("--model", default="full", help="device model (default full)")
     g.add_argument("--json", required=True, help="output JSON file")
     g.add_argument("--plot", help="output figure (Coleman diagram), e.g. .png")
     g.set_defaults(func=_ground_resonance)
@@ -50,9 +66,16 @@ def register(subparsers) -> None:
     f = sub.add_parser("flutter", help="typical section against airspeed")
     f.add_argument("--section", default="hodges-pierce",
                    help="section preset name or .toml/.json file (default hodges-pierce)")
-    f.add_argument("--aero", default="theodorsen",
-                   help="steady, quasi-steady, theodorsen (default) or jones")
-    f.add_argument("--method", default="pk", help="pk (default), k or p")
+    f.add_argument("--aero", default=None,
+                   help="steady, quasi-steady, theodorsen (default) or jones (default with "
+                   "--damper)")
+    f.add_argument("--method", default=None, help="pk (default), k or p (p with --damper)")
+    f.add_argument("--damper", default=None,
+                   help="device on the section: viscous, maxwell, a device preset or file")
+    f.add_argument("--port", default="plunge", help="plunge (default) or pitch")
+    f.add_argument("--zeta", type=float, default=0.05,
+                   help="damping ratio the device is sized for (default 0.05)")
+    f.add_argument("--model", default="full", help="device model (default full)")
     f.add_argument("--speeds", default="0.05:3.5:70",
                    help="reduced speeds U/(b omega_theta) for pk and p (default 0.05:3.5:70)")
     f.add_argument("--k", dest="reduced_frequencies", default=None,
@@ -79,11 +102,18 @@ def _ground_resonance(args) -> int:
     if rpm.size > 1 and np.any(np.diff(rpm) <= 0.0):
         raise ParameterError(f"rpm values must be strictly increasing, got {args.rpm!r}")
     rotor = load_rotor(args.rotor)
+    blades = []
     for text in args.inoperative:
         try:
             k = int(text)
         except ValueError:
             raise ParameterError(f"--inoperative must be a blade number, got {text!r}") from None
+        blades.append(rotor.check_blade(k))
+    damper = getattr(args, "damper", "viscous")
+    arm = getattr(args, "arm", None)
+    if damper != "viscous" or arm is not None:
+        return _ground_resonance_device(args, rotor, rpm, blades, method)
+    for k in blades:
         rotor = rotor.with_inoperative_damper(k)
     sweep = ground_resonance_sweep(rotor, rpm_to_rad_s(rpm), method)
     if sweep.method != method:
@@ -101,10 +131,45 @@ def _ground_resonance(args) -> int:
     return 0
 
 
+def _ground_resonance_device(args, rotor, rpm, blades, method) -> int:
+    from liquidamp.analysis.damped_stability import device_ground_resonance_sweep
+    from liquidamp.analysis.ground_resonance import rpm_to_rad_s
+    from liquidamp.analysis.sizing import lag_damper_device
+    from liquidamp.commands._args import parse_length
+
+    arm = parse_length(args.arm, "arm") if args.arm else None
+    device, rotor, sizing = lag_damper_device(args.damper, rotor, arm=arm, model=args.model)
+    used = "floquet" if blades else method
+    sweep = device_ground_resonance_sweep(rotor, rpm_to_rad_s(rpm), device,
+                                          inoperative=blades, method=used, executor="serial")
+    if sweep.method != method:
+        print(f"liquidamp sweep ground-resonance: note: {sweep.note}", file=sys.stderr)
+    data = sweep.to_dict()
+    data["inoperative_blades"] = [int(k) for k in blades]
+    data["damper"] = args.damper
+    data["damper_arm [m]"] = rotor.blade.damper_arm
+    if sizing is not None:
+        data["sizing"] = sizing.as_dict()
+    else:
+        data["damper_coefficient [N s/m]"] = device.params.c
+    write_json(args.json, data)
+    if args.plot:
+        from liquidamp.analysis.stability_plots import plot_ground_resonance
+
+        plot_ground_resonance(sweep).savefig(args.plot, dpi=120)
+    ranges = ", ".join(f"{a:.1f}-{b:.1f}" for a, b in sweep.unstable_ranges_rpm) or "none"
+    print(f"{rotor.name} + {device.label}: {sweep.method}; unstable ranges [rpm]: {ranges}")
+    return 0
+
+
 def _flutter(args) -> int:
     from liquidamp.analysis.flutter import check_combination, flutter_analysis
     from liquidamp.structure.hostio import load_section
 
+    if getattr(args, "damper", None):
+        return _flutter_device(args)
+    args.aero = args.aero or "theodorsen"
+    args.method = args.method or "pk"
     check_combination(args.aero, args.method)
     section = load_section(args.section)
     speeds = parse_list(args.speeds, "speeds")
@@ -122,4 +187,41 @@ def _flutter(args) -> int:
         f"{result.flutter_speed:.4f} (frequency ratio {result.flutter_frequency:.4f})")
     print(f"{section.name}: {args.aero}, {args.method}: flutter speed U/(b omega_theta) = {vf}; "
           f"divergence {result.divergence_speed:.4f}")
+    return 0
+
+
+def _flutter_device(args) -> int:
+    from liquidamp.analysis.damped_stability import damped_flutter_analysis
+    from liquidamp.analysis.flutter import check_combination
+    from liquidamp.analysis.sizing import flutter_damper_device
+    from liquidamp.structure.hostio import load_section
+
+    aero = args.aero or "jones"
+    method = args.method or "p"
+    if method != "p":
+        raise ParameterError(f"--damper needs the p method (the device is in the state-space "
+                             f"loop), got --method {method}")
+    check_combination(aero, method)
+    check_choice("port", args.port, ("plunge", "pitch"))
+    section = load_section(args.section)
+    device, sizing = flutter_damper_device(args.damper, section, port=args.port,
+                                           zeta=args.zeta, model=args.model)
+    speeds = parse_list(args.speeds, "speeds")
+    result = damped_flutter_analysis(section, {args.port: device}, speeds=speeds, aero=aero)
+    data = result.to_dict()
+    data["damper"] = args.damper
+    data["port"] = args.port
+    if sizing is not None:
+        data["sizing"] = sizing.as_dict()
+    else:
+        data["damper_coefficient [N s/m]"] = device.params.c
+    write_json(args.json, data)
+    if args.plot:
+        from liquidamp.analysis.stability_plots import plot_flutter
+
+        plot_flutter(result).savefig(args.plot, dpi=120)
+    vf = "none in range" if result.flutter_speed is None else (
+        f"{result.flutter_speed:.4f} (frequency ratio {result.flutter_frequency:.4f})")
+    print(f"{section.name} + {device.label} on {args.port}: {aero}, p: flutter speed "
+          f"U/(b omega_theta) = {vf}; divergence {result.divergence_speed:.4f}")
     return 0
