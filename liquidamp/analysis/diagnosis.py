@@ -508,7 +508,7 @@ def bundled_records() -> dict:
     return {p.stem: p for p in sorted(data.glob("*.csv"))}
 
 
-def demo_loop(out_dir, *, cycles: float = 3.0, top: int = 2) -> dict:
+def demo_loop(out_dir, *, cycles: float = 3.0, top: int = 1) -> dict:
     """Calibrate and diagnose the bundled records end to end; write JSON and an HTML report.
 
     Calibrates on ``demo_3Hz_3mm`` and validates on ``demo_4Hz_2mm``
