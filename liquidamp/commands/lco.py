@@ -74,7 +74,7 @@ def analyse(rotor, Omega, device, inoperative=(), t_end=None) -> dict:
     }
     run_ = small
     if sigma > 0:
-        start = 0.5 * pred.lag_amplitude if pred.lag_amplitude else 10 * lag0
+        start = 0.8 * pred.lag_amplitude if pred.lag_amplitude else 10 * lag0
         T = t_end or min(max(12.0 / sigma, 10.0), 60.0)
         big = simulate_lco(rotor, Omega, device, inoperative=inop, initial_lag=start,
                            t_end=T, mode=cm)
