@@ -1,16 +1,18 @@
 """Equivalent (describing-function) linearization against the nonlinear first harmonic.
 
-Measured tolerances (|K_eq - K_NL| / |K_NL|, full model eq. 10 as the judge,
-``bulk="auto"`` = amplitude-averaged bulk modulus; table of issue #3):
+Measured tolerances: the table in the docstring of
+:mod:`liquidamp.analysis.equivalent` (issue #3 report).  Summary, full model
+eq. 10 as the judge, ``bulk="auto"`` (averaged bulk modulus):
 
 * the quadratic-loss describing function alone (model inertial_2state,
   constant B): <= 2 % at 1-3 mm, 0.5-20 Hz (reference);
-* full model, 1 mm: <= 19 % over 0.5-20 Hz for the presets clear of
-  cavitation (largest near the stiffening resonance, 5-10 Hz), <= 2 % at
-  0.5-2 Hz;
-* full model, 2-3 mm: <= 42 % (spring preset, air-rich) / <= 27 %
-  (reference) at 5-20 Hz, <= 7 % at 0.5-2 Hz; where the averaged bulk
-  modulus has no solution (a fold near resonance) ``valid`` is False.
+* full model at 0.5-2 Hz: <= 2 % at 1 mm, <= 10 % at 2-3 mm (spring preset
+  30 % at 3 mm);
+* full model at 5-20 Hz: 2-19 % at 1 mm, up to 25-50 % at 2-3 mm (chambers
+  stiffen; a fold/jump near resonance at 3 mm for device_a).
+
+The spot checks below reproduce table entries to +-0.01 and hold them to a
+tolerance; points were picked for runtime.
 """
 
 import math
