@@ -542,10 +542,14 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
             return np.array(r.states)
     else:
         fast = _Interp(stroke.time, stroke.displacement, stroke.velocity, stroke.acceleration)
+        # a bounded step: a state that rests while the input moves (freeplay in its gap, a
+        # closed cavity) gives zero derivatives at the start, and an unbounded first step
+        # can jump over the whole record without ever seeing the contact
+        hmax = max(options.max_step_fraction, 1e-4) * record.period
 
         def run(t_eval, xs):
             return integrate(model, params, fast, t_eval, xs, rtol=options.rtol,
-                             atol_scale=options.atol_scale)
+                             atol_scale=options.atol_scale, hmax=hmax)
     t_cycle = np.append(t[:n_cycle - 1], t[0] + record.period)  # exactly one period
     for _ in range(preroll if model.n_states else 0):
         x = run(t_cycle, x)[:, -1]

@@ -25,6 +25,8 @@ CASES = {
                         (3.0, 0.003), (4.0, 0.002), 51),
     "moving_mass": ("paper_calibrated", {"moving_mass": {"mass_kg": 25.0}},
                     (3.0, 0.0025), (4.0, 0.002), 52),
+    "freeplay": ("paper_calibrated", {"freeplay": {"gap_m": 1.0e-4}},
+                 (3.0, 0.003), (4.0, 0.002), 53),
     "coulomb+offset": ("paper_calibrated", {"coulomb_friction": {"force_N": 25.0},
                                             "force_offset": {"offset_N": -20.0}},
                        (3.0, 0.0025), (4.0, 0.002), 34),
