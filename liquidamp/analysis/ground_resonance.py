@@ -17,7 +17,17 @@ Two routes (:class:`~liquidamp.structure.rotor.GroundResonanceRotor`):
 When the blades differ, :func:`ground_resonance_sweep` uses Floquet whatever
 the request, and says so in :attr:`GroundResonanceSweep.note`.  Unstable
 rotor-speed ranges are bracketed on the grid and their ends found by
-:func:`scipy.optimize.brentq` on the largest real part.
+:func:`scipy.optimize.brentq` on the largest real part (Coleman, or Floquet
+with a :mod:`scipy` integrator) or, on the default batched Floquet route, by
+batched safeguarded regula falsi (all ends at once, a few rounds).
+
+The batched Floquet route (``FloquetOptions(method="auto" | "batched")``)
+uses that the rotating-frame ``A(Omega, psi)`` is a quadratic polynomial in
+``Omega`` at each azimuth: the coefficients are evaluated once on an azimuth
+grid and every rotor speed is integrated together
+(:func:`~liquidamp.analysis.floquet.batched_monodromy`); the
+revolution-averaged multiblade matrix, a degree-4 polynomial in ``Omega``,
+is interpolated from five speeds (checked at a sixth).
 
 References
 ----------
@@ -31,6 +41,7 @@ References
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -41,11 +52,13 @@ from scipy.optimize import brentq
 from liquidamp.analysis.floquet import (
     FloquetOptions,
     FloquetResult,
+    batched_monodromy,
     floquet_analysis,
+    floquet_from_monodromy,
     resolve_frequencies,
 )
 from liquidamp.analysis.modes import track_modes
-from liquidamp.errors import ParameterError, check_choice, check_nonnegative
+from liquidamp.errors import ConvergenceError, ParameterError, check_choice, check_nonnegative
 from liquidamp.structure.rotor import GroundResonanceRotor
 
 __all__ = [
@@ -112,6 +125,114 @@ def coleman_eigenvalues(rotor: GroundResonanceRotor, Omega: float, *, vectors: b
     return np.linalg.eigvals(A)
 
 
+def _batched(options: FloquetOptions | None) -> bool:
+    return options is None or options.method in ("auto", "batched")
+
+
+class _RotorCoefficients:
+    """``A(Omega, psi) = A0(psi) + Omega A1(psi) + Omega^2 A2(psi)`` of the rotating frame.
+
+    Evaluated from :meth:`GroundResonanceRotor.second_order` at Omega = 0, 1,
+    2 per azimuth (exact: the mass matrix does not depend on Omega, the
+    damping is linear and the stiffness quadratic in it; checked at Omega = 3
+    on the first grid).  Grids (uniform, ``m`` nodes) are cached.
+    """
+
+    def __init__(self, rotor: GroundResonanceRotor):
+        self.rotor = rotor
+        self._grids: dict[int, np.ndarray] = {}
+
+    def _evaluate(self, psi: np.ndarray) -> np.ndarray:
+        r = self.rotor
+        M = np.array([r.second_order(0.0, p)[0] for p in psi])
+        CK = np.array([[r.second_order(w, p)[1:] for w in (0.0, 1.0, 2.0)] for p in psi])
+        X0, X1, X2 = CK[:, 0], CK[:, 1], CK[:, 2]  # (m, 2, n, n): C, K
+        c2 = 0.5 * (X2 - 2.0 * X1 + X0)
+        coef = (X0, X1 - X0 - c2, c2)
+        Minv = np.linalg.inv(M)
+        n = M.shape[1]
+        A = np.zeros((psi.size, 3, 2 * n, 2 * n))
+        A[:, 0, :n, n:] = np.eye(n)
+        for j, X in enumerate(coef):
+            A[:, j, n:, :n] = -Minv @ X[:, 1]
+            A[:, j, n:, n:] = -Minv @ X[:, 0]
+        return A
+
+    def check(self) -> None:
+        psi = np.array([0.3, 1.9])
+        A = self._evaluate(psi)
+        for k, p in enumerate(psi):
+            direct = self.rotor.first_order(3.0, p)[0]
+            poly = A[k, 0] + 3.0 * A[k, 1] + 9.0 * A[k, 2]
+            if not np.allclose(poly, direct, rtol=1e-10, atol=1e-10 * np.abs(direct).max()):
+                raise ConvergenceError("rotor coefficients are not quadratic in Omega; "
+                                       "use FloquetOptions(method='DOP853')")
+
+    def __call__(self, psi) -> np.ndarray:
+        psi = np.asarray(psi, dtype=float)
+        m = psi.size
+        if np.allclose(psi, np.arange(m) * (2.0 * math.pi / m), rtol=0.0, atol=1e-12):
+            if m not in self._grids:
+                self._grids[m] = self._evaluate(psi)
+            return self._grids[m]
+        return self._evaluate(psi)
+
+
+@functools.lru_cache(maxsize=8)
+def _coefficients_cached(rotor: GroundResonanceRotor) -> _RotorCoefficients:
+    c = _RotorCoefficients(rotor)
+    c.check()
+    return c
+
+
+def _coefficients(rotor: GroundResonanceRotor) -> _RotorCoefficients:
+    try:
+        return _coefficients_cached(rotor)
+    except TypeError:  # unhashable
+        c = _RotorCoefficients(rotor)
+        c.check()
+        return c
+
+
+def _averaged_multiblade(rotor: GroundResonanceRotor, W: np.ndarray) -> np.ndarray:
+    """Revolution-averaged multiblade matrices at speeds ``W``, shape (n_W, n, n).
+
+    Degree-4 polynomial in Omega (P^-1 linear, A quadratic, P linear, P'
+    quadratic), so for many speeds it is interpolated from five Chebyshev
+    speeds and checked at a sixth; direct evaluation otherwise.
+    """
+    if W.size <= 6 or W[-1] - W[0] <= 0.0:
+        return np.array([rotor.averaged_multiblade_matrix(w) for w in W])
+    lo, hi = float(W[0]), float(W[-1])
+    mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
+    u = np.cos(np.pi * (np.arange(5) + 0.5) / 5)
+    nodes = np.array([rotor.averaged_multiblade_matrix(mid + half * x) for x in u])
+    V = np.vander(u, 5, increasing=True)
+    coef = np.linalg.solve(V, nodes.reshape(5, -1))
+
+    def interp(w):
+        x = (np.asarray(w, dtype=float) - mid) / half
+        return (np.vander(np.atleast_1d(x), 5, increasing=True) @ coef).reshape(
+            -1, *nodes.shape[1:])
+
+    probe = lo + 0.37 * (hi - lo)
+    direct = rotor.averaged_multiblade_matrix(probe)
+    if not np.allclose(interp(probe)[0], direct, rtol=1e-9, atol=1e-9 * np.abs(direct).max()):
+        return np.array([rotor.averaged_multiblade_matrix(w) for w in W])
+    return interp(W)
+
+
+def _batched_floquet(rotor, W, options, steps=None):
+    """Resolved exponents (n_W, n) [1/s] and the step count, all speeds at once."""
+    Phi, N = batched_monodromy(_coefficients(rotor), W, options, steps=steps)
+    mult = np.linalg.eigvals(Phi)
+    if np.any(mult == 0.0):
+        raise ConvergenceError("a Floquet multiplier is exactly zero: the monodromy is singular")
+    period = 2.0 * math.pi / W
+    expo = np.log(mult.astype(complex)) / period[:, None]
+    return Phi, expo, N
+
+
 def rotor_floquet(
     rotor: GroundResonanceRotor, Omega: float, options: FloquetOptions | None = None
 ) -> tuple[FloquetResult, np.ndarray]:
@@ -133,8 +254,15 @@ def rotor_floquet(
         revolution-averaged multiblade eigenvalues (``n_blades >= 3``;
         principal values otherwise).
     """
-    sys = rotor.periodic_statespace(Omega)
-    res = floquet_analysis(sys.A, sys.period, sys.nstates, options)
+    if _batched(options):
+        W = float(Omega)
+        if not W > 0.0:
+            raise ParameterError(f"rotor speed Omega must be > 0 [rad/s], got {Omega!r}")
+        Phi, _, _ = _batched_floquet(rotor, np.array([W]), options)
+        res = floquet_from_monodromy(Phi[0], 2.0 * math.pi / W)
+    else:
+        sys = rotor.periodic_statespace(Omega)
+        res = floquet_analysis(sys.A, sys.period, sys.nstates, options)
     if rotor.n_blades >= 3:
         ref = np.linalg.eigvals(rotor.averaged_multiblade_matrix(Omega))
         return res, resolve_frequencies(res.exponents, ref, Omega)
@@ -214,6 +342,62 @@ def unstable_ranges(
             continue
         root = brentq(g, x[i], x[i + 1], xtol=tol) if v[i] * v[i + 1] < 0.0 else (
             x[i] if v[i] == 0.0 else x[i + 1])
+        if b:
+            start = root
+        else:
+            ranges.append((float(start), float(root)))
+            start = None
+    if start is not None:
+        ranges.append((float(start), float(x[-1])))
+    return tuple(ranges)
+
+
+def _unstable_ranges_batched(fb, x, values, *, xtol: float = 1e-8, threshold: float = 0.0,
+                             points: int = 6) -> tuple[tuple[float, float], ...]:
+    """:func:`unstable_ranges` with a batched ``fb(x_array) -> values``: multisection.
+
+    Per round and bracket, ``points`` equally spaced speeds plus speeds at
+    ``+-tol/2 * 10**k`` (k = 0..4) about the regula-falsi estimate are
+    evaluated, all brackets in one call; the bracket shrinks to the sign
+    change until narrower than the tolerance, and the end is the linear
+    interpolation within it.
+    """
+    v = np.asarray(values, dtype=float) - threshold
+    tol = xtol * max(float(x[-1] - x[0]), 1.0) if x.size > 1 else xtol
+    brackets = []  # [a, b, va, vb]
+    for i in range(x.size - 1):
+        if (v[i] > 0.0) != (v[i + 1] > 0.0) and v[i] * v[i + 1] < 0.0:
+            brackets.append([x[i], x[i + 1], v[i], v[i + 1]])
+    while True:
+        active = [br for br in brackets if br[1] - br[0] > tol]
+        if not active:
+            break
+        pts = []
+        for a, b, va, vb in active:
+            r = a - va * (b - a) / (vb - va)  # regula falsi, then geometric spread about it
+            spread = r + 0.5 * tol * np.outer([-1.0, 1.0], 10.0 ** np.arange(5)).ravel()
+            cand = np.concatenate((np.linspace(a, b, points + 2)[1:-1], spread))
+            pts.append(np.unique(cand[(cand > a) & (cand < b)]))
+        vals = np.asarray(fb(np.concatenate(pts)), dtype=float) - threshold
+        offs = np.cumsum([0] + [p.size for p in pts])
+        for k, br in enumerate(active):
+            xs = np.concatenate(([br[0]], pts[k], [br[1]]))
+            vs = np.concatenate(([br[2]], vals[offs[k]:offs[k + 1]], [br[3]]))
+            j = int(np.flatnonzero((vs[:-1] > 0.0) != (vs[1:] > 0.0))[0])
+            if vs[j + 1] == 0.0:
+                br[:] = [xs[j + 1], xs[j + 1], vs[j + 1], vs[j + 1]]
+            else:
+                br[:] = [xs[j], xs[j + 1], vs[j], vs[j + 1]]
+    roots = iter(
+        a if va == vb else a - va * (b - a) / (vb - va) for a, b, va, vb in brackets
+    )
+    ranges = []
+    start = x[0] if v[0] > 0.0 else None
+    for i in range(x.size - 1):
+        a, b = v[i] > 0.0, v[i + 1] > 0.0
+        if a == b:
+            continue
+        root = next(roots) if v[i] * v[i + 1] < 0.0 else (x[i] if v[i] == 0.0 else x[i + 1])
         if b:
             start = root
         else:
@@ -351,6 +535,24 @@ def ground_resonance_sweep(
             lams.append(lam)
             vecs.append(vec)
         tracked = track_modes(W, lams, vecs).eigenvalues
+    elif _batched(options):
+        _, expo, N = _batched_floquet(rotor, W, options)
+        if rotor.n_blades >= 3:
+            refs = np.linalg.eigvals(_averaged_multiblade(rotor, W))
+            lams = [resolve_frequencies(e, r, w) for e, r, w in zip(expo, refs, W, strict=True)]
+        else:
+            lams = list(expo)
+        tracked = track_modes(W, lams).eigenvalues
+        maxre = tracked.real.max(axis=1)
+
+        def fb(ws):
+            return _batched_floquet(rotor, np.asarray(ws), options, steps=N)[1].real.max(axis=1)
+
+        ranges = _unstable_ranges_batched(fb, W, maxre, threshold=check_nonnegative(
+            "neutral_tol", neutral_tol, "1/s"))
+        return GroundResonanceSweep(
+            rotor.name, W, used, method, tracked, maxre, ranges, note
+        )
     else:
         lams = [rotor_floquet(rotor, w, options)[1] for w in W]
         tracked = track_modes(W, lams).eigenvalues

@@ -76,3 +76,35 @@ def test_options_reject_unknown():
         FloquetOptions.from_mapping({"rtl": 1e-8})
     with pytest.raises(ParameterError, match="rtol must be <= 1e-4"):
         FloquetOptions(rtol=1e-2)
+
+
+def test_batched_rotor_route_equals_dop853_with_a_failed_damper():
+    rotor = load_rotor("hammond1974").with_inoperative_damper(1)
+    W = 260.0 * 2 * math.pi / 60
+    fast, eta_fast = rotor_floquet(rotor, W)  # default: batched RK4 + Richardson
+    ref, eta_ref = rotor_floquet(rotor, W, FloquetOptions(method="DOP853"))
+    assert np.allclose(fast.monodromy, ref.monodromy, rtol=0, atol=1e-8)
+    assert np.max(np.abs(np.sort_complex(eta_fast) - np.sort_complex(eta_ref))) < 1e-8
+
+
+def test_batched_monodromy_general_family_and_fixed_steps():
+    from liquidamp.analysis.floquet import batched_monodromy
+
+    def coeffs(psi):  # not of second-order form: the full products are used
+        c = np.zeros((psi.size, 3, 2, 2))
+        c[:, 0, 0, 1] = 1.0
+        c[:, 0, 1, 1] = -0.1
+        c[:, 1, 0, 0] = 0.05 * np.sin(psi)
+        c[:, 2, 1, 0] = -(0.25 + 0.1 * np.cos(psi))
+        return c
+
+    W = np.array([0.7, 1.6])
+    Phi, N = batched_monodromy(coeffs, W)
+    again, _ = batched_monodromy(coeffs, W, steps=N)
+    assert np.array_equal(Phi, again)
+    for w, P in zip(W, Phi, strict=True):
+        def A(t, w=w):
+            return (coeffs(np.array([w * t]))[0] * np.array([1.0, w, w * w])[:, None, None]).sum(0)
+        assert np.allclose(monodromy(A, 2 * np.pi / w, 2), P, rtol=0, atol=1e-9)
+    with pytest.raises(ParameterError, match="speeds must be finite and > 0"):
+        batched_monodromy(coeffs, [0.0])

@@ -86,3 +86,25 @@ def test_bad_sweep_input(hammond):
         ground_resonance_sweep(hammond, [20.0], "eig")
     with pytest.raises(ParameterError, match=r"Floquet analysis needs rotor speeds > 0"):
         ground_resonance_sweep(hammond, [0.0, 10.0], "floquet")
+
+
+def test_averaged_multiblade_interpolation_is_exact(hammond):
+    from liquidamp.analysis.ground_resonance import _averaged_multiblade
+
+    failed = hammond.with_inoperative_damper(3)
+    W = rpm_to_rad_s(np.linspace(150, 350, 9))
+    direct = np.array([failed.averaged_multiblade_matrix(w) for w in W])
+    assert np.allclose(_averaged_multiblade(failed, W), direct, rtol=1e-10,
+                       atol=1e-10 * np.abs(direct).max())
+
+
+def test_batched_sweep_equals_scipy_route_on_a_coarse_grid(hammond):
+    from liquidamp.analysis.floquet import FloquetOptions
+
+    failed = hammond.with_inoperative_damper(1)
+    W = rpm_to_rad_s(np.linspace(200, 320, 4))
+    a = ground_resonance_sweep(failed, W, "floquet")
+    b = ground_resonance_sweep(failed, W, "floquet", FloquetOptions(method="DOP853"))
+    assert np.allclose(a.max_real_part, b.max_real_part, atol=1e-9)
+    for (a0, a1), (b0, b1) in zip(a.unstable_ranges_rpm, b.unstable_ranges_rpm, strict=True):
+        assert a0 == pytest.approx(b0, abs=1e-4) and a1 == pytest.approx(b1, abs=1e-4)
