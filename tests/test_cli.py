@@ -74,5 +74,9 @@ def test_demo_writes_the_case_study(tmp_path):
                  "fig11_device_b"):
         assert (out / f"{stem}.png").stat().st_size > 20_000
         assert f'src="{stem}.png"' in page
-    # one table row per case: 3 x 2 specializations + 2 x 4 general + 2 reference runs
-    assert page.count("<tr><td>") == 6 + 8 + 2
+    # one table row per case: 3 x 2 specializations + 2 x 4 general + 2 reference runs,
+    # then the baseline and final rows of the measured-data loop
+    assert page.count("<tr><td>") == 6 + 8 + 2 + 2
+    assert "Closing the loop with measured data" in page
+    assert (out / "diagnosis" / "report" / "index.html").exists()
+    assert "smooth_friction" in page  # the undeclared effect of the bundled records is found
