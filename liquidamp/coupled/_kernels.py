@@ -797,3 +797,245 @@ def steady(mid, prm, eff, kind, sp, x0, T, N, rtol, atol, hmax, steady_tol, min_
     info[3] = residual
     info[4] = prev_change
     info[5] = steps
+
+
+# ------------------------------------------------- rotor + devices (coupled)
+ST_STROKE_LIMIT = 5
+
+#: Layout of the rotor vector ``rp`` of :func:`rotor_integrate`.
+R_NB, R_IB, R_S, R_MX, R_MY, R_KX, R_KY, R_CX, R_CY, R_KZ, R_W, R_ARM = range(12)
+N_RP = 12
+
+
+@njit(cache=True, error_model="numpy")
+def rotor_rhs(t, X, rp, cb, dblade, dmid, doff, PRM, EFF, M, b, piv, Fk, out):
+    """Coupled rotor (rotating frame) + devices on the blade ports: dX/dt into ``out``.
+
+    Host state ``[zeta_1..zeta_N, x, y, rates]`` (``GroundResonanceRotor``);
+    the device on blade k sees stroke ``arm zeta_k`` and rate ``arm
+    zeta_dot_k`` and its force F acts as ``-arm F`` on ``zeta_k``.
+    """
+    N = int(rp[R_NB])
+    nb = N + 2
+    nh = 2 * nb
+    Ib, S, W, arm = rp[R_IB], rp[R_S], rp[R_W], rp[R_ARM]
+    for k in range(N):
+        Fk[k] = 0.0
+    for j in range(dblade.size):
+        k = dblade[j]
+        a0 = nh + doff[j]
+        a1 = nh + doff[j + 1]
+        v = arm * X[nb + k]
+        z = X[a0:a1]
+        Fk[k] += force(dmid[j], z, v, PRM[j], EFF[j])
+        rhs(dmid[j], z, arm * X[k], v, PRM[j], EFF[j], out[a0:a1])
+    for i in range(nb):
+        for j in range(nb):
+            M[i, j] = 0.0
+    psi = W * t
+    ix = N
+    iy = N + 1
+    bx = -rp[R_CX] * X[nb + ix] - rp[R_KX] * X[ix]
+    by = -rp[R_CY] * X[nb + iy] - rp[R_KY] * X[iy]
+    for k in range(N):
+        pk = psi + 2.0 * math.pi * k / N
+        s = math.sin(pk)
+        c = math.cos(pk)
+        M[k, k] = Ib
+        M[k, ix] = S * s
+        M[k, iy] = -S * c
+        M[ix, k] = S * s
+        M[iy, k] = -S * c
+        b[k] = -arm * Fk[k] - cb[k] * X[nb + k] - rp[R_KZ] * X[k]
+        bx -= 2.0 * S * W * c * X[nb + k] - S * W * W * s * X[k]
+        by -= 2.0 * S * W * s * X[nb + k] + S * W * W * c * X[k]
+    M[ix, ix] = rp[R_MX]
+    M[iy, iy] = rp[R_MY]
+    b[ix] = bx
+    b[iy] = by
+    _lu(M, piv)
+    _solve(M, piv, b)
+    for i in range(nb):
+        out[i] = X[nb + i]
+        out[nb + i] = b[i]
+
+
+@njit(cache=True, error_model="numpy")
+def rotor_integrate(rp, cb, dblade, dmid, doff, PRM, EFF, fi, lim, pfloor, x0, t_end, teval,
+                    rtol, atol, hmax, max_steps, RA, RB, RC, E3, E5, RAX, RCX, RD, out, info):
+    """DOP853 (Dormand-Prince 8(5,3), scipy's coefficients and step control) of :func:`rotor_rhs`.
+
+    Output at ``teval`` by the 7th-order continuous extension (three extra
+    stages on the steps that hold output times, as scipy) into
+    ``out[:, i]``; stops at the end of the step where a stroke reaches its
+    chamber end (``lim``) or a watched pressure (``fi``) the floor.
+    ``info``: status, time reached, steps, rhs evaluations, samples written.
+    """
+    n = x0.size
+    N = int(rp[R_NB])
+    nb = N + 2
+    nh = 2 * nb
+    ns = 12
+    K = np.empty((ns + 4, n))
+    Fd = np.empty((7, n))
+    M = np.empty((nb, nb))
+    b = np.empty(nb)
+    piv = np.empty(nb, np.int64)
+    Fk = np.empty(N)
+    y = x0.copy()
+    ynew = np.empty(n)
+    ytmp = np.empty(n)
+    f = np.empty(n)
+    fnew = np.empty(n)
+    t = 0.0
+    rotor_rhs(t, y, rp, cb, dblade, dmid, doff, PRM, EFF, M, b, piv, Fk, f)
+    nfev = 1
+    # initial step (Hairer, Norsett & Wanner I, II.4; as scipy)
+    d0 = 0.0
+    d1 = 0.0
+    for i in range(n):
+        sc = atol[i] + abs(y[i]) * rtol
+        d0 += (y[i] / sc) ** 2
+        d1 += (f[i] / sc) ** 2
+    d0 = math.sqrt(d0 / n)
+    d1 = math.sqrt(d1 / n)
+    h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
+    h0 = min(h0, t_end, hmax)
+    for i in range(n):
+        ytmp[i] = y[i] + h0 * f[i]
+    rotor_rhs(h0, ytmp, rp, cb, dblade, dmid, doff, PRM, EFF, M, b, piv, Fk, K[1])
+    nfev += 1
+    d2 = 0.0
+    for i in range(n):
+        sc = atol[i] + abs(y[i]) * rtol
+        d2 += ((K[1, i] - f[i]) / sc) ** 2
+    d2 = math.sqrt(d2 / n) / h0
+    if d1 <= 1e-15 and d2 <= 1e-15:
+        h1 = max(1e-6, h0 * 1e-3)
+    else:
+        h1 = (0.01 / max(d1, d2)) ** (1.0 / 8.0)
+    h = min(100.0 * h0, h1, hmax)
+    ne = teval.size
+    ie = 0
+    while ie < ne and teval[ie] <= t:
+        for i in range(n):
+            out[i, ie] = y[i]
+        ie += 1
+    status = ST_OK
+    nstep = 0
+    rejected = False
+    expo = -1.0 / 8.0
+    while t < t_end:
+        if nstep >= max_steps:
+            status = ST_TOO_MANY_STEPS
+            break
+        if h > hmax:
+            h = hmax
+        min_step = 10.0 * 2.220446049250313e-16 * max(abs(t), 1e-300)
+        if h < min_step:
+            status = ST_STEP_TOO_SMALL
+            break
+        tn = t + h
+        if tn > t_end:
+            tn = t_end
+            h = tn - t
+        for i in range(n):
+            K[0, i] = f[i]
+        for s in range(1, ns):
+            for i in range(n):
+                acc = 0.0
+                for r in range(s):
+                    acc += RA[s, r] * K[r, i]
+                ytmp[i] = y[i] + h * acc
+            rotor_rhs(t + RC[s] * h, ytmp, rp, cb, dblade, dmid, doff, PRM, EFF, M, b, piv,
+                      Fk, K[s])
+        for i in range(n):
+            acc = 0.0
+            for r in range(ns):
+                acc += RB[r] * K[r, i]
+            ynew[i] = y[i] + h * acc
+        rotor_rhs(tn, ynew, rp, cb, dblade, dmid, doff, PRM, EFF, M, b, piv, Fk, fnew)
+        for i in range(n):
+            K[ns, i] = fnew[i]
+        nfev += ns
+        nstep += 1
+        e5 = 0.0
+        e3 = 0.0
+        for i in range(n):
+            sc = atol[i] + max(abs(y[i]), abs(ynew[i])) * rtol
+            a5 = 0.0
+            a3 = 0.0
+            for r in range(ns + 1):
+                a5 += E5[r] * K[r, i]
+                a3 += E3[r] * K[r, i]
+            e5 += (a5 / sc) ** 2
+            e3 += (a3 / sc) ** 2
+        if e5 == 0.0 and e3 == 0.0:
+            err = 0.0
+        else:
+            err = h * e5 / math.sqrt((e5 + 0.01 * e3) * n)
+        if err < 1.0:
+            if err == 0.0:
+                factor = 10.0
+            else:
+                factor = min(10.0, 0.9 * err ** expo)
+            if rejected:
+                factor = min(1.0, factor)
+            if ie < ne and teval[ie] <= tn:
+                for s in range(ns + 1, ns + 4):
+                    for i in range(n):
+                        acc = 0.0
+                        for r in range(s):
+                            acc += RAX[s - ns - 1, r] * K[r, i]
+                        ytmp[i] = y[i] + h * acc
+                    rotor_rhs(t + RCX[s - ns - 1] * h, ytmp, rp, cb, dblade, dmid, doff, PRM,
+                              EFF, M, b, piv, Fk, K[s])
+                nfev += 3
+                for i in range(n):
+                    dy = ynew[i] - y[i]
+                    Fd[0, i] = dy
+                    Fd[1, i] = h * f[i] - dy
+                    Fd[2, i] = 2.0 * dy - h * (fnew[i] + f[i])
+                    for q in range(4):
+                        acc = 0.0
+                        for r in range(ns + 4):
+                            acc += RD[q, r] * K[r, i]
+                        Fd[3 + q, i] = h * acc
+            while ie < ne and teval[ie] <= tn:
+                th = (teval[ie] - t) / h
+                for i in range(n):
+                    acc = 0.0
+                    for q in range(6, -1, -1):
+                        acc += Fd[q, i]
+                        if (6 - q) % 2 == 0:
+                            acc *= th
+                        else:
+                            acc *= 1.0 - th
+                    out[i, ie] = y[i] + acc
+                ie += 1
+            t = tn
+            for i in range(n):
+                y[i] = ynew[i]
+                f[i] = fnew[i]
+            h *= factor
+            rejected = False
+            for j in range(dblade.size):
+                if abs(rp[R_ARM] * y[dblade[j]]) >= lim[j]:
+                    status = ST_STROKE_LIMIT
+                if fi[j, 0] >= 0:
+                    a0 = nh + doff[j]
+                    if min(y[a0 + fi[j, 0]], y[a0 + fi[j, 1]]) <= pfloor:
+                        status = ST_PRESSURE
+            if status != ST_OK:
+                break
+        else:
+            if math.isfinite(err):
+                h *= max(0.2, 0.9 * err ** expo)
+            else:
+                h *= 0.2
+            rejected = True
+    info[0] = status
+    info[1] = t
+    info[2] = nstep
+    info[3] = nfev
+    info[4] = ie
