@@ -71,6 +71,7 @@ from liquidamp.coupled.assembly import (
 )
 from liquidamp.device.models import REGISTRY
 from liquidamp.errors import ParameterError, check_positive
+from liquidamp.structure.rotor import multiblade_basis
 
 __all__ = [
     "DeviceLTI",
@@ -349,25 +350,9 @@ def coupled_eigenvalues(system: CoupledSystem, ltis=None, t: float = 0.0) -> np.
 # rotor
 
 
-def _mbc_basis(N: int, psi: float):
-    k = np.arange(1, N + 1)
-    psik = psi + 2.0 * np.pi * (k - 1) / N
-    cols, d1, d2 = [np.ones(N)], [np.zeros(N)], [np.zeros(N)]
-    for n in range(1, (N - 1) // 2 + 1):
-        c, s = np.cos(n * psik), np.sin(n * psik)
-        cols += [c, s]
-        d1 += [-n * s, n * c]
-        d2 += [-n * n * c, -n * n * s]
-    if N % 2 == 0:
-        cols.append((-1.0) ** k)
-        d1.append(np.zeros(N))
-        d2.append(np.zeros(N))
-    return np.column_stack(cols), np.column_stack(d1), np.column_stack(d2)
-
-
 def _mbc_transform(N: int, nz: int, Omega: float, psi: float):
     """P, P' for the closed-loop rotor state [zeta, hub, zeta', hub', z_1..z_N]."""
-    Tb, Tb1, Tb2 = _mbc_basis(N, psi)
+    Tb, Tb1, Tb2 = multiblade_basis(N, psi)
     n = N + 2
     T, T1, T2 = np.eye(n), np.zeros((n, n)), np.zeros((n, n))
     T[:N, :N], T1[:N, :N], T2[:N, :N] = Tb, Tb1, Tb2

@@ -62,7 +62,7 @@ from liquidamp.errors import (
 from liquidamp.structure.blade import ArticulatedBlade
 from liquidamp.structure.port import DevicePort, PeriodicStateSpace
 
-__all__ = ["GroundResonanceRotor", "multiblade_names"]
+__all__ = ["GroundResonanceRotor", "multiblade_names", "multiblade_basis"]
 
 
 def multiblade_names(n_blades: int) -> tuple[str, ...]:
@@ -92,8 +92,28 @@ def _check_mbc(n_blades: int) -> None:
         )
 
 
-def _mbc_matrices(n_blades: int, psi: float):
-    """T_b(psi) and its first two psi-derivatives (N x N); zeta = T_b zeta_mbc."""
+def multiblade_basis(n_blades: int, psi: float):
+    """Multiblade (Coleman) basis T_b(psi) and its first two psi-derivatives.
+
+    Parameters
+    ----------
+    n_blades : int
+        Number of blades N >= 3.
+    psi : float
+        Azimuth of blade 1 [rad].
+
+    Returns
+    -------
+    Tb, dTb, d2Tb : ndarray
+        (N x N) matrices with zeta = T_b zeta_mbc (columns: collective, cyclic
+        cos/sin pairs, differential for even N) and d/dpsi, d^2/dpsi^2 [-].
+
+    Examples
+    --------
+    >>> Tb, _, _ = multiblade_basis(4, 0.0)
+    >>> Tb[:, 0].tolist(), Tb[:, 3].tolist()
+    ([1.0, 1.0, 1.0, 1.0], [-1.0, 1.0, -1.0, 1.0])
+    """
     N = n_blades
     k = np.arange(1, N + 1)
     psik = psi + 2.0 * np.pi * (k - 1) / N
@@ -401,7 +421,7 @@ class GroundResonanceRotor:
     def _mbc_transform(self, Omega: float, psi: float):
         N = self.n_blades
         _check_mbc(N)
-        Tb, Tb1, Tb2 = _mbc_matrices(N, psi)
+        Tb, Tb1, Tb2 = multiblade_basis(N, psi)
         n = N + 2
         T, T1, T2 = np.eye(n), np.zeros((n, n)), np.zeros((n, n))
         T[:N, :N], T1[:N, :N], T2[:N, :N] = Tb, Tb1, Tb2
