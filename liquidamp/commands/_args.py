@@ -71,7 +71,9 @@ def parse_list(text: str, name: str, *, log: bool = False, item=float) -> np.nda
     try:
         values = [item(v) for v in text.split(",") if v.strip()]
     except (ValueError, ParameterError) as exc:
-        raise ParameterError(f"{name} must be a comma list of numbers, got {text!r}: {exc}") from None
+        raise ParameterError(
+            f"{name} must be a comma list of numbers, got {text!r}: {exc}"
+        ) from None
     if not values:
         raise ParameterError(f"{name} is empty: {text!r}")
     return np.asarray(values, dtype=float)

@@ -41,7 +41,9 @@ def _geometry(raw: dict, source: str) -> dict:
         try:
             bore, rod = float(raw.pop("bore_m")), float(raw.pop("rod_m"))
         except KeyError as exc:
-            raise DataFileError(f"{source}: {exc.args[0]} is missing (bore_m needs rod_m)") from None
+            raise DataFileError(
+                f"{source}: {exc.args[0]} is missing (bore_m needs rod_m)"
+            ) from None
         if not 0.0 <= rod < bore:
             raise ParameterError(
                 f"{source}: rod_m must lie in [0, bore_m) [m], got rod_m={rod}, bore_m={bore}"
