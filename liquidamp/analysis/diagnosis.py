@@ -140,13 +140,18 @@ class Step:
     candidates: tuple
     tie: tuple = ()
     result: CalibrationResult | None = field(default=None, repr=False)
+    confounded: dict = field(default_factory=dict)
 
     def as_dict(self) -> dict:
-        """JSON-ready step."""
+        """JSON-ready step (``fit``: whether the refit converged; ``confounded``: evidence
+        that a fitted device parameter mimics the effect, see :data:`CONFOUNDED`)."""
+        fit = ({"converged": self.result.converged, "status": self.result.status,
+                "message": self.result.message, "nfev": self.result.nfev}
+               if self.result is not None else {})
         return {"effect": self.effect, "parameters": self.parameters,
                 "nrmse": {"calibration": self.nrmse_calibration,
                           "validation": self.nrmse_validation},
-                "tie": list(self.tie),
+                "fit": fit, "tie": list(self.tie), "confounded": self.confounded,
                 "evidence": [c.as_dict() for c in self.candidates]}
 
 
@@ -198,8 +203,14 @@ class Diagnosis:
                     "nrmse": {"calibration": res.nrmse_calibration,
                               "validation": res.nrmse_validation},
                     "fit": res.as_dict()["fit"]}
+        fits = [("baseline", self.baseline)] + [(f"step {i + 1}: + {s.effect}", s.result)
+                                                 for i, s in enumerate(self.steps)
+                                                 if s.result is not None]
+        not_conv = [{"fit": lab, "status": r.status, "message": r.message, "nfev": r.nfev}
+                    for lab, r in fits if not r.converged]
         return {"baseline": block(self.baseline), "steps": [s.as_dict() for s in self.steps],
-                "final": block(self.final), "noise_floor_nrmse": self.noise_nrmse,
+                "final": block(self.final), "converged": not not_conv,
+                "not_converged": not_conv, "noise_floor_nrmse": self.noise_nrmse,
                 "signatures": self.signatures, "stop_reason": self.stop_reason,
                 "unexplained": self.unexplained, "warnings": list(self.warnings),
                 "last_round": [c.as_dict() for c in self.last_candidates]}
@@ -316,21 +327,82 @@ def _applicable(name, model) -> str:
     return ""
 
 
-def _refit(cand, probe, current, validation, options, preroll, max_nfev, tol):
+def _refit(cand, probe, current, validation, options, preroll, max_nfev, tol, restart=None):
     cls = EFFECTS[cand.effect]
     start = {}
     for key in cls.fit_keys:
         v = cand.estimate.get(key, getattr(probe, key))
+        if cand.effect == "cavitation":
+            # a threshold, not a strength: the linearized value can fall below the lowest
+            # chamber pressure, where the effect is inactive and the fit has no gradient
+            v = getattr(probe, key)
         lo, hi = cls.bounds[key]
         if lo > 0:
             v = min(max(abs(v), lo * 10), hi / 10)
         start[key] = v
     effect = probe.replace(**start)
     spec = FitSpec(current.spec.parameters).with_effect(effect)
-    return calibrate(current.calibration, model=current.model, params=current.start_params,
-                     effects=current.effects + (effect,), spec=spec, validate=validation,
+    res = calibrate(current.calibration, model=current.model, params=current.start_params,
+                    effects=current.effects + (effect,), spec=spec, validate=validation,
+                    options=options, start="spec", max_nfev=max_nfev, preroll=preroll,
+                    tol=tol)
+    if restart is not None and res.nrmse_calibration > restart[1]:
+        # residual still structured: the continuation from the previous optimum may sit in a
+        # local minimum of the loss coefficients (the c1/c2 trade-off, DESIGN.md); refit
+        # from the physics start of the original multipliers too and keep the better fit
+        spec2 = spec.with_values(restart[0])
+        try:
+            res2 = calibrate(current.calibration, model=current.model,
+                             params=current.start_params, effects=current.effects + (effect,),
+                             spec=spec2, validate=validation, options=options,
+                             start="physics", max_nfev=max_nfev, preroll=preroll, tol=tol)
+        except ConvergenceError:
+            return res
+        if res2.cost < res.cost:
+            return res2
+    return res
+
+
+def _converge(result, validation, options, preroll, max_nfev, tol):
+    """Continue a fit that stopped on its evaluation budget from where it stopped."""
+    return calibrate(result.calibration, model=result.model, params=result.start_params,
+                     effects=result.effects, spec=result.spec, validate=validation,
                      options=options, start="spec", max_nfev=max_nfev, preroll=preroll,
                      tol=tol)
+
+
+_PARTNERS = {"inv_gamma": ("inv_gamma1", "inv_gamma2"), "c1": ("c1",)}
+
+
+def _confounding(effect: str, before: CalibrationResult, after: CalibrationResult) -> dict:
+    """Evidence that a fitted device parameter mimics ``effect`` (CONFOUNDED pairs).
+
+    For each pair listed in :data:`CONFOUNDED`: the partner multipliers before and
+    after the effect was added (how far the fit moved them to make room), the
+    correlation of the effect's parameter with them in the refit, and the validation
+    NRMSE of the partner alone (the model before) and with the effect.
+    """
+    out = {}
+    for (eff, partner), why in CONFOUNDED.items():
+        if eff != effect:
+            continue
+        names = [n for n in _PARTNERS.get(partner, (partner,)) if n in after.varying]
+        keys = [f"{effect}.{k}" for k in EFFECTS[effect].fit_keys if
+                f"{effect}.{k}" in after.varying]
+        corr = {}
+        for k in keys:
+            i = after.varying.index(k)
+            for n in names:
+                corr[n] = float(after.correlation[i, after.varying.index(n)])
+        out[partner] = {
+            "reason": why,
+            "multipliers_before": {n: before.values.get(n) for n in names},
+            "multipliers_after": {n: after.values.get(n) for n in names},
+            "correlation_with_effect": corr,
+            "validation_nrmse_partner_only": before.nrmse_validation,
+            "validation_nrmse_with_effect": after.nrmse_validation,
+        }
+    return out
 
 
 def _harmonic_structure(result: CalibrationResult, noise_std: float) -> str:
@@ -400,14 +472,25 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
                              spec=spec, validate=validation, options=options,
                              max_nfev=max_nfev, preroll=preroll, tol=tol)
     warnings = []
+    if baseline.status == "max_nfev":
+        # score candidates only against a converged model: a fit stopped on its budget
+        # leaves structure that a candidate would "explain" spuriously
+        baseline = _converge(baseline, validation, options, preroll, max_nfev, tol)
     if not baseline.converged:
-        warnings.append(f"baseline calibration: {baseline.message}")
+        warnings.append(f"NOT CONVERGED: baseline calibration ({baseline.status}): "
+                        f"{baseline.message}")
     meas = np.concatenate([r.force for r in calibration])
     den = float(np.sqrt(np.mean((meas - meas.mean()) ** 2)))
     floors = [noise_floor(r) for r in calibration]
     noise_std = float(np.sqrt(np.mean([f.force_std ** 2 for f in floors])))
     noise_nrmse = noise_std / den
     sig = signatures(baseline)
+    spec0 = baseline.spec if spec is None else spec
+    start0 = {p.name: (spec0[p.name].value if p.name in spec0.names else 1.0)
+              for p in baseline.spec.parameters if p.kind == "multiplier"}
+    if spec is None:
+        start0 = dict.fromkeys(start0, 1.0)
+    restart = (start0, structure_factor * noise_nrmse)
     current = baseline
     steps = []
     stop = f"max_steps = {max_steps} reached"
@@ -436,7 +519,9 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
         for cand in [c for c in ranked if c.score > 0][:top]:
             try:
                 res = _refit(cand, probes[cand.effect], current, validation, options, preroll,
-                             max_nfev, tol)
+                             max_nfev, tol, restart)
+                if res.status == "max_nfev":
+                    res = _converge(res, validation, options, preroll, max_nfev, tol)
             except (ConvergenceError, ParameterError) as exc:
                 i = ranked.index(cand)
                 ranked[i] = _with(cand, refitted=True, note=f"refit failed: {exc}")
@@ -476,9 +561,22 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
                 f"{tie_tolerance:.0%}); {chosen.effect} was added (lowest BIC)")
         res = refits[chosen.effect]
         if not res.converged:
-            warnings.append(f"fit with {chosen.effect}: {res.message}")
+            warnings.append(f"NOT CONVERGED: fit with {chosen.effect} ({res.status}): "
+                            f"{res.message}")
+        conf = _confounding(chosen.effect, current, res)
+        for partner, ev in conf.items():
+            moved = ", ".join(f"{n} {ev['multipliers_before'][n]:.3g} -> "
+                              f"{ev['multipliers_after'][n]:.3g}"
+                              for n in ev["multipliers_before"])
+            cc = ", ".join(f"{n} {c:+.2f}" for n, c in ev["correlation_with_effect"].items())
+            warnings.append(
+                f"tie: {chosen.effect} and {partner} (fitted) may explain the residual about "
+                f"equally: {ev['reason']}; evidence: validation NRMSE "
+                f"{ev['validation_nrmse_partner_only']:.4g} with {partner} alone, "
+                f"{ev['validation_nrmse_with_effect']:.4g} with {chosen.effect}; "
+                f"{moved}; correlation with the effect's parameter: {cc or 'n/a'}")
         steps.append(Step(chosen.effect, chosen.parameters, res.nrmse_calibration,
-                          res.nrmse_validation, tuple(ranked), tie, res))
+                          res.nrmse_validation, tuple(ranked), tie, res, conf))
         current = res
         last_round = ()
     unexplained = ""

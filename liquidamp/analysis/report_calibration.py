@@ -153,6 +153,14 @@ def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibrat
         parts.append("<h2>Diagnosis</h2>")
         parts.append(f"<p>Noise floor (NRMSE): {diagnosis.noise_nrmse:.4g}. Stop: "
                      f"{html.escape(diagnosis.stop_reason)}</p>")
+        nc = diagnosis.as_dict()["not_converged"]
+        if nc:
+            parts.append("<p><b>Fits that did NOT converge (their parameters are where the "
+                         "optimizer stopped, not an optimum): " + html.escape("; ".join(
+                             f"{x['fit']} ({x['status']}, {x['nfev']} evaluations)"
+                             for x in nc)) + "</b></p>")
+        else:
+            parts.append("<p>Every fit converged.</p>")
         if diagnosis.unexplained:
             parts.append(f"<p><b>{html.escape(diagnosis.unexplained)}</b></p>")
         for w in diagnosis.warnings:

@@ -144,20 +144,43 @@ def chamber_bulk(p: float, X0: float, B_l: float, p0: float, n: float, B_const: 
     return bulk_modulus_gholizadeh(max(p, 1.0), B_l, X0, p0, n)
 
 
+def cavity_width(p_v: float) -> float:
+    """Pressure width of the regularised cavity switch [Pa]: 0.05 p_v + 500 Pa."""
+    return 0.05 * p_v + 500.0
+
+
+def _smoothstep(s: float) -> float:
+    if s <= 0.0:
+        return 0.0
+    if s >= 1.0:
+        return 1.0
+    return s * s * (3.0 - 2.0 * s)
+
+
 def cavity_rates(p: float, dp_base: float, Vc: float, V: float, B: float,
                  p_v: float) -> tuple[float, float]:
     """(dp/dt, dVc/dt) of one chamber with a vapour cavity Vc [Pa/s, m^3/s].
 
     The chamber's compression rate (volume per second) is w = dp_base V / B.
-    While a cavity is open (Vc > 0), or when the pressure is at p_v and the
-    chamber expands (w < 0), the pressure is held at p_v and the cavity takes
-    the volume change, dVc/dt = -w; the pressure rises again only once the
-    cavity has refilled (Vc back to 0).
+    A share sigma of it goes to the cavity, dVc/dt = -sigma w, the rest to
+    the pressure, dp/dt = (1 - sigma) dp_base.  Regularised complementarity
+    over a small pressure width delta = :func:`cavity_width` (p_v): while the
+    chamber expands (w < 0), sigma rises smoothly from 0 at p = p_v + delta to
+    1 at p = p_v, so the pressure settles onto p_v from above and the cavity
+    takes the volume change; while it is compressed (w > 0), sigma = S(Vc /
+    V_delta), V_delta = V delta / B the volume that delta would compress, so
+    the cavity refills first and the pressure rises once it has closed (S the
+    C1 smoothstep).  Both rates carry the factor w, so the right-hand side
+    is continuous where the motion reverses, and Vc never turns negative.
+    The hard switch (delta -> 0) made LSODA run out of steps.
     """
     w = dp_base * V / B
-    if Vc > 0.0 or (p <= p_v and w < 0.0):
-        return 0.0, -w
-    return dp_base, 0.0
+    delta = cavity_width(p_v)
+    if w < 0.0:
+        sigma = _smoothstep((p_v + delta - p) / delta)
+    else:
+        sigma = _smoothstep(max(Vc, 0.0) * B / (V * delta))
+    return (1.0 - sigma) * dp_base, -sigma * w
 
 
 # ---------------------------------------------------------------------------
@@ -629,7 +652,9 @@ class Cavitation(Effect):
     0).  When a chamber's pressure reaches p_v while it still expands, the
     pressure is held at p_v and the cavity opens and takes the volume
     change; the pressure rises again only after the cavity has refilled
-    (:func:`cavity_rates`).  Mass is untouched (vapour mass neglected), so a
+    (:func:`cavity_rates`: a regularised switch over a pressure width of
+    0.05 p_v + 500 Pa, :func:`cavity_width`, so that the equations stay
+    integrable).  Mass is untouched (vapour mass neglected), so a
     mass-conserving model stays so.  Needs chamber pressure states.  In this
     model family a little more entrained air (a softer low-pressure
     chamber) can mimic a cavity closely: report ties.
