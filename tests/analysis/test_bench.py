@@ -28,6 +28,11 @@ def test_quick_bench_writes_the_documented_keys(tmp_path):
     for name in ("coupled_rotor", "diagnosis"):
         case = data["cases"][name]
         assert "skipped" in case or "seconds" in case
+    rotor = data["cases"]["coupled_rotor"]
+    if "skipped" not in rotor:  # compiled kernel = the Python coupled route (same DOP853)
+        assert rotor["status"] == "completed"
+        assert rotor["host_state_max_rel_difference_vs_python"] < 1e-9
+        assert rotor["real_time_factor"] > 0 and rotor["baseline_real_time_factor"] > 0
     assert set(CASES) >= set(data["cases"])
     assert any(k.startswith("steady_state_loop.seconds") for k in data["goals"])
 
