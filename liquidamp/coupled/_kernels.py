@@ -154,6 +154,23 @@ def bulk_dp(p, X0, prm):
 
 
 @njit(cache=True, error_model="numpy")
+def bulk_and_dp(p, X0, prm):
+    """:func:`bulk` and :func:`bulk_dp` sharing one power evaluation."""
+    if prm[P_CONSTB] != 0.0:
+        return bulk(p, X0, prm), 0.0
+    if p < 1.0:
+        return bulk(p, X0, prm), 0.0
+    B_l, n, p0 = prm[P_BL], prm[P_N], prm[P_P0]
+    r = (p0 / p) ** (1.0 / n)
+    num = 1.0 - X0 + X0 * r
+    den = 1.0 - X0 + B_l * X0 * r / (n * p)
+    dr = -r / (n * p)
+    dnum = X0 * dr
+    dden = B_l * X0 / n * (dr / p - r / (p * p))
+    return B_l * num / den, B_l * (dnum * den - num * dden) / (den * den)
+
+
+@njit(cache=True, error_model="numpy")
 def loss_flow(dp, k1, k2):
     """Analytic inverse of eq. (5), cancellation-free [flow unit]."""
     if dp == 0.0:
@@ -366,15 +383,16 @@ def jac(mid, x, y, v, prm, eff, J):
             dm = loss_flow_dp(p1 - p2, prm[P_G1], prm[P_G2]) + dmL
         mt = m + dmL * (p1 - p2)
         X1, X2 = prm[P_X01], prm[P_X02]
-        B1, B2 = bulk(p1, X1, prm), bulk(p2, X2, prm)
-        J[0, 0] = bulk_dp(p1, X1, prm) / V1 * (Ap * v - mt / r1) - B1 / (V1 * r1) * dm
+        B1, dB1 = bulk_and_dp(p1, X1, prm)
+        B2, dB2 = bulk_and_dp(p2, X2, prm)
+        J[0, 0] = dB1 / V1 * (Ap * v - mt / r1) - B1 / (V1 * r1) * dm
         J[0, 1] = B1 / V1 * mt / (r1 * r1)
         J[0, 2] = B1 / (V1 * r1) * dm
         J[1, 0] = -dm / V1
         J[1, 1] = Ap * v / V1
         J[1, 2] = dm / V1
         J[2, 0] = B2 / (V2 * r2) * dm
-        J[2, 2] = bulk_dp(p2, X2, prm) / V2 * (-Ap * v + mt / r2) - B2 / (V2 * r2) * dm
+        J[2, 2] = dB2 / V2 * (-Ap * v + mt / r2) - B2 / (V2 * r2) * dm
         J[2, 3] = -B2 / V2 * mt / (r2 * r2)
         J[3, 0] = dm / V2
         J[3, 2] = -dm / V2
