@@ -75,6 +75,9 @@ CONFOUNDED = {
     ("leakage", "c1"): "a laminar bypass and the channel's laminar loss are both conductances "
     "between the chambers; with c1 free only the channel's inertance and quadratic loss, which "
     "the bypass skips, separate them",
+    ("moving_mass", "inv_gamma"): "at a single calibration frequency a moving mass and the air "
+    "spring both set the in-phase force (k - m w^2); only the air spring's pressure dependence "
+    "separates them (damper preset, 3 Hz: mass fitted at twice its value)",
     ("cavitation", "inv_gamma"): "a vapour cavity and a little more entrained air both soften "
     "the low-pressure chamber; the force waveforms can be nearly identical",
 }
