@@ -19,7 +19,15 @@ velocity):
    with sign(v), a, a constant, the dead-band indicator and the low-pressure
    phases) are reported too.
 4. Refit the ``top`` candidates with everything free, starting from the
-   linearized strength.
+   linearized strength (cavitation: from the probe's vapour pressure, a
+   threshold).  When that continuation still leaves a residual above
+   ``structure_factor`` times the noise floor, the candidate is refitted once
+   more from the physics start of the original multipliers and the better
+   fit is kept (the continuation can stay in a local minimum of the c1/c2
+   trade-off).  A fit that stops on its evaluation budget (the baseline or a
+   refit) is continued once before it is scored or judged; fits that still
+   did not converge are listed in ``warnings`` and in the JSON
+   (``converged``, ``not_converged``).
 5. Accept the best refit only if it reduces the held-out (validation)
    NRMSE by more than ``rel_threshold`` (10 %) relative AND lowers the
    calibration BIC by more than ``bic_threshold`` (10, "very strong"
@@ -36,8 +44,11 @@ with their noise level and the diagnosis says that structure remains that
 no candidate explains.
 
 Effects records cannot tell apart in this model family are listed in
-:data:`CONFOUNDED` with the reason; the diagnosis reports such effects as
-ties instead of choosing silently.
+:data:`CONFOUNDED` with the reason; when such an effect is added, the step
+carries the evidence (``Step.confounded``: the partner multipliers before and
+after, their correlation with the effect's parameter, the validation NRMSE
+of the partner alone and with the effect) and ``warnings`` reports the tie
+instead of choosing silently.
 
 References
 ----------
@@ -75,9 +86,11 @@ CONFOUNDED = {
     ("leakage", "c1"): "a laminar bypass and the channel's laminar loss are both conductances "
     "between the chambers; with c1 free only the channel's inertance and quadratic loss, which "
     "the bypass skips, separate them",
-    ("moving_mass", "inv_gamma"): "at a single calibration frequency a moving mass and the air "
-    "spring both set the in-phase force (k - m w^2); only the air spring's pressure dependence "
-    "separates them (damper preset, 3 Hz: mass fitted at twice its value)",
+    ("moving_mass", "S_t"): "a moving mass (F += m a) and the channel inertance b_L = rho_l "
+    "S_t A_p^2 both give a force in phase with the acceleration while the air spring is stiff; "
+    "S_t is not among the paper's fitted multipliers, so a wrong S_t is absorbed by the mass "
+    "(damper preset, 1/10 of paper_initial's S_t, diagnosed from paper_initial: mass fitted at "
+    "twice its value)",
     ("cavitation", "inv_gamma"): "a vapour cavity and a little more entrained air both soften "
     "the low-pressure chamber; the force waveforms can be nearly identical",
 }
@@ -374,7 +387,7 @@ def _converge(result, validation, options, preroll, max_nfev, tol):
                      tol=tol)
 
 
-_PARTNERS = {"inv_gamma": ("inv_gamma1", "inv_gamma2"), "c1": ("c1",)}
+_PARTNERS = {"inv_gamma": ("inv_gamma1", "inv_gamma2"), "c1": ("c1",), "S_t": ("S_t",)}
 
 
 def _confounding(effect: str, before: CalibrationResult, after: CalibrationResult) -> dict:
@@ -399,6 +412,7 @@ def _confounding(effect: str, before: CalibrationResult, after: CalibrationResul
                 corr[n] = float(after.correlation[i, after.varying.index(n)])
         out[partner] = {
             "reason": why,
+            "partner_fitted": bool(names),
             "multipliers_before": {n: before.values.get(n) for n in names},
             "multipliers_after": {n: after.values.get(n) for n in names},
             "correlation_with_effect": corr,
@@ -568,6 +582,11 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
                             f"{res.message}")
         conf = _confounding(chosen.effect, current, res)
         for partner, ev in conf.items():
+            if not ev["partner_fitted"]:
+                warnings.append(
+                    f"confounded: {chosen.effect} with {partner} (held fixed): {ev['reason']}; "
+                    f"if {partner} is wrong, the {chosen.effect} parameter absorbs its error")
+                continue
             moved = ", ".join(f"{n} {ev['multipliers_before'][n]:.3g} -> "
                               f"{ev['multipliers_after'][n]:.3g}"
                               for n in ev["multipliers_before"])
