@@ -28,6 +28,9 @@ CASES = {
                     (3.0, 0.0025), (4.0, 0.002), 52),
     "freeplay": ("paper_calibrated", {"freeplay": {"gap_m": 1.0e-4}},
                  (3.0, 0.003), (4.0, 0.002), 53),
+    # found although the air ratios are free; the diagnosis also reports the tie with them
+    "series_compliance": ("paper_calibrated", {"series_compliance": {"stiffness_N_per_m": 5e5}},
+                          (3.0, 0.003), (4.0, 0.002), 54),
     # diagnosed from the damper's own geometry (its channel inertance S_t is 1/10 of
     # paper_initial's and is not fitted; from paper_initial the mass absorbs it: CONFOUNDED)
     "moving_mass_damper": ("damper", {"moving_mass": {"mass_kg": 25.0}},
