@@ -62,4 +62,9 @@ def run(args) -> int:
     if not res.converged:
         print(f"warning: calibration did not converge: {res.message}", file=sys.stderr)
         return 1
+    d = res.as_dict()
+    val_txt = d["nrmse"]["validation"]
+    val_txt = "n/a" if val_txt is None else f"{val_txt:.4g}"
+    print(f"calibrated ({res.nfev} evaluations): NRMSE calibration "
+          f"{d['nrmse']['calibration']:.4g}, validation {val_txt}; wrote {args.json}")
     return 0

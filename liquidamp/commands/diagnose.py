@@ -40,4 +40,8 @@ def run(args) -> int:
         print(f"warning: {w}", file=sys.stderr)
     if d.unexplained:
         print(f"note: {d.unexplained}", file=sys.stderr)
+    nr = d.as_dict()
+    added = ", ".join(d.added) or "nothing"
+    print(f"added: {added}; validation NRMSE {nr['baseline']['nrmse']['validation']:.4g} -> "
+          f"{nr['final']['nrmse']['validation']:.4g} ({d.stop_reason}); wrote {args.json}")
     return 0
