@@ -17,11 +17,20 @@ arrays so that one compiled specialisation serves every model:
 The integrator is the L-stable, stiffly accurate Rosenbrock method RODAS4 of
 Hairer & Wanner (order 4, embedded order 3, continuous extension of order 3)
 with the analytic Jacobian of each model, step-size control on the mixed
-error norm ``atol_i + rtol |x_i|`` and an optional largest step.  A
-Rosenbrock method needs one LU factorisation of ``I/(h gamma) - J`` per step
-and no Newton iteration, which suits these small (1-5 state), very stiff
-systems: the inerter preset has time constants near 1e-5 s under a 1 s
-excitation.
+error norm ``atol_i + rtol |x_i|`` (with the predictive step-size control
+of ``rodas.f``) and an optional largest step.  A Rosenbrock method needs one
+LU factorisation of ``I/(h gamma) - J`` per step and no Newton iteration,
+which suits these small (1-5 state), very stiff systems: the inerter preset
+has time constants near 1e-5 s under a 1 s excitation.
+
+Speed and compile time: :func:`integrate` is the only compiled entry point
+of the device integrator (a single span, or, with ``max_cycles > 0``, the
+whole periodic-steady-state loop), so the stepper is compiled once per
+process; the linear algebra is one 5 x 5 LU specialisation for every model
+(smaller systems padded with the identity); the full model evaluates f, J
+and df/dt at the start of a step together (:func:`_full_all`, one pair of
+bulk-modulus evaluations instead of three); the stage times t + h of stages
+5 and 6 share one stroke evaluation.
 
 References
 ----------
@@ -36,6 +45,10 @@ import math
 
 import numpy as np
 from numba import njit
+
+#: Fast-math flags of the pure arithmetic kernels: reciprocal and contraction only
+#: (no assumption of finite values, so NaN/inf checks keep working).
+_FM = {"arcp", "contract"}
 
 # ---------------------------------------------------------------- model ids
 M_FULL = 0
@@ -126,7 +139,7 @@ _RD = np.array([_D1, _D2, _D3, _D4, 0.0, 0.0])
 
 
 # ------------------------------------------------------------------ fluid laws
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", fastmath=_FM)
 def bulk(p, X0, prm):
     """Bulk modulus of eq. (2) under the parameter set's law; p floored at 1 Pa [Pa]."""
     if prm[P_CONSTB] != 0.0:
@@ -138,7 +151,7 @@ def bulk(p, X0, prm):
     return B_l * (1.0 - X0 + X0 * r) / (1.0 - X0 + B_l * X0 * r / (n * p))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", fastmath=_FM)
 def bulk_dp(p, X0, prm):
     """dB/dp of eq. (2) (0 for the constant law or below the 1 Pa floor) [-]."""
     if prm[P_CONSTB] != 0.0 or p < 1.0:
@@ -153,7 +166,7 @@ def bulk_dp(p, X0, prm):
     return B_l * (dnum * den - num * dden) / (den * den)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", fastmath=_FM)
 def bulk_and_dp(p, X0, prm):
     """:func:`bulk` and :func:`bulk_dp` sharing one power evaluation."""
     if prm[P_CONSTB] != 0.0:
@@ -170,7 +183,7 @@ def bulk_and_dp(p, X0, prm):
     return B_l * num / den, B_l * (dnum * den - num * dden) / (den * den)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", fastmath=_FM)
 def loss_flow(dp, k1, k2):
     """Analytic inverse of eq. (5), cancellation-free [flow unit]."""
     if dp == 0.0:
@@ -178,13 +191,13 @@ def loss_flow(dp, k1, k2):
     return 2.0 * dp / (k1 + math.sqrt(k1 * k1 + 4.0 * k2 * abs(dp)))
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", fastmath=_FM)
 def loss_flow_dp(dp, k1, k2):
     """d(flow)/d(dp) of :func:`loss_flow` [flow unit / Pa]."""
     return 1.0 / max(math.sqrt(k1 * k1 + 4.0 * k2 * abs(dp)), 1e-300)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", fastmath=_FM)
 def r_const(p, B0, prm):
     """Density of a constant-bulk chamber r(p) = rho0 exp((p - p0)/B0) [kg/m^3]."""
     return prm[P_RHO0] * math.exp((p - prm[P_P0]) / B0)
@@ -262,7 +275,7 @@ def _next_break(kind, t, st, tiny):
 
 
 # ------------------------------------------------------------ models: rhs, jac
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", fastmath=_FM, inline="always")
 def rhs(mid, x, y, v, prm, eff, out):
     """Right-hand side dx/dt of model ``mid`` at stroke (y, v), written to ``out``."""
     Ap = prm[P_AP]
@@ -311,7 +324,7 @@ def rhs(mid, x, y, v, prm, eff, out):
         out[0] = prm[P_KD] * v - x[0] / prm[P_TD]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", fastmath=_FM)
 def rhs_t(mid, x, y, v, yd, a, prm, eff, out):
     """Partial derivative d rhs / dt at fixed x through the stroke (y' = yd, v' = a)."""
     Ap = prm[P_AP]
@@ -365,7 +378,7 @@ def rhs_t(mid, x, y, v, yd, a, prm, eff, out):
     out[1] = B2 / V2 * (-Ap * yd / V2 * w2 - Ap * a)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", fastmath=_FM)
 def jac(mid, x, y, v, prm, eff, J):
     """Analytic Jacobian d rhs / dx of model ``mid``, written to ``J`` (zeroed here)."""
     J[:, :] = 0.0
@@ -446,6 +459,54 @@ def jac(mid, x, y, v, prm, eff, J):
         J[0, 0] = -1.0 / prm[P_TD]
 
 
+@njit(cache=True, error_model="numpy", fastmath=_FM)
+def _full_all(x, y, v, yd, a, prm, eff, f, J, ft):
+    """:func:`rhs`, :func:`jac` (non-zero entries only) and :func:`rhs_t` of the full
+    model (eq. 10) at one point, sharing the two bulk-modulus evaluations."""
+    Ap = prm[P_AP]
+    V1 = prm[P_V01] - Ap * y
+    V2 = prm[P_V02] + Ap * y
+    p1, r1, p2, r2, m = x[0], x[1], x[2], x[3], x[4]
+    dm = prm[P_RHO0] * eff[E_LEAK]
+    mt = m + dm * (p1 - p2)
+    B1, dB1 = bulk_and_dp(p1, prm[P_X01], prm)
+    B2, dB2 = bulk_and_dp(p2, prm[P_X02], prm)
+    S = prm[P_ST]
+    w1 = Ap * v - mt / r1
+    w2 = -Ap * v + mt / r2
+    f[0] = B1 / V1 * w1
+    f[1] = (r1 * Ap * v - mt) / V1
+    f[2] = B2 / V2 * w2
+    f[3] = (-r2 * Ap * v + mt) / V2
+    f[4] = (p1 - p2 - prm[P_G1] * m - prm[P_G2] * m * abs(m)) / S
+    c1 = B1 / (V1 * r1)
+    c2 = B2 / (V2 * r2)
+    J[0, 0] = dB1 / V1 * w1 - c1 * dm
+    J[0, 1] = B1 / V1 * mt / (r1 * r1)
+    J[0, 2] = c1 * dm
+    J[0, 4] = -c1
+    J[1, 0] = -dm / V1
+    J[1, 1] = Ap * v / V1
+    J[1, 2] = dm / V1
+    J[1, 4] = -1.0 / V1
+    J[2, 0] = c2 * dm
+    J[2, 2] = dB2 / V2 * w2 - c2 * dm
+    J[2, 3] = -B2 / V2 * mt / (r2 * r2)
+    J[2, 4] = c2
+    J[3, 0] = dm / V2
+    J[3, 2] = -dm / V2
+    J[3, 3] = -Ap * v / V2
+    J[3, 4] = 1.0 / V2
+    J[4, 0] = 1.0 / S
+    J[4, 2] = -1.0 / S
+    J[4, 4] = -(prm[P_G1] + 2.0 * prm[P_G2] * abs(m)) / S
+    ft[0] = B1 / V1 * (Ap * yd / V1 * w1 + Ap * a)
+    ft[1] = (r1 * Ap * a + (r1 * Ap * v - mt) / V1 * Ap * yd) / V1
+    ft[2] = B2 / V2 * (-Ap * yd / V2 * w2 - Ap * a)
+    ft[3] = (-r2 * Ap * a - (-r2 * Ap * v + mt) / V2 * Ap * yd) / V2
+    ft[4] = 0.0
+
+
 @njit(cache=True, error_model="numpy")
 def force(mid, x, v, prm, eff):
     """Load-cell force: fluid force + |F_f| sign(v) + force offset [N]."""
@@ -519,21 +580,80 @@ def _solve(A, piv, b):
         b[i] = s / A[i, i]
 
 
+@njit(cache=True, error_model="numpy", fastmath=_FM, inline="always")
+def _lu5(A, piv, dinv):
+    """:func:`_lu` for a 5 x 5 matrix (constant trip counts); ``dinv`` = 1/diag(U)."""
+    for k in range(5):
+        p = k
+        amax = abs(A[k, k])
+        for i in range(k + 1, 5):
+            if abs(A[i, k]) > amax:
+                amax = abs(A[i, k])
+                p = i
+        piv[k] = p
+        if amax == 0.0 or not math.isfinite(amax):
+            return False
+        if p != k:
+            for j in range(5):
+                tmp = A[k, j]
+                A[k, j] = A[p, j]
+                A[p, j] = tmp
+        inv = 1.0 / A[k, k]
+        dinv[k] = inv
+        for i in range(k + 1, 5):
+            f = A[i, k] * inv
+            A[i, k] = f
+            for j in range(k + 1, 5):
+                A[i, j] -= f * A[k, j]
+    return True
+
+
+@njit(cache=True, error_model="numpy", fastmath=_FM, inline="always")
+def _solve5(A, piv, dinv, b):
+    """:func:`_solve` with the factors of :func:`_lu5`."""
+    for k in range(5):
+        p = piv[k]
+        tmp = b[k]
+        b[k] = b[p]
+        b[p] = tmp
+    for i in range(1, 5):
+        s = b[i]
+        for j in range(i):
+            s -= A[i, j] * b[j]
+        b[i] = s
+    for i in range(4, -1, -1):
+        s = b[i]
+        for j in range(i + 1, 5):
+            s -= A[i, j] * b[j]
+        b[i] = s * dinv[i]
+
+
 # ------------------------------------------------------------------ integrator
 @njit(cache=True, error_model="numpy")
-def _min_pressure(x, fi1, fi2):
-    return min(x[fi1], x[fi2])
-
-
-@njit(cache=True, error_model="numpy")
 def integrate(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, atol,
-              hmax, h0, fi1, fi2, pfloor, max_steps, out, info):
-    """Integrate model ``mid`` from t0 to t1 with RODAS4, dense output at ``teval``.
+              hmax, h0, fi1, fi2, pfloor, max_steps, steady_tol, min_cycles, max_cycles,
+              out, info):
+    """Integrate model ``mid`` with RODAS4, dense output at ``teval``; or march periods.
 
-    ``teval`` must be sorted within [t0, t1]; states go to ``out`` (n x len(teval)).
+    The one compiled entry point of the device integrator (a single
+    specialisation: the steady-state loop does not re-compile the stepper).
+
+    ``max_cycles == 0``: one span [t0, t1]; ``teval`` must be sorted within
+    [t0, t1]; states go to ``out`` (n x len(teval)).
+
+    ``max_cycles > 0``: periodic steady state of a harmonic stroke of period
+    ``t1 - t0`` [s]: whole periods are marched from ``t0`` (the step size
+    carried over) until the force waveform converges, with the acceptance
+    rule of :func:`liquidamp.coupled.testrig.steady_state` (``steady_tol``,
+    ``min_cycles``); ``teval`` is the sample grid of one period relative to
+    its start (N + 1 points, the last at the period's end) and ``out``
+    (n x (N + 1)) holds the last period marched.
+
     ``fi1, fi2`` are the indices of the chamber pressures to watch against
-    ``pfloor`` (-1: none).  ``info`` receives [status, t_stop, h_last, steps,
-    rejected].  Returns the final state.
+    ``pfloor`` (-1: none).  ``info`` (8 entries) receives [status, t_stop,
+    h_last, steps, rejected, cycles, residual, last change]; ``steps`` and
+    ``rejected`` count the last span (steady mode: ``steps`` counts all).
+    Returns the final state.
     """
     n = x0.size
     ne = teval.size
@@ -549,272 +669,275 @@ def integrate(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, 
     k4 = np.empty(n)
     k5 = np.empty(n)
     k6 = np.empty(n)
-    J = np.empty((n, n))
-    G = np.empty((n, n))
-    piv = np.empty(n, np.int64)
+    # the linear algebra is 5 x 5 for every model (N_STATES <= 5): a smaller
+    # system is padded with the identity (J is zero there), so that one
+    # specialised factorisation serves all and no generic one is compiled
+    J = np.zeros((5, 5))
+    G = np.empty((5, 5))
+    piv = np.empty(5, np.int64)
+    dinv = np.empty(5)
     d2 = np.empty(n)
     d3 = np.empty(n)
     kk = np.empty((6, n))
-    ks = np.empty(n)
-    t = t0
-    span = t1 - t0
-    ie = 0
-    while ie < ne and teval[ie] <= t0:
-        for i in range(n):
-            out[i, ie] = x[i]
-        ie += 1
-    info[0] = ST_OK
-    info[1] = t1
-    info[3] = 0.0
-    info[4] = 0.0
-    if span <= 0.0:
-        info[2] = h0
-        return x
-    # initial step: small; the controller grows it by up to 5x per step
-    h = h0
-    if not h > 0.0:
-        h = 1e-5 * span
-    h = min(h, hmax, span)
-    hmin = 1e-14 * max(abs(t0), abs(t1), span)
-    steps = 0
-    rejected = 0
-    reject_prev = False
-    while t < t1:
-        if steps >= max_steps:
-            info[0] = ST_TOO_MANY_STEPS
-            info[1] = t
-            info[2] = h
-            return x
-        last = False
-        if t + h >= t1 - 1e-12 * span:
-            h = t1 - t
-            last = True
-        tb = _next_break(kind, t, st, 1e-12 * span)
-        hit_break = False
-        if t + h >= tb:
-            h = tb - t
-            last = tb >= t1
-            hit_break = not last
-        y, v, a = stroke_eval(kind, t, sp, st, sy, sv, sa)
-        jac(mid, x, y, v, prm, eff, J)
-        yd, vd = stroke_rate(kind, t, sp, st, sy, sv, sa)
-        rhs_t(mid, x, y, v, yd, vd, prm, eff, fdt)
-        reuse_f0 = False
-        while True:
-            steps += 1
-            fac = 1.0 / (h * _GAM)
+    ks = np.zeros(5)
+    nf = max(ne - 1, 1)
+    force_now = np.empty(nf)
+    force_prev = np.empty(nf)
+    period = t1 - t0
+    ncyc = max_cycles if max_cycles > 0 else 1
+    prev_change = np.inf
+    residual = np.inf
+    change = np.inf
+    hits = 0
+    hcar = h0
+    total_steps = 0.0
+    for cyc in range(ncyc):
+        if max_cycles > 0:
+            ta = t0 + cyc * period
+            te = ta + period
+            off = ta
+        else:
+            ta = t0
+            te = t1
+            off = 0.0
+        info[5] = cyc
+        info[6] = residual
+        info[7] = change
+        t = ta
+        span = te - ta
+        ie = 0
+        while ie < ne and (teval[ie] + off) <= ta:
             for i in range(n):
-                for j in range(n):
-                    G[i, j] = -J[i, j]
-                G[i, i] += fac
-            ok = _lu(G, piv)
-            finite = ok
-            if ok:
-                for st_i in range(6):
-                    for i in range(n):
-                        acc = x[i]
-                        for j in range(st_i):
-                            acc += _RA[st_i, j] * kk[j, i]
-                        ys[i] = acc
-                    if st_i == 0 and reuse_f0:
+                out[i, ie] = x[i]
+            ie += 1
+        info[0] = ST_OK
+        info[1] = te
+        info[3] = 0.0
+        info[4] = 0.0
+        if span <= 0.0:
+            info[2] = hcar
+            return x
+        # initial step: small; the controller grows it by up to 5x per step
+        h = hcar
+        if not h > 0.0:
+            h = 1e-5 * span
+        h = min(h, hmax, span)
+        hmin = 1e-14 * max(abs(ta), abs(te), span)
+        steps = 0
+        rejected = 0
+        reject_prev = False
+        hacc = 0.0
+        erracc = 1.0
+        while t < te:
+            if steps >= max_steps:
+                info[0] = ST_TOO_MANY_STEPS
+                info[1] = t
+                info[2] = h
+                return x
+            last = False
+            if t + h >= te - 1e-12 * span:
+                h = te - t
+                last = True
+            tb = _next_break(kind, t, st, 1e-12 * span)
+            hit_break = False
+            if t + h >= tb:
+                h = tb - t
+                last = tb >= te
+                hit_break = not last
+            y0, v0, a0 = stroke_eval(kind, t, sp, st, sy, sv, sa)
+            if kind == 0:  # harmonic: the rates are the evaluated (v, a)
+                yd, vd = v0, a0
+            else:
+                yd, vd = stroke_rate(kind, t, sp, st, sy, sv, sa)
+            if mid == M_FULL:  # f, J and df/dt at (t, x) sharing the fluid laws
+                _full_all(x, y0, v0, yd, vd, prm, eff, f0, J, fdt)
+                reuse_f0 = True
+            else:
+                jac(mid, x, y0, v0, prm, eff, J)
+                rhs_t(mid, x, y0, v0, yd, vd, prm, eff, fdt)
+                reuse_f0 = False
+            while True:
+                steps += 1
+                fac = 1.0 / (h * _GAM)
+                for i in range(5):
+                    for j in range(5):
+                        G[i, j] = -J[i, j]
+                    G[i, i] += fac
+                ok = _lu5(G, piv, dinv)
+                finite = ok
+                if ok:
+                    for st_i in range(6):
                         for i in range(n):
-                            ft[i] = f0[i]
-                    else:
-                        y, v, a = stroke_eval(kind, t + _RC[st_i] * h, sp, st, sy, sv, sa)
-                        rhs(mid, ys, y, v, prm, eff, ft)
-                        if st_i == 0:
+                            acc = x[i]
+                            for j in range(st_i):
+                                acc += _RA[st_i, j] * kk[j, i]
+                            ys[i] = acc
+                        if st_i == 0 and reuse_f0:
                             for i in range(n):
-                                f0[i] = ft[i]
-                            reuse_f0 = True
+                                ft[i] = f0[i]
+                        else:
+                            if st_i == 0:
+                                y, v = y0, v0
+                            elif st_i != 5:  # stages 5 and 6 share the time t + h
+                                y, v, a = stroke_eval(kind, t + _RC[st_i] * h, sp, st, sy, sv,
+                                                      sa)
+                            rhs(mid, ys, y, v, prm, eff, ft)
+                            if st_i == 0:
+                                for i in range(n):
+                                    f0[i] = ft[i]
+                                reuse_f0 = True
+                        for i in range(n):
+                            acc = ft[i] + h * _RD[st_i] * fdt[i]
+                            cs = 0.0
+                            for j in range(st_i):
+                                cs += _RCC[st_i, j] * kk[j, i]
+                            ks[i] = acc + cs / h
+                        _solve5(G, piv, dinv, ks)
+                        for i in range(n):
+                            kk[st_i, i] = ks[i]
                     for i in range(n):
-                        acc = ft[i] + h * _RD[st_i] * fdt[i]
-                        cs = 0.0
-                        for j in range(st_i):
-                            cs += _RCC[st_i, j] * kk[j, i]
-                        ks[i] = acc + cs / h
-                    _solve(G, piv, ks)
+                        k1[i] = kk[0, i]
+                        k2[i] = kk[1, i]
+                        k3[i] = kk[2, i]
+                        k4[i] = kk[3, i]
+                        k5[i] = kk[4, i]
+                        k6[i] = kk[5, i]
+                    err = 0.0
                     for i in range(n):
-                        kk[st_i, i] = ks[i]
-                for i in range(n):
-                    k1[i] = kk[0, i]
-                    k2[i] = kk[1, i]
-                    k3[i] = kk[2, i]
-                    k4[i] = kk[3, i]
-                    k5[i] = kk[4, i]
-                    k6[i] = kk[5, i]
-                err = 0.0
-                for i in range(n):
-                    xn[i] = ys[i] + k6[i]
-                    sc = atol[i] + rtol * max(abs(x[i]), abs(xn[i]))
-                    err += (k6[i] / sc) ** 2
-                err = math.sqrt(err / n)
-                finite = math.isfinite(err)
-            if not finite:
+                        xn[i] = ys[i] + k6[i]
+                        sc = atol[i] + rtol * max(abs(x[i]), abs(xn[i]))
+                        err += (k6[i] / sc) ** 2
+                    err = math.sqrt(err / n)
+                    finite = math.isfinite(err)
+                if not finite:
+                    rejected += 1
+                    h *= 0.25
+                    last = False
+                    hit_break = False
+                    reject_prev = True
+                    if h < hmin:
+                        info[0] = ST_STEP_TOO_SMALL
+                        info[1] = t
+                        info[2] = h
+                        return x
+                    continue
+                q = max(1.0 / 6.0, min(5.0, err ** 0.25 / 0.9))
+                if err <= 1.0:
+                    if hacc > 0.0:  # predictive (Gustafsson) control, as rodas.f
+                        qg = hacc / h * (err * err / erracc) ** 0.25 / 0.9
+                        q = max(q, max(1.0 / 6.0, min(5.0, qg)))
+                    hacc = h
+                    erracc = max(1e-2, err)
+                    hnew = h / q
+                    break
+                hnew = h / q
                 rejected += 1
-                h *= 0.25
+                reject_prev = True
                 last = False
                 hit_break = False
-                reject_prev = True
+                h = hnew
                 if h < hmin:
                     info[0] = ST_STEP_TOO_SMALL
                     info[1] = t
                     info[2] = h
                     return x
-                continue
-            q = max(1.0 / 6.0, min(5.0, err ** 0.25 / 0.9))
-            hnew = h / q
-            if err <= 1.0:
-                break
-            rejected += 1
-            reject_prev = True
-            last = False
-            hit_break = False
-            h = hnew
-            if h < hmin:
-                info[0] = ST_STEP_TOO_SMALL
-                info[1] = t
-                info[2] = h
-                return x
-        # accepted: dense output coefficients
-        tn = t1 if last else (tb if hit_break else t + h)
-        for i in range(n):
-            d2[i] = (_D21 * k1[i] + _D22 * k2[i] + _D23 * k3[i] + _D24 * k4[i]
-                     + _D25 * k5[i])
-            d3[i] = (_D31 * k1[i] + _D32 * k2[i] + _D33 * k3[i] + _D34 * k4[i]
-                     + _D35 * k5[i])
-        while ie < ne and teval[ie] <= tn:
-            s = (teval[ie] - t) / h
-            s1 = 1.0 - s
+            # accepted: dense output coefficients
+            tn = te if last else (tb if hit_break else t + h)
             for i in range(n):
-                out[i, ie] = x[i] * s1 + s * (xn[i] + s1 * (d2[i] + s * d3[i]))
-            ie += 1
-        if fi1 >= 0 and _min_pressure(xn, fi1, fi2) <= pfloor:
-            # locate the crossing on the continuous extension (bisection)
-            lo, hi = 0.0, 1.0
-            for _ in range(60):
-                s = 0.5 * (lo + hi)
+                d2[i] = (_D21 * k1[i] + _D22 * k2[i] + _D23 * k3[i] + _D24 * k4[i]
+                         + _D25 * k5[i])
+                d3[i] = (_D31 * k1[i] + _D32 * k2[i] + _D33 * k3[i] + _D34 * k4[i]
+                         + _D35 * k5[i])
+            while ie < ne and (teval[ie] + off) <= tn:
+                s = ((teval[ie] + off) - t) / h
                 s1 = 1.0 - s
-                pm = 1e300
-                for i in (fi1, fi2):
-                    pi = x[i] * s1 + s * (xn[i] + s1 * (d2[i] + s * d3[i]))
-                    pm = min(pm, pi)
-                if pm <= pfloor:
-                    hi = s
-                else:
-                    lo = s
-            info[0] = ST_PRESSURE
-            info[1] = t + hi * h
-            info[2] = h
+                for i in range(n):
+                    out[i, ie] = x[i] * s1 + s * (xn[i] + s1 * (d2[i] + s * d3[i]))
+                ie += 1
+            if fi1 >= 0 and min(xn[fi1], xn[fi2]) <= pfloor:
+                # locate the crossing on the continuous extension (bisection)
+                lo, hi = 0.0, 1.0
+                for _ in range(60):
+                    s = 0.5 * (lo + hi)
+                    s1 = 1.0 - s
+                    pm = 1e300
+                    for i in (fi1, fi2):
+                        pi = x[i] * s1 + s * (xn[i] + s1 * (d2[i] + s * d3[i]))
+                        pm = min(pm, pi)
+                    if pm <= pfloor:
+                        hi = s
+                    else:
+                        lo = s
+                info[0] = ST_PRESSURE
+                info[1] = t + hi * h
+                info[2] = h
+                for i in range(n):
+                    x[i] = xn[i]
+                return x
+            t = tn
             for i in range(n):
                 x[i] = xn[i]
-            return x
-        t = tn
-        for i in range(n):
-            x[i] = xn[i]
-        if reject_prev:
-            hnew = min(hnew, h)
-            reject_prev = False
-        h = min(hnew, hmax)
-        if h < hmin:
-            h = hmin
-    while ie < ne:  # rounding at the end point
-        for i in range(n):
-            out[i, ie] = x[i]
-        ie += 1
-    info[2] = h
-    info[3] = steps
-    info[4] = rejected
-    return x
-
-
-@njit(cache=True, error_model="numpy")
-def steady(mid, prm, eff, kind, sp, x0, T, N, rtol, atol, hmax, steady_tol, min_cycles,
-           max_cycles, fi1, fi2, pfloor, max_steps, xout, info):
-    """March whole periods of a harmonic stroke until the force waveform converges.
-
-    Same acceptance rule as :func:`liquidamp.coupled.testrig.steady_state`.
-    ``xout`` (n x N) receives the last period; ``info`` receives [status,
-    t_stop, cycles, residual, last change, steps].
-    """
-    n = x0.size
-    dummy = np.zeros(2)
-    grid = np.empty(N + 1)
-    for j in range(N + 1):
-        grid[j] = j * (T / N)
-    teval = np.empty(N + 1)
-    X = np.empty((n, N + 1))
-    force_now = np.empty(N)
-    force_prev = np.empty(N)
-    sub = np.zeros(5)
-    x = x0.copy()
-    xs = np.empty(n)
-    prev_change = np.inf
-    residual = np.inf
-    change = np.inf
-    hits = 0
-    h = 0.0
-    steps = 0.0
-    for k in range(max_cycles):
-        t0 = k * T
-        for j in range(N + 1):
-            teval[j] = t0 + grid[j]
-        x = integrate(mid, prm, eff, kind, sp, dummy, dummy, dummy, dummy, x, t0, t0 + T,
-                      teval, rtol, atol, hmax, h, fi1, fi2, pfloor, max_steps, X, sub)
-        steps += sub[3]
-        if sub[0] != ST_OK:
-            info[0] = sub[0]
-            info[1] = sub[1]
-            info[2] = k
-            info[3] = residual
-            info[4] = change
-            info[5] = steps
-            return
-        h = sub[2]
-        fmax = 0.0
-        for j in range(N):
+            if reject_prev:
+                hnew = min(hnew, h)
+                reject_prev = False
+            h = min(hnew, hmax)
+            if h < hmin:
+                h = hmin
+        while ie < ne:  # rounding at the end point
             for i in range(n):
-                xs[i] = X[i, j]
-            y, v, a = stroke_eval(kind, teval[j], sp, dummy, dummy, dummy, dummy)
-            fj = force(mid, xs, v, prm, eff)
+                out[i, ie] = x[i]
+            ie += 1
+        info[2] = h
+        info[4] = rejected
+        total_steps += steps
+        info[3] = total_steps
+        if max_cycles == 0:
+            return x
+        hcar = h
+        # force waveform of this period against the previous one
+        fmax = 0.0
+        for j in range(nf):
+            for i in range(n):
+                ks[i] = out[i, j]
+            v = 0.0
+            if prm[P_FRIC] > 0.0:  # the velocity only sets the friction's sign
+                y, v, a = stroke_eval(kind, teval[j] + off, sp, st, sy, sv, sa)
+            fj = force(mid, ks, v, prm, eff)
             force_now[j] = fj
             fmax = max(fmax, abs(fj))
-        if k > 0:
+        if cyc > 0:
             scale = max(fmax, 1e-30)
             acc = 0.0
-            for j in range(N):
+            for j in range(nf):
                 acc += (force_now[j] - force_prev[j]) ** 2
-            change = math.sqrt(acc / N) / scale
+            change = math.sqrt(acc / nf) / scale
             rho = change / prev_change if prev_change > 0.0 else 0.0
             if rho < 1.0:
-                residual = change * rho / (1.0 - rho) if k > 1 else change
+                residual = change * rho / (1.0 - rho) if cyc > 1 else change
             else:
                 residual = max(change, residual if math.isfinite(residual) else change)
             residual = max(residual, 0.0)
             floor = 50.0 * rtol
-            if (residual < steady_tol or change < floor) and k + 1 >= min_cycles:
+            if (residual < steady_tol or change < floor) and cyc + 1 >= min_cycles:
                 hits += 1
             else:
                 hits = 0
             if hits >= 2:
-                for i in range(n):
-                    for j in range(N):
-                        xout[i, j] = X[i, j]
                 info[0] = ST_OK
-                info[1] = t0 + T
-                info[2] = k + 1
-                info[3] = min(residual, change)
-                info[4] = change
-                info[5] = steps
-                return
+                info[1] = te
+                info[5] = cyc + 1
+                info[6] = min(residual, change)
+                info[7] = change
+                return x
             prev_change = change
-        for j in range(N):
+        for j in range(nf):
             force_prev[j] = force_now[j]
     info[0] = ST_NOT_CONVERGED
-    info[1] = max_cycles * T
-    info[2] = max_cycles
-    info[3] = residual
-    info[4] = prev_change
-    info[5] = steps
+    info[1] = max_cycles * period
+    info[5] = max_cycles
+    info[6] = residual
+    info[7] = prev_change
+    return x
 
 
 # ------------------------------------------------- rotor + devices (coupled)

@@ -27,7 +27,9 @@ Design
   where the interpolant has a kink, so each step sees a smooth input.
 * The periodic-steady-state loop (march a period, compare the force
   waveform, stop on the same rule as the Python path) runs entirely in
-  compiled code.
+  compiled code, in the periodic mode of the same compiled entry point
+  (``_kernels.integrate``) as :func:`march`, so one specialisation serves
+  both and the first call compiles the stepper once.
 * Add-on effects: the kernels take an effect vector (``_kernels.E_*``) whose
   zero entries mean "absent" (at present a laminar leakage bypass
   ``rho_l k (p1 - p2)`` for ``full`` and ``no_inertia``, and a force offset),
@@ -249,11 +251,11 @@ def march(model: DeviceModel, params: DeviceParams, stroke, x0, t0: float, t1: f
     eff = pack_effects() if effects is None else effects
     fi1, fi2 = _floor_indices(model, params)
     out = np.empty((n, t_eval.size))
-    info = np.zeros(5)
+    info = np.zeros(8)
     x_end = K.integrate(mid, pack_params(params), eff, kind, sp, st, sy, sv, sa, x0,
                         float(t0), float(t1), t_eval, float(options.rtol),
                         _atol(model, params, options), float(max_step), float(h0), fi1, fi2,
-                        float(options.pressure_floor), MAX_STEPS, out, info)
+                        float(options.pressure_floor), MAX_STEPS, 0.0, 0, 0, out, info)
     _raise_status(model, options, info, t0, t1)
     if not (np.all(np.isfinite(out)) and np.all(np.isfinite(x_end))):
         raise ConvergenceError(f"model {model.name!r}: non-finite state in time integration")
@@ -285,30 +287,34 @@ def steady_loop(model: DeviceModel, params: DeviceParams, stroke: HarmonicStroke
     T = stroke.period
     N = options.samples_per_period
     n = model.n_states
-    X = np.empty((n, N))
-    info = np.zeros(6)
-    kind, sp, *_ = _stroke_arrays(stroke)
+    out = np.empty((n, N + 1))
+    info = np.zeros(8)
+    kind, sp, st, sy, sv, sa = _stroke_arrays(stroke)
     fi1, fi2 = _floor_indices(model, params)
     eff = pack_effects() if effects is None else effects
-    K.steady(mid, pack_params(params), eff, kind, sp, np.ascontiguousarray(x0, dtype=float),
-             float(T), int(N), float(options.rtol), _atol(model, params, options),
-             float(options.max_step_fraction * T), float(options.steady_tol),
-             int(options.min_cycles), int(options.max_cycles), fi1, fi2,
-             float(options.pressure_floor), MAX_STEPS, X, info)
+    grid = np.arange(N + 1) * (T / N)
+    # the same compiled entry point as march (one specialisation), in its periodic mode
+    K.integrate(mid, pack_params(params), eff, kind, sp, st, sy, sv, sa,
+                np.ascontiguousarray(x0, dtype=float), 0.0, float(T), grid,
+                float(options.rtol), _atol(model, params, options),
+                float(options.max_step_fraction * T), 0.0, fi1, fi2,
+                float(options.pressure_floor), MAX_STEPS, float(options.steady_tol),
+                int(options.min_cycles), max(int(options.max_cycles), 1), out, info)
     status = int(info[0])
-    cycles = int(info[2])
+    cycles = int(info[5])
     if status == K.ST_NOT_CONVERGED:
         raise ConvergenceError(
             f"model {model.name!r}: no periodic steady state after {options.max_cycles} cycles "
             f"at {stroke.frequency:g} Hz, {stroke.amplitude:g} m; last relative change per "
-            f"cycle {info[4]:.2e}, estimated remaining {info[3]:.2e} (allowed "
+            f"cycle {info[7]:.2e}, estimated remaining {info[6]:.2e} (allowed "
             f"{options.steady_tol:g}); raise max_cycles or steady_tol"
         )
     k = cycles
     _raise_status(model, options, info, k * T, (k + 1) * T)
+    X = out[:, :N]
     if not np.all(np.isfinite(X)):
         raise ConvergenceError(f"model {model.name!r}: non-finite state in time integration")
-    return X, cycles, float(info[3])
+    return X, cycles, float(info[6])
 
 
 def warm_up() -> float:

@@ -211,3 +211,39 @@ def test_compiled_rotor_with_devices_matches_simulate_coupled():
     with pytest.raises(ParameterError, match="Python route"):
         from liquidamp.coupled.assembly import viscous
         simulate_rotor(rotor, W, viscous(1e4), 0.1, x0)
+
+
+def test_fused_full_model_evaluation_matches_rhs_jac_and_rhs_t():
+    """The step start of the full model (f, J, df/dt sharing the fluid laws) = the separate
+    kernels, with the leakage effect on."""
+    model, p = get_model("full"), preset("device_a")
+    prm, eff = pack_params(p), pack_effects({"leakage": 2e-11})
+    x = _state_near_rest(model, p, np.random.default_rng(5))
+    y, v, a = 0.004, -0.07, 1.3
+    f, ft, J = np.empty(5), np.empty(5), np.zeros((5, 5))
+    K._full_all(x, y, v, v, a, prm, eff, f, J, ft)
+    f2, ft2, J2 = np.empty(5), np.empty(5), np.empty((5, 5))
+    K.rhs(K.M_FULL, x, y, v, prm, eff, f2)
+    K.jac(K.M_FULL, x, y, v, prm, eff, J2)
+    K.rhs_t(K.M_FULL, x, y, v, v, a, prm, eff, ft2)
+    np.testing.assert_allclose(f, f2, rtol=1e-12, atol=1e-13 * np.max(np.abs(f2)))
+    np.testing.assert_allclose(ft, ft2, rtol=1e-12, atol=1e-13 * np.max(np.abs(ft2)))
+    for i in range(5):  # rows differ in units: compare each against its own scale
+        np.testing.assert_allclose(J[i], J2[i], rtol=1e-12, atol=1e-13 * np.max(np.abs(J2[i])))
+
+
+def test_padded_5x5_factorisation_solves_a_smaller_system():
+    """Models with fewer than 5 states use the 5 x 5 LU padded with the identity."""
+    rng = np.random.default_rng(7)
+    A = rng.normal(size=(3, 3)) * np.array([1e6, 1.0, 1e-3])[:, None]  # badly row-scaled
+    G = np.eye(5)
+    G[:3, :3] = A
+    b = np.zeros(5)
+    rhs = rng.normal(size=3)
+    b[:3] = rhs
+    piv, dinv = np.empty(5, np.int64), np.empty(5)
+    assert K._lu5(G, piv, dinv)
+    K._solve5(G, piv, dinv, b)
+    np.testing.assert_allclose(b[:3], np.linalg.solve(A, rhs), rtol=1e-10)
+    assert np.all(b[3:] == 0.0)
+    assert not K._lu5(np.zeros((5, 5)), piv, dinv)  # singular: reported, no division
