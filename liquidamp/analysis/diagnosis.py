@@ -642,9 +642,16 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
                               f"{ev['multipliers_after'][n]:.3g}"
                               for n in ev["multipliers_before"])
             cc = ", ".join(f"{n} {c:+.2f}" for n, c in ev["correlation_with_effect"].items())
+            # a tie only where the effect does not clearly beat its partner on held-out data
+            separated = (ev["validation_nrmse_with_effect"]
+                         <= 0.5 * ev["validation_nrmse_partner_only"])
+            verdict = (f"separated: {chosen.effect} and {partner} (fitted) can mimic each "
+                       "other, but the held-out records tell them apart"
+                       if separated else
+                       f"tie: {chosen.effect} and {partner} (fitted) may explain the residual "
+                       "about equally")
             warnings.append(
-                f"tie: {chosen.effect} and {partner} (fitted) may explain the residual about "
-                f"equally: {ev['reason']}; evidence: validation NRMSE "
+                f"{verdict}: {ev['reason']}; evidence: validation NRMSE "
                 f"{ev['validation_nrmse_partner_only']:.4g} with {partner} alone, "
                 f"{ev['validation_nrmse_with_effect']:.4g} with {chosen.effect}; "
                 f"{moved}; correlation with the effect's parameter: {cc or 'n/a'}")
