@@ -334,14 +334,19 @@ def unstable_ranges(
     v = np.asarray(values, dtype=float) - threshold
     g = (lambda xx: func(xx) - threshold) if threshold else func
     tol = xtol * max(float(x[-1] - x[0]), 1.0) if x.size > 1 else xtol
+    return _stitch_ranges(x, v, lambda i: brentq(g, x[i], x[i + 1], xtol=tol))
+
+
+def _stitch_ranges(x, v, root_of) -> tuple[tuple[float, float], ...]:
+    """Intervals where ``v > 0`` on grid ``x``; ``root_of(i)`` refines a sign change in
+    ``(x[i], x[i+1])`` (called in increasing ``i``), a zero on the grid is its own end."""
     ranges = []
     start = x[0] if v[0] > 0.0 else None
     for i in range(x.size - 1):
         a, b = v[i] > 0.0, v[i + 1] > 0.0
         if a == b:
             continue
-        root = brentq(g, x[i], x[i + 1], xtol=tol) if v[i] * v[i + 1] < 0.0 else (
-            x[i] if v[i] == 0.0 else x[i + 1])
+        root = root_of(i) if v[i] * v[i + 1] < 0.0 else (x[i] if v[i] == 0.0 else x[i + 1])
         if b:
             start = root
         else:
@@ -391,21 +396,7 @@ def _unstable_ranges_batched(fb, x, values, *, xtol: float = 1e-8, threshold: fl
     roots = iter(
         a if va == vb else a - va * (b - a) / (vb - va) for a, b, va, vb in brackets
     )
-    ranges = []
-    start = x[0] if v[0] > 0.0 else None
-    for i in range(x.size - 1):
-        a, b = v[i] > 0.0, v[i + 1] > 0.0
-        if a == b:
-            continue
-        root = next(roots) if v[i] * v[i + 1] < 0.0 else (x[i] if v[i] == 0.0 else x[i + 1])
-        if b:
-            start = root
-        else:
-            ranges.append((float(start), float(root)))
-            start = None
-    if start is not None:
-        ranges.append((float(start), float(x[-1])))
-    return tuple(ranges)
+    return _stitch_ranges(x, v, lambda i: next(roots))
 
 
 @dataclass(frozen=True, eq=False)

@@ -59,7 +59,7 @@ def test_derived_reduced_model_quantities():
     # symmetric device: k_D = 2 B0 A_p^2 / V0 and c_L = k_D T_D = c1 A_p^2 (eq. 16, 19)
     assert p.k_D == pytest.approx(2 * p.B01 * p.A_p**2 / p.V01, rel=1e-12)
     assert p.k_D * p.T_D == pytest.approx(p.c_L, rel=1e-12)
-    # eq. (2) at p0 for small air fraction ~ (1/B_l + X0/(n p0))^-1
+    # eq. (2) at p0: 1/B0 = (1 - X0)/B_l + X0/(n p0), compliances of liquid and air add
     X0 = p.X01
     assert p.B01 == pytest.approx(1 / ((1 - X0) / p.B_l + X0 / (p.n * p.p0)) * (1.0), rel=1e-12)
 
