@@ -155,6 +155,69 @@ def growth_rate(t, signal, t_start: float | None = None, t_end: float | None = N
     return GrowthFit(float(rate), float(icpt), int(pk.size), float(lo), float(hi))
 
 
+def _iterate_frequency(mode_at, f0, iters, rtol):
+    """Fixed-point iteration of the describing function's frequency [Hz].
+
+    ``mode_at(f)`` returns (largest real part [1/s], critical mode frequency
+    [Hz]) with the device(s) linearized at ``f``; stops after ``iters``
+    passes or when the frequency moves by less than ``rtol * f``.  Returns
+    (real part [1/s], frequency [Hz]) of the last pass.
+    """
+    f = f0
+    for _ in range(iters):
+        g, f_new = mode_at(f)
+        done = abs(f_new - f) < rtol * f
+        f = f_new
+        if done:
+            break
+    return g, f
+
+
+def _amplitude_scan(g_at, device, amplitudes, smallest, f0):
+    """g(Y) [1/s] and the iterated frequency [Hz] over the stroke amplitude grid [m].
+
+    The default grid is 24 log-spaced amplitudes from ``smallest`` [m] to 0.8
+    x the device's stroke limit (at most 0.8 m); ``g_at(Y, f)`` returns
+    (g, f) at amplitude Y started from frequency f, each point starting from
+    the previous one's frequency.  Returns (amplitudes, g, frequencies).
+    """
+    Ys = (np.geomspace(smallest, 0.8 * min(device.stroke_limit, 1.0), 24) if amplitudes is None
+          else np.asarray(amplitudes, float))
+    f = f0
+    g, fs = [], []
+    for Y in Ys:
+        gi, f = g_at(float(Y), f)
+        g.append(gi)
+        fs.append(f)
+    return Ys, np.array(g), np.array(fs)
+
+
+def _try_growth_rate(t, signal, window, default_start):
+    """:func:`growth_rate` over ``window`` [s] (default ``default_start`` to the end), or None.
+
+    None when the window holds fewer than 3 peaks.
+    """
+    lo, hi = window or (default_start, t[-1])
+    try:
+        return growth_rate(t, signal, lo, hi)
+    except ParameterError:
+        return None
+
+
+def _tail_amplitude(t, signal, tail):
+    """Half peak-to-peak of ``signal`` over the last ``tail`` seconds, and its change.
+
+    Returns (amplitude [signal unit], relative change [-] from the tail window
+    before; NaN if there is none or the amplitude is 0).
+    """
+    last = t >= t[-1] - tail
+    prev = (t >= t[-1] - 2 * tail) & ~last
+    a_last = 0.5 * (signal[last].max() - signal[last].min())
+    a_prev = 0.5 * (signal[prev].max() - signal[prev].min()) if prev.any() else math.nan
+    change = abs(a_last - a_prev) / a_last if a_last > 0 else math.nan
+    return a_last, change
+
+
 @dataclass(frozen=True, eq=False)
 class CriticalMode:
     """The least stable mode of the linear closed loop.
@@ -255,16 +318,13 @@ class LCOPrediction:
 
 def _g(rotor, W, device, inop, Y, f0, iters=3):
     """Largest real part with the devices linearized at (Y, f), f iterated [1/s, Hz]."""
-    f = f0
-    for _ in range(iters):
+
+    def mode_at(f):
         lti = device_lti(device, amplitude_m=Y, frequency_hz=f)
         cm = critical_mode(rotor, W, device, inoperative=inop, lti=lti)
-        f_new = cm.blade_frequency / (2 * math.pi)
-        if abs(f_new - f) < 1e-6 * f:
-            f = f_new
-            break
-        f = f_new
-    return cm.eigenvalue.real, f
+        return cm.eigenvalue.real, cm.blade_frequency / (2 * math.pi)
+
+    return _iterate_frequency(mode_at, f0, iters, 1e-6)
 
 
 def predict_lco(rotor, Omega: float, device: Device, *, inoperative=(),
@@ -290,16 +350,8 @@ def predict_lco(rotor, Omega: float, device: Device, *, inoperative=(),
     W = check_positive("rotor speed Omega", Omega, "rad/s")
     inop = tuple(inoperative)
     cm0 = critical_mode(rotor, W, device, inoperative=inop)
-    lim = device.stroke_limit
-    Ys = np.geomspace(1e-5, 0.8 * min(lim, 1.0), 24) if amplitudes is None else np.asarray(
-        amplitudes, float)
-    f = cm0.blade_frequency / (2 * math.pi)
-    g, fs = [], []
-    for Y in Ys:
-        gi, f = _g(rotor, W, device, inop, float(Y), f)
-        g.append(gi)
-        fs.append(f)
-    g, fs = np.array(g), np.array(fs)
+    Ys, g, fs = _amplitude_scan(lambda Y, f: _g(rotor, W, device, inop, Y, f), device,
+                                amplitudes, 1e-5, cm0.blade_frequency / (2 * math.pi))
     Ystar = fstar = stable = None
     note = "no zero crossing of the largest real part over the amplitude grid"
     for i in range(Ys.size - 1):
@@ -386,17 +438,8 @@ def simulate_lco(rotor, Omega: float, device: Device, *, inoperative=(),
     k = int(np.argmax(np.max(np.abs(lag), axis=1)))
     Tb = 2 * math.pi / max(cm.blade_frequency, 1e-9)
     tail = 3 * Tb if tail is None else tail
-    growth = None
-    lo, hi = growth_window or (min(2 * math.pi / W, 0.25 * t[-1]), t[-1])
-    try:
-        growth = growth_rate(t, lag[k], lo, hi)
-    except ParameterError:
-        growth = None
-    last = t >= t[-1] - tail
-    prev = (t >= t[-1] - 2 * tail) & ~last
-    a_last = 0.5 * (lag[k][last].max() - lag[k][last].min())
-    a_prev = 0.5 * (lag[k][prev].max() - lag[k][prev].min()) if prev.any() else math.nan
-    change = abs(a_last - a_prev) / a_last if a_last > 0 else math.nan
+    growth = _try_growth_rate(t, lag[k], growth_window, min(2 * math.pi / W, 0.25 * t[-1]))
+    a_last, change = _tail_amplitude(t, lag[k], tail)
     return LCOSimulation(res, k + 1, growth, float(a_last), float(change))
 
 
@@ -452,16 +495,13 @@ def section_critical_mode(section, U: float, device: Device, *, port: str = "plu
 
 def _g_section(section, U, device, port, aero, Y, f0, bulk="averaged", iters=4):
     """Largest real part with the device linearized at (Y, f), f iterated [1/s, Hz]."""
-    f = f0
-    for _ in range(iters):
+
+    def mode_at(f):
         lti = device_lti(device, amplitude_m=Y, frequency_hz=f, bulk=bulk)
         cm = section_critical_mode(section, U, device, port=port, aero=aero, lti=lti)
-        f_new = cm.frequency_hz
-        done = abs(f_new - f) < 1e-7 * f
-        f = f_new
-        if done:
-            break
-    return cm.eigenvalue.real, f
+        return cm.eigenvalue.real, cm.frequency_hz
+
+    return _iterate_frequency(mode_at, f0, iters, 1e-7)
 
 
 @dataclass(frozen=True, eq=False)
@@ -553,16 +593,9 @@ def predict_section_lco(section, U: float, device: Device, *, port: str = "plung
     U = check_positive("airspeed U", U, "m/s")
     port = _check_port(port)
     cm0 = section_critical_mode(section, U, device, port=port, aero=aero)
-    lim = device.stroke_limit
-    Ys = (np.geomspace(1e-6, 0.8 * min(lim, 1.0), 24) if amplitudes is None
-          else np.asarray(amplitudes, float))
-    f = cm0.frequency_hz
-    g, fs = [], []
-    for Y in Ys:
-        gi, f = _g_section(section, U, device, port, aero, float(Y), f, bulk)
-        g.append(gi)
-        fs.append(f)
-    g, fs = np.array(g), np.array(fs)
+    Ys, g, fs = _amplitude_scan(
+        lambda Y, f: _g_section(section, U, device, port, aero, Y, f, bulk), device,
+        amplitudes, 1e-6, cm0.frequency_hz)
     Ystar = fstar = stable = Yun = None
     note = "no zero crossing of the largest real part over the amplitude grid"
     for i in range(Ys.size - 1):
@@ -662,16 +695,8 @@ def simulate_section_lco(section, U: float, device: Device, *, port: str = "plun
                            samples_per_second=64.0 / Tm, max_step=Tm / 20.0)
     t = res.time
     y = res.strokes[0]
-    lo, hi = growth_window or (min(2 * Tm, 0.25 * t[-1]), t[-1])
-    try:
-        growth = growth_rate(t, y, lo, hi)
-    except ParameterError:
-        growth = None
+    growth = _try_growth_rate(t, y, growth_window, min(2 * Tm, 0.25 * t[-1]))
     tail = 3 * Tm if tail is None else tail
-    last = t >= t[-1] - tail
-    prev = (t >= t[-1] - 2 * tail) & ~last
-    a_last = 0.5 * (y[last].max() - y[last].min())
-    a_prev = 0.5 * (y[prev].max() - y[prev].min()) if prev.any() else math.nan
-    change = abs(a_last - a_prev) / a_last if a_last > 0 else math.nan
+    a_last, change = _tail_amplitude(t, y, tail)
     return SectionLCOSimulation(res, port, cm.eigenvalue, growth, float(a_last),
                                 float(a_last / _port_arm(section, port)), float(change))

@@ -29,7 +29,18 @@ def _plt():
 
 
 def plot_records(records):
-    """Stroke [mm] and force [N] against time [s] of each record."""
+    """Stroke [mm] and force [N] against time [s] of each record.
+
+    Parameters
+    ----------
+    records : sequence of Record
+        Measured records (time [s], displacement [m], force [N]).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One row per record, force on a twin axis.
+    """
     plt = _plt()
     fig, axes = plt.subplots(len(records), 1, figsize=(8, 2.6 * len(records)), squeeze=False)
     for ax, r in zip(axes[:, 0], records, strict=True):
@@ -45,12 +56,37 @@ def plot_records(records):
     return fig
 
 
-def plot_loops_fit(results, labels, role="calibration"):
-    """Force against displacement and velocity: measured and each result's model."""
-    plt = _plt()
+def _role_grid(results, role, ncols, width, row_height):
+    """The first result's ``role`` records and a Figure with one row of axes per record.
+
+    ``width`` and ``row_height`` are the figure's width and height per row [in].
+    """
     first = results[0]
     recs = first.calibration if role == "calibration" else first.validation
-    fig, axes = plt.subplots(len(recs), 2, figsize=(10, 3.4 * len(recs)), squeeze=False)
+    fig, axes = _plt().subplots(len(recs), ncols, figsize=(width, row_height * len(recs)),
+                                squeeze=False)
+    return recs, fig, axes
+
+
+def plot_loops_fit(results, labels, role="calibration"):
+    """Force against displacement and velocity: measured and each result's model.
+
+    Parameters
+    ----------
+    results : sequence of CalibrationResult
+        Results sharing the same records; the first one's records are plotted.
+    labels : sequence of str
+        Legend label of each result.
+    role : {"calibration", "validation"}
+        Which records (and predictions) to plot.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One row per record: force [N] against displacement [mm] (offset
+        removed) and against velocity [mm/s].
+    """
+    recs, fig, axes = _role_grid(results, role, 2, 10, 3.4)
     for i, r in enumerate(recs):
         y = (r.smoothed - r.offset) * 1e3
         for j, x in enumerate((y, r.velocity * 1e3)):
@@ -69,11 +105,20 @@ def plot_loops_fit(results, labels, role="calibration"):
 
 
 def plot_residuals(results, labels, role="calibration"):
-    """Residual (model - measured) [N] against time, displacement and velocity."""
-    plt = _plt()
-    first = results[0]
-    recs = first.calibration if role == "calibration" else first.validation
-    fig, axes = plt.subplots(len(recs), 3, figsize=(12, 3.0 * len(recs)), squeeze=False)
+    """Residual (model - measured) [N] against time, displacement and velocity.
+
+    Parameters
+    ----------
+    results, labels, role
+        As in :func:`plot_loops_fit` (``role`` selects the residuals too).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One row per record: residual [N] against time [s], displacement [mm]
+        (offset removed) and velocity [mm/s].
+    """
+    recs, fig, axes = _role_grid(results, role, 3, 12, 3.0)
     for i, r in enumerate(recs):
         xs = (r.time, (r.smoothed - r.offset) * 1e3, r.velocity * 1e3)
         names = ("time [s]", "displacement [mm]", "velocity [mm/s]")
@@ -113,7 +158,22 @@ def _fmt(c):
 def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibration") -> Path:
     """Write ``index.html`` and PNGs for a CalibrationResult or a Diagnosis.
 
-    Returns the path of ``index.html``.
+    Parameters
+    ----------
+    out_dir : str or Path
+        Folder of the report (created if missing).
+    result : CalibrationResult, optional
+        The calibration to report (used when ``diagnosis`` is None).
+    diagnosis : Diagnosis, optional
+        A diagnosis: its baseline and every step are reported.
+    title : str
+        Page title.
+
+    Returns
+    -------
+    Path
+        The path of ``index.html``; the figures (records, loops and residuals
+        with force and residual in [N]) are PNGs beside it.
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)

@@ -91,6 +91,7 @@ def _ground_resonance(args) -> int:
         ground_resonance_sweep,
         rpm_to_rad_s,
     )
+    from liquidamp.analysis.stability_plots import plot_ground_resonance
     from liquidamp.structure.hostio import load_rotor
 
     method = check_choice("method", args.method, METHODS)
@@ -121,20 +122,15 @@ def _ground_resonance(args) -> int:
     data = sweep.to_dict()
     data["inoperative_blades"] = [int(t) for t in args.inoperative]
     data["lag_damping [N m s/rad]"] = list(rotor.blade_damping)
-    write_json(args.json, data)
-    if args.plot:
-        from liquidamp.analysis.stability_plots import plot_ground_resonance
-
-        plot_ground_resonance(sweep).savefig(args.plot, dpi=120)
-    ranges = ", ".join(f"{a:.1f}-{b:.1f}" for a, b in sweep.unstable_ranges_rpm) or "none"
-    print(f"{rotor.name}: {sweep.method}; unstable ranges [rpm]: {ranges}")
-    return 0
+    return _write_outputs(args, data, plot_ground_resonance, sweep,
+                          _ground_resonance_summary(rotor.name, sweep))
 
 
 def _ground_resonance_device(args, rotor, rpm, blades, method) -> int:
     from liquidamp.analysis.damped_stability import device_ground_resonance_sweep
     from liquidamp.analysis.ground_resonance import rpm_to_rad_s
     from liquidamp.analysis.sizing import lag_damper_device
+    from liquidamp.analysis.stability_plots import plot_ground_resonance
     from liquidamp.commands._args import parse_length
 
     arm = parse_length(args.arm, "arm") if args.arm else None
@@ -148,22 +144,14 @@ def _ground_resonance_device(args, rotor, rpm, blades, method) -> int:
     data["inoperative_blades"] = [int(k) for k in blades]
     data["damper"] = args.damper
     data["damper_arm [m]"] = rotor.blade.damper_arm
-    if sizing is not None:
-        data["sizing"] = sizing.as_dict()
-    else:
-        data["damper_coefficient [N s/m]"] = device.params.c
-    write_json(args.json, data)
-    if args.plot:
-        from liquidamp.analysis.stability_plots import plot_ground_resonance
-
-        plot_ground_resonance(sweep).savefig(args.plot, dpi=120)
-    ranges = ", ".join(f"{a:.1f}-{b:.1f}" for a, b in sweep.unstable_ranges_rpm) or "none"
-    print(f"{rotor.name} + {device.label}: {sweep.method}; unstable ranges [rpm]: {ranges}")
-    return 0
+    _add_device_entries(data, device, sizing)
+    return _write_outputs(args, data, plot_ground_resonance, sweep,
+                          _ground_resonance_summary(f"{rotor.name} + {device.label}", sweep))
 
 
 def _flutter(args) -> int:
     from liquidamp.analysis.flutter import check_combination, flutter_analysis
+    from liquidamp.analysis.stability_plots import plot_flutter
     from liquidamp.structure.hostio import load_section
 
     if getattr(args, "damper", None):
@@ -178,22 +166,15 @@ def _flutter(args) -> int:
         kvals = parse_list(args.reduced_frequencies, "k")
     result = flutter_analysis(section, args.aero, args.method, speeds=speeds,
                               reduced_frequencies=kvals)
-    write_json(args.json, result.to_dict())
-    if args.plot:
-        from liquidamp.analysis.stability_plots import plot_flutter
-
-        plot_flutter(result).savefig(args.plot, dpi=120)
-    vf = "none in range" if result.flutter_speed is None else (
-        f"{result.flutter_speed:.4f} (frequency ratio {result.flutter_frequency:.4f})")
-    print(f"{section.name}: {args.aero}, {args.method}: flutter speed U/(b omega_theta) = {vf}; "
-          f"divergence {result.divergence_speed:.4f}")
-    return 0
+    return _write_outputs(args, result.to_dict(), plot_flutter, result,
+                          _flutter_summary(section.name, args.aero, args.method, result))
 
 
 def _flutter_device(args) -> int:
     from liquidamp.analysis.damped_stability import damped_flutter_analysis
     from liquidamp.analysis.flutter import check_combination
     from liquidamp.analysis.sizing import flutter_damper_device
+    from liquidamp.analysis.stability_plots import plot_flutter
     from liquidamp.structure.hostio import load_section
 
     aero = args.aero or "jones"
@@ -211,17 +192,41 @@ def _flutter_device(args) -> int:
     data = result.to_dict()
     data["damper"] = args.damper
     data["port"] = args.port
+    _add_device_entries(data, device, sizing)
+    return _write_outputs(args, data, plot_flutter, result,
+                          _flutter_summary(f"{section.name} + {device.label} on {args.port}",
+                                           aero, method, result))
+
+
+def _add_device_entries(data: dict, device, sizing) -> None:
+    """Add the device's sizing (or, unsized, its coefficient [N s/m]) to ``data``."""
     if sizing is not None:
         data["sizing"] = sizing.as_dict()
     else:
         data["damper_coefficient [N s/m]"] = device.params.c
-    write_json(args.json, data)
-    if args.plot:
-        from liquidamp.analysis.stability_plots import plot_flutter
 
-        plot_flutter(result).savefig(args.plot, dpi=120)
+
+def _ground_resonance_summary(label: str, sweep) -> str:
+    """One line: ``label``, the method used and the unstable rpm ranges [rpm]."""
+    ranges = ", ".join(f"{a:.1f}-{b:.1f}" for a, b in sweep.unstable_ranges_rpm) or "none"
+    return f"{label}: {sweep.method}; unstable ranges [rpm]: {ranges}"
+
+
+def _flutter_summary(label: str, aero: str, method: str, result) -> str:
+    """One line: ``label``, aerodynamics, method, flutter and divergence speeds [-]."""
     vf = "none in range" if result.flutter_speed is None else (
         f"{result.flutter_speed:.4f} (frequency ratio {result.flutter_frequency:.4f})")
-    print(f"{section.name} + {device.label} on {args.port}: {aero}, p: flutter speed "
-          f"U/(b omega_theta) = {vf}; divergence {result.divergence_speed:.4f}")
+    return (f"{label}: {aero}, {method}: flutter speed U/(b omega_theta) = {vf}; "
+            f"divergence {result.divergence_speed:.4f}")
+
+
+def _write_outputs(args, data: dict, plot, result, summary: str) -> int:
+    """Write ``data`` to ``--json``, ``plot(result)`` to ``--plot`` if given, print ``summary``.
+
+    The figure is saved at 120 dpi; returns the exit code 0.
+    """
+    write_json(args.json, data)
+    if args.plot:
+        plot(result).savefig(args.plot, dpi=120)
+    print(summary)
     return 0
