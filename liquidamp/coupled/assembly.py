@@ -37,8 +37,10 @@ Viscous damper as a device
 
 Time domain
     :func:`simulate_coupled` integrates the coupled system with
-    :func:`scipy.integrate.solve_ivp` (the Python engine; the compiled
-    engine of :mod:`liquidamp.coupled.fast` drives prescribed strokes only),
+    :func:`scipy.integrate.solve_ivp` (the Python engine, the reference) or,
+    with ``SolverOptions(engine="compiled")``, the compiled rotor kernel
+    :func:`liquidamp.coupled.fast.simulate_rotor` for a :func:`rotor_system`
+    with compiled device models (other configurations raise ParameterError),
     stops at a chamber end or at the pressure floor (status, not NaN), and
     returns a :class:`CoupledResponse` with strokes, forces, device states
     and, for a host with second-order mechanics (the rotor), the energy
@@ -56,6 +58,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from types import MappingProxyType
 
 import control
 import numpy as np
@@ -279,6 +282,18 @@ def _as_host(system, ports=None, mechanics=None) -> tuple[HostMatrices, np.ndarr
 
 
 @dataclass(frozen=True, eq=False)
+class _RotorOrigin:
+    """The arguments :func:`rotor_system` was called with, and the host it built."""
+
+    rotor: object
+    Omega: float
+    device: Mapping[int, Device]
+    inoperative: tuple[int, ...]
+    host: HostMatrices
+    devices: tuple[Device, ...]
+
+
+@dataclass(frozen=True, eq=False)
 class CoupledSystem:
     """A host with devices on some of its ports (see the module notes).
 
@@ -290,6 +305,9 @@ class CoupledSystem:
     devices : tuple of Device
         One per port.
     name : str
+    origin : object or None
+        Set by :func:`rotor_system` only (its inputs, for
+        ``SolverOptions(engine="compiled")`` in :func:`simulate_coupled`).
     """
 
     host: HostMatrices
@@ -297,6 +315,9 @@ class CoupledSystem:
     devices: tuple[Device, ...]
     name: str = "coupled"
     _idx: dict = field(default_factory=dict, repr=False)
+    #: How :func:`rotor_system` built it (the compiled engine's inputs); None
+    #: otherwise.  ``init=False``: a ``dataclasses.replace`` copy drops it.
+    origin: _RotorOrigin | None = field(default=None, init=False, repr=False)
 
     def __post_init__(self) -> None:
         h = self.host
@@ -512,6 +533,7 @@ def rotor_system(rotor, Omega: float, device, *, inoperative=()) -> CoupledSyste
     ('blade_2', 'blade_3', 'blade_4')
     """
     W = check_positive("rotor speed Omega", Omega, "rad/s")
+    inoperative = tuple(inoperative)
     failed = {rotor.check_blade(k) for k in inoperative}
     if isinstance(device, Device):
         mapping = {k: device for k in range(1, rotor.n_blades + 1) if k not in failed}
@@ -535,8 +557,12 @@ def rotor_system(rotor, Omega: float, device, *, inoperative=()) -> CoupledSyste
     h = HostMatrices(pss.A, pss.B, np.asarray(pss.C, float), tuple(pss.state_names),
                      tuple(pss.input_names), tuple(pss.output_names), tuple(pss.ports),
                      float(pss.period), pss.name, mechanics, AB)
-    return couple(h, {f"blade_{k}": mapping[k] for k in sorted(mapping)},
-                  name=f"{rotor.name}@{W:.4g}rad/s")
+    system = couple(h, {f"blade_{k}": mapping[k] for k in sorted(mapping)},
+                    name=f"{rotor.name}@{W:.4g}rad/s")
+    # record the inputs for the compiled engine (the object is fresh, not yet shared)
+    object.__setattr__(system, "origin", _RotorOrigin(rotor, W, MappingProxyType(dict(mapping)),
+                                                      inoperative, h, system.devices))
+    return system
 
 
 def section_system(section, U: float, devices: Mapping[str, Device], aero: str = "jones"
@@ -705,43 +731,8 @@ def _energy(system: CoupledSystem, t, xh, F, v) -> EnergyBalance:
     return EnergyBalance(T, V, W, D, Wd, res)
 
 
-def simulate_coupled(system: CoupledSystem, t_end: float, x0=None, *, t_eval=None,
-                     samples_per_second: float | None = None,
-                     options: SolverOptions | None = None, strict: bool = True,
-                     energy: bool = True, max_step: float | None = None) -> CoupledResponse:
-    """Integrate the coupled nonlinear system from 0 to ``t_end`` [s].
-
-    Parameters
-    ----------
-    system : CoupledSystem
-    t_end : float
-        End time > 0 [s].
-    x0 : array or mapping, optional
-        Coupled initial state (length ``system.n_states``) or a host state
-        (array or ``{name: value}``) with the devices at rest.
-    t_eval : array, optional
-        Output times [s] (default: uniform, ``samples_per_second``).
-    samples_per_second : float, optional
-        Default output rate [1/s] (default 200, or 64 per host period).
-    options : SolverOptions, optional
-        ``method``, ``rtol``, ``atol_scale`` (atol = atol_scale x state
-        scale: the device's ``state_scales``, the host's largest initial
-        state), ``pressure_floor``, ``vapour_pressure``.
-    strict : bool
-        Raise (PressureError, ParameterError) when a chamber pressure reaches
-        the floor or a stroke reaches a chamber end; else stop and return
-        with that ``status``.
-    energy : bool
-        Compute the :class:`EnergyBalance` where the host has mechanics.
-    max_step : float, optional
-        Largest step [s] (default 1/20 of the host period, else unbounded).
-
-    Returns
-    -------
-    CoupledResponse
-    """
-    opts = DEFAULT_OPTIONS if options is None else options
-    T_end = check_positive("t_end", t_end, "s")
+def _resolve_x0(system: CoupledSystem, x0) -> np.ndarray:
+    """Coupled initial state from ``x0`` (see :func:`simulate_coupled`)."""
     n = system.n_states
     if x0 is None or isinstance(x0, Mapping) or np.size(x0) == system.host.nstates:
         if x0 is not None and np.size(x0) == n and not isinstance(x0, Mapping):
@@ -755,6 +746,50 @@ def simulate_coupled(system: CoupledSystem, t_end: float, x0=None, *, t_eval=Non
                                  f"(host), got {X0.size}")
     if not np.all(np.isfinite(X0)):
         raise ParameterError("x0 must be finite")
+    return X0
+
+
+def _stop_conditions(system: CoupledSystem, floor: float) -> list:
+    """``[(kind, port index, g)]`` in the order they are checked; ``g(x) > 0`` while running.
+
+    ``g`` takes a coupled state or a matrix of them (columns): the margin to
+    the chamber end [m] (``stroke_limit``) or the lowest chamber pressure
+    above ``floor`` [Pa] (``pressure_floor``).
+    """
+    nh = system.host.nstates
+    conds = []
+    for j, d in enumerate(system.devices):
+        C_y = system.stroke_matrix[j]
+        lim = d.stroke_limit
+        if math.isfinite(lim):
+            def g(x, C_y=C_y, lim=lim):
+                return lim - np.abs(C_y @ x[:nh])
+            conds.append(("stroke_limit", j, g))
+        pi = _pressure_indices(d.model)
+        if pi is not None:
+            sl = system.device_slice(j)
+
+            def gp(x, sl=sl, pi=pi):
+                z = x[sl]
+                return np.minimum(z[pi[0]], z[pi[1]]) - floor
+            conds.append(("pressure_floor", j, gp))
+    return conds
+
+
+def _stop_reason(system: CoupledSystem, kind: str, j: int, floor: float) -> str:
+    port = system.ports[j].name
+    if kind == "stroke_limit":
+        return (f"stroke at port {port!r} reached the chamber end "
+                f"{system.devices[j].stroke_limit:g} m")
+    return f"a chamber pressure of the device at port {port!r} reached the floor {floor:g} Pa"
+
+
+def _stop_message(system: CoupledSystem, kind: str, j: int, t_stop: float, floor: float) -> str:
+    return f"stopped at t = {t_stop:.6g} s: {_stop_reason(system, kind, j, floor)}"
+
+
+def _run_python(system, T_end, X0, t_eval, opts, max_step, conds):
+    """scipy ``solve_ivp`` route: (time, states, status, message)."""
     nh = system.host.nstates
     host_scale = max(float(np.max(np.abs(X0[:nh]))), 1e-12)
     atol = [np.full(nh, opts.atol_scale * host_scale)]
@@ -762,36 +797,12 @@ def simulate_coupled(system: CoupledSystem, t_end: float, x0=None, *, t_eval=Non
         if d.n_states:
             atol.append(opts.atol_scale * np.asarray(d.model.state_scales(d.params), float))
     atol = np.concatenate(atol)
-    period = system.host.period
-    if t_eval is None:
-        rate = samples_per_second or (64.0 / period if period else 200.0)
-        t_eval = np.linspace(0.0, T_end, int(math.ceil(T_end * rate)) + 1)
-    t_eval = np.asarray(t_eval, float)
-    if max_step is None:
-        max_step = period / 20.0 if period else np.inf
-
     events = []
-    kinds = []
-    for j, d in enumerate(system.devices):
-        C_y = system.stroke_matrix[j]
-        lim = d.stroke_limit
-        if math.isfinite(lim):
-            def ev(t, x, C_y=C_y, lim=lim):
-                return lim - abs(C_y @ x[:nh])
-            ev.terminal = True
-            events.append(ev)
-            kinds.append(("stroke_limit", j))
-        pi = _pressure_indices(d.model)
-        if pi is not None:
-            sl = system.device_slice(j)
-
-            def evp(t, x, sl=sl, pi=pi):
-                z = x[sl]
-                return min(z[pi[0]], z[pi[1]]) - opts.pressure_floor
-            evp.terminal = True
-            events.append(evp)
-            kinds.append(("pressure_floor", j))
-
+    for _, _, g in conds:
+        def ev(t, x, g=g):
+            return g(x)
+        ev.terminal = True
+        events.append(ev)
     sol = solve_ivp(system.rhs, (0.0, T_end), X0, method=opts.method, t_eval=t_eval,
                     rtol=opts.rtol, atol=atol, max_step=max_step, events=events or None)
     if sol.status == -1:
@@ -800,19 +811,137 @@ def simulate_coupled(system: CoupledSystem, t_end: float, x0=None, *, t_eval=Non
     if sol.status == 1:
         for k, te in enumerate(sol.t_events):
             if te.size:
-                kind, j = kinds[k]
+                kind, j, _ = conds[k]
                 status = kind
-                port = system.ports[j].name
-                message = (f"stopped at t = {te[0]:.6g} s: "
-                           + (f"stroke at port {port!r} reached the chamber end "
-                              f"{system.devices[j].stroke_limit:g} m" if kind == "stroke_limit"
-                              else f"a chamber pressure of the device at port {port!r} reached "
-                              f"the floor {opts.pressure_floor:g} Pa"))
+                message = _stop_message(system, kind, j, float(te[0]), opts.pressure_floor)
                 break
-        if strict:
-            raise (PressureError if status == "pressure_floor" else ParameterError)(message)
-    t = sol.t
-    X = sol.y
+    return sol.t, sol.y, status, message
+
+
+def _compiled_origin(system: CoupledSystem) -> _RotorOrigin:
+    """The rotor_system inputs of ``system``, or ParameterError if not compiled-capable."""
+    from liquidamp.structure.rotor import GroundResonanceRotor
+
+    head = "engine 'compiled' (simulate_coupled)"
+    o = system.origin
+    if o is None:
+        what = (f"host {system.host.name!r} has constant coefficients (a typical section or "
+                "another linear StateSpace)" if system.host.period is None else
+                f"system {system.name!r} was not built by rotor_system() (couple() on periodic "
+                "matrices, or a dataclasses.replace copy)")
+        raise ParameterError(f"{head} integrates only the ground-resonance rotor with devices "
+                             f"built by rotor_system(); {what}; use engine='python'")
+    if system.host is not o.host or len(system.devices) != len(o.devices) or any(
+            a is not b for a, b in zip(system.devices, o.devices, strict=True)):
+        raise ParameterError(f"{head}: system {system.name!r} no longer matches the "
+                             "rotor_system() call that built it; use engine='python'")
+    if type(o.rotor) is not GroundResonanceRotor:
+        raise ParameterError(f"{head} integrates the GroundResonanceRotor equations only, got a "
+                             f"{type(o.rotor).__name__}; use engine='python'")
+    from liquidamp.coupled import fast
+
+    for p, d in zip(system.ports, system.devices, strict=True):
+        where = f"device {d.label!r} at port {p.name!r}"
+        if not isinstance(d.params, DeviceParams):
+            raise ParameterError(f"{head} does not integrate the viscous damper ({where}); "
+                                 "use engine='python'")
+        if d.model.uses_acceleration:
+            raise ParameterError(f"{head} does not integrate model {d.model.name!r} ({where}): "
+                                 "its force depends on the stroke acceleration; "
+                                 "use engine='python'")
+        if "+" in d.model.name:
+            raise ParameterError(f"{head} does not integrate model {d.model.name!r} ({where}): "
+                                 "add-on effects are not compiled for the rotor; "
+                                 "use engine='python'")
+        try:
+            fast.check_compiled(d.model)
+        except ParameterError as exc:
+            raise ParameterError(f"{where}: {exc}") from None
+    return o
+
+
+def _run_compiled(system, T_end, X0, t_eval, opts, max_step, conds):
+    """Compiled route (:func:`liquidamp.coupled.fast.simulate_rotor`): as :func:`_run_python`.
+
+    The kernel stops at the end of the step in which a stop condition is
+    met; the samples after the crossing are dropped and the crossing is
+    located on the same trajectory (the step sequence does not depend on
+    the output times) by re-running with output grids that close in on it,
+    so the result has the samples, status and message of the Python route.
+    """
+    from liquidamp.coupled import fast
+
+    o = _compiled_origin(system)
+
+    def run(times):
+        r = fast.simulate_rotor(o.rotor, o.Omega, o.device, T_end, X0,
+                                inoperative=o.inoperative, t_eval=times, options=opts,
+                                max_step=max_step)
+        if r.system.state_names != system.state_names:  # pragma: no cover - guard
+            raise ParameterError("engine 'compiled': the kernel's state layout differs from "
+                                 f"{system.name!r}; use engine='python'")
+        return r
+
+    def margins(X):
+        return np.array([np.atleast_1d(g(X)) for _, _, g in conds]).reshape(len(conds), -1)
+
+    r = run(t_eval)
+    t, X = r.time, r.states
+    if r.status == "completed":
+        if t.size != t_eval.size:  # pragma: no cover - guard
+            raise ConvergenceError("compiled rotor integration ended before the last output time")
+        return t, X, "completed", "integrated to t_end"
+    bad = np.any(margins(X) <= 0.0, axis=0) if conds else np.zeros(t.size, bool)
+    keep = t.size
+    while keep and bad[keep - 1]:
+        keep -= 1
+    lo = float(t[keep - 1]) if keep else 0.0
+    hi = (float(t[keep]) if keep < t.size else
+          float(t_eval[t.size]) if t.size < t_eval.size else T_end)
+    tol = 1e-5 * (system.host.period or T_end)
+    k_ev, t_ev = None, hi
+    for _ in range(16):
+        grid = np.linspace(lo, hi, 257)
+        rf = run(grid)
+        G = margins(rf.states)
+        hit = np.flatnonzero(np.any(G <= 0.0, axis=0))
+        if hit.size:
+            i = int(hit[0])
+            k_ev = int(np.flatnonzero(G[:, i] <= 0.0)[0])
+            if i == 0:  # pragma: no cover - x0 is checked before the run
+                t_ev = float(grid[0])
+                break
+            g0, g1 = G[k_ev, i - 1], G[k_ev, i]
+            lo, hi = float(grid[i - 1]), float(grid[i])
+            t_ev = lo + (hi - lo) * float(g0 / (g0 - g1))
+            if hi - lo <= tol:
+                break
+        else:
+            # the step ended (and stopped) between two grid times: close in on its end
+            mf = rf.time.size
+            if mf in (0, grid.size):  # pragma: no cover - nothing left to bracket
+                break
+            lo, hi = float(grid[mf - 1]), float(grid[mf])
+            t_ev = hi
+            last = G[:, -1]
+            if hi - lo <= 4.0 * np.finfo(float).eps * max(abs(hi), 1.0):
+                # crossing and step end closer than round-off: the condition the kernel
+                # stopped on with the least margin at the last sample
+                cand = [k for k, c in enumerate(conds) if c[0] == rf.status]
+                k_ev = min(cand or range(len(conds)), key=lambda k: last[k])
+                break
+    if k_ev is None:  # pragma: no cover - the crossing eluded every grid
+        cand = [k for k, c in enumerate(conds) if c[0] == r.status]
+        last = margins(X[:, keep - 1:keep] if keep else X0[:, None])[:, 0]
+        k_ev = min(cand or range(len(conds)), key=lambda k: last[k])
+    kind, j, _ = conds[k_ev]
+    return (t[:keep], X[:, :keep], kind,
+            _stop_message(system, kind, j, t_ev, opts.pressure_floor))
+
+
+def _response(system, t, X, status, message, opts, energy) -> CoupledResponse:
+    """Port signals, warnings and energy of a run: the CoupledResponse."""
+    nh = system.host.nstates
     m = len(system.devices)
     N = t.size
     Y = np.empty((m, N))
@@ -845,3 +974,118 @@ def simulate_coupled(system: CoupledSystem, t_end: float, x0=None, *, t_eval=Non
         device_state_names=tuple(d.model.state_names for d in system.devices),
         device_states=tuple(dstates), strokes=Y, stroke_rates=Vv, stroke_accelerations=Aa,
         forces=Fo, energy=eb, status=status, message=message, warnings=tuple(warns))
+
+
+def simulate_coupled(system: CoupledSystem, t_end: float, x0=None, *, t_eval=None,
+                     samples_per_second: float | None = None,
+                     options: SolverOptions | None = None, strict: bool = True,
+                     energy: bool = True, max_step: float | None = None) -> CoupledResponse:
+    """Integrate the coupled nonlinear system from 0 to ``t_end`` [s].
+
+    Parameters
+    ----------
+    system : CoupledSystem
+    t_end : float
+        End time > 0 [s].
+    x0 : array or mapping, optional
+        Coupled initial state (length ``system.n_states``) or a host state
+        (array or ``{name: value}``) with the devices at rest.
+    t_eval : array, optional
+        Output times [s], strictly increasing within [0, ``t_end``]
+        (default: uniform, ``samples_per_second``).
+    samples_per_second : float, optional
+        Default output rate [1/s] (default 200, or 64 per host period).
+    options : SolverOptions, optional
+        ``engine``, ``method``, ``rtol``, ``atol_scale`` (atol = atol_scale x
+        state scale: the device's ``state_scales``, the host's largest
+        initial state), ``pressure_floor``, ``vapour_pressure``.
+        ``engine="python"`` (default): :func:`scipy.integrate.solve_ivp`
+        with ``method``.  ``engine="compiled"``: the compiled rotor kernel
+        :func:`liquidamp.coupled.fast.simulate_rotor` (DOP853 with scipy's
+        coefficients, step control and dense output, whatever ``method``;
+        see Notes).
+    strict : bool
+        Raise (PressureError, ParameterError) when a chamber pressure reaches
+        the floor or a stroke reaches a chamber end; else stop and return
+        with that ``status``.
+    energy : bool
+        Compute the :class:`EnergyBalance` where the host has mechanics.
+    max_step : float, optional
+        Largest step > 0 [s] (default 1/20 of the host period, else unbounded).
+
+    Returns
+    -------
+    CoupledResponse
+        The same fields from either engine.
+
+    Raises
+    ------
+    ParameterError
+        Bad input; a stroke at a chamber end with ``strict``; under
+        ``engine="compiled"``, a configuration the compiled kernel does not
+        integrate (the message names it and says ``use engine='python'``).
+    PressureError
+        A chamber pressure at the floor with ``strict``.
+    ConvergenceError
+        The integration failed.
+
+    Notes
+    -----
+    ``engine="compiled"`` integrates the system of :func:`rotor_system` (a
+    :class:`~liquidamp.structure.rotor.GroundResonanceRotor`, the built-in
+    lag damper kept on blades without a device) with devices whose models
+    are the registered ones listed in
+    :data:`liquidamp.coupled.fast.COMPILED_MODELS`, with
+    :class:`~liquidamp.device.params.DeviceParams`.  It raises
+    ParameterError, with no fall-back, for any other host (a section, a
+    system from :func:`couple`), the viscous damper, models driven by the
+    stroke acceleration and models with add-on effects.  Every argument
+    maps one to one: the same ``x0``, output times, ``rtol``, ``atol``,
+    ``max_step``, ``pressure_floor`` and stop conditions; the strokes,
+    forces, warnings and energy balance are computed from its states by the
+    same code as for the Python route.  With ``method="DOP853"`` the two
+    routes take the same steps and agree to round-off (~1e-13 relative);
+    with another method, to the tolerances.  A stop (chamber end or
+    pressure floor) is detected at the end of a step, as scipy's events,
+    and its time located on the same trajectory.
+
+    Examples
+    --------
+    >>> from liquidamp.options import SolverOptions
+    >>> from liquidamp.structure.hostio import load_section
+    >>> sec = section_system(load_section("hodges-pierce"), 5.0, {"pitch": viscous(10.0)})
+    >>> simulate_coupled(sec, 0.1, options=SolverOptions(engine="compiled"))
+    Traceback (most recent call last):
+    ...
+    liquidamp.errors.ParameterError: engine 'compiled' (simulate_coupled) integrates only the \
+ground-resonance rotor with devices built by rotor_system(); host ... has constant \
+coefficients (a typical section or another linear StateSpace); use engine='python'
+    """
+    opts = DEFAULT_OPTIONS if options is None else options
+    T_end = check_positive("t_end", t_end, "s")
+    X0 = _resolve_x0(system, x0)
+    period = system.host.period
+    if t_eval is None:
+        rate = samples_per_second or (64.0 / period if period else 200.0)
+        t_eval = np.linspace(0.0, T_end, int(math.ceil(T_end * rate)) + 1)
+    t_eval = np.asarray(t_eval, float)
+    if t_eval.ndim != 1 or not np.all(np.isfinite(t_eval)) or np.any(np.diff(t_eval) <= 0.0) \
+            or (t_eval.size and (t_eval[0] < 0.0 or t_eval[-1] > T_end)):
+        raise ParameterError(f"t_eval must be a strictly increasing 1-D array of times within "
+                             f"[0, {T_end:g}] s")
+    if max_step is None:
+        max_step = period / 20.0 if period else np.inf
+    elif not float(max_step) > 0.0:
+        raise ParameterError(f"max_step must be > 0 [s], got {max_step!r}")
+    max_step = float(max_step)
+    conds = _stop_conditions(system, opts.pressure_floor)
+    for kind, j, g in conds:
+        if not float(g(X0)) > 0.0:
+            raise ParameterError("x0 is at a stop condition already: "
+                                 + _stop_reason(system, kind, j, opts.pressure_floor))
+    engine = getattr(opts, "engine", "python")
+    route = _run_compiled if engine == "compiled" else _run_python
+    t, X, status, message = route(system, T_end, X0, t_eval, opts, max_step, conds)
+    if status != "completed" and strict:
+        raise (PressureError if status == "pressure_floor" else ParameterError)(message)
+    return _response(system, t, X, status, message, opts, energy)
