@@ -12,9 +12,11 @@ from dataclasses import dataclass
 
 from liquidamp.errors import ParameterError, check_choice, check_in_range, check_positive
 
-__all__ = ["SolverOptions", "DEFAULT_OPTIONS", "ENGINES"]
+__all__ = ["SolverOptions", "DEFAULT_OPTIONS", "ENGINES", "COMPILED_METHODS"]
 
 _METHODS = ("Radau", "BDF", "LSODA", "RK45", "DOP853")
+#: Steppers of the compiled engine (see ``SolverOptions.compiled_method``).
+COMPILED_METHODS = ("auto", "rodas4", "dopri5")
 #: Integration engines: the plain-Python reference (scipy ``solve_ivp``) and the
 #: numba-compiled RODAS4 core of :mod:`liquidamp.coupled.fast`.
 ENGINES = ("python", "compiled")
@@ -59,6 +61,15 @@ class SolverOptions:
         it supports the models listed in
         :data:`liquidamp.coupled.fast.COMPILED_MODELS` and raises
         ParameterError for others.
+    compiled_method : {"auto", "rodas4", "dopri5"}
+        Stepper of the ``"compiled"`` engine.  ``"auto"`` (default): the
+        explicit Dormand-Prince 5(4) pair while the problem is not stiff,
+        switching to the L-stable Rosenbrock method RODAS4 when Hairer's
+        stiffness test fires (h |lambda| > 3.25 on 15 accepted steps; in the
+        periodic steady state the test restarts each period), as LSODA
+        switches from Adams to BDF; ``"rodas4"``: RODAS4 throughout;
+        ``"dopri5"``: Dormand-Prince throughout (no switch; slow, not wrong,
+        on stiff problems).  Every choice controls the same error norm.
 
     Examples
     --------
@@ -69,7 +80,7 @@ class SolverOptions:
     ...
     liquidamp.errors.ParameterError: unknown solver option 'rtl'; valid: method, rtol, \
 atol_scale, samples_per_period, steady_tol, min_cycles, max_cycles, pressure_floor, \
-vapour_pressure, max_step_fraction, engine
+vapour_pressure, max_step_fraction, engine, compiled_method
     >>> SolverOptions(engine="fortran")
     Traceback (most recent call last):
     ...
@@ -87,6 +98,7 @@ vapour_pressure, max_step_fraction, engine
     vapour_pressure: float = 2339.0
     max_step_fraction: float = 0.02
     engine: str = "python"
+    compiled_method: str = "auto"
 
     def __post_init__(self) -> None:
         check_choice("solver method", self.method, _METHODS)
@@ -100,6 +112,7 @@ vapour_pressure, max_step_fraction, engine
         check_positive("vapour_pressure", self.vapour_pressure, "Pa")
         check_in_range("max_step_fraction", self.max_step_fraction, 1e-6, 1.0)
         check_choice("engine", self.engine, ENGINES)
+        check_choice("compiled method", self.compiled_method, COMPILED_METHODS)
 
     @classmethod
     def from_mapping(cls, values: dict) -> SolverOptions:

@@ -42,6 +42,7 @@ References
 from __future__ import annotations
 
 import math
+import types
 
 import numpy as np
 from numba import njit
@@ -92,6 +93,8 @@ ST_PRESSURE = 1
 ST_STEP_TOO_SMALL = 2
 ST_TOO_MANY_STEPS = 3
 ST_NOT_CONVERGED = 4
+#: The explicit-only kernel met a stiff stretch (the caller reruns with RODAS4 compiled in).
+ST_STIFF = 6
 
 # ----------------------------------------------------- RODAS4 coefficients
 _C2, _C3, _C4 = 0.386, 0.21, 0.63
@@ -275,7 +278,7 @@ def _next_break(kind, t, st, tiny):
 
 
 # ------------------------------------------------------------ models: rhs, jac
-@njit(cache=True, error_model="numpy", fastmath=_FM, inline="always")
+@njit(cache=True, error_model="numpy", fastmath=_FM)
 def rhs(mid, x, y, v, prm, eff, out):
     """Right-hand side dx/dt of model ``mid`` at stroke (y, v), written to ``out``."""
     Ap = prm[P_AP]
@@ -322,6 +325,11 @@ def rhs(mid, x, y, v, prm, eff, out):
         out[1] = (x[0] - prm[P_C1] * q - prm[P_C2] * q * abs(q)) / prm[P_LT]
     else:  # maxwell
         out[0] = prm[P_KD] * v - x[0] / prm[P_TD]
+
+
+#: :func:`rhs` inlined into the explicit stepper, where it is most of the work per step
+#: (elsewhere it is called, which keeps the compile time down).
+_rhs_inline = njit(cache=True, error_model="numpy", fastmath=_FM, inline="always")(rhs.py_func)
 
 
 @njit(cache=True, error_model="numpy", fastmath=_FM)
@@ -629,14 +637,202 @@ def _solve5(A, piv, dinv, b):
 
 
 # ------------------------------------------------------------------ integrator
-@njit(cache=True, error_model="numpy")
-def integrate(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, atol,
-              hmax, h0, fi1, fi2, pfloor, max_steps, steady_tol, min_cycles, max_cycles,
-              out, info):
-    """Integrate model ``mid`` with RODAS4, dense output at ``teval``; or march periods.
+# ------------------------------------------- Dormand-Prince 5(4) coefficients
+#: Method codes of :func:`integrate`: explicit start with stiffness switching,
+#: RODAS4 throughout, Dormand-Prince 5(4) throughout.
+METH_AUTO, METH_RODAS4, METH_DOPRI5 = 0, 1, 2
+_EC = np.array([0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0])
+_EA = np.array([
+    [0.0, 0.0, 0.0, 0.0, 0.0],
+    [1.0 / 5.0, 0.0, 0.0, 0.0, 0.0],
+    [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0],
+    [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0],
+    [19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0, 0.0],
+    [9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0],
+])
+_EB = np.array([35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0,
+                11.0 / 84.0])
+#: b - b_hat (order-5 minus the embedded order-4 weights), the last on the FSAL stage
+_EE = np.array([71.0 / 57600.0, 0.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0,
+                22.0 / 525.0, -1.0 / 40.0])
+#: Shampine's free 4th-order continuous extension: x(t + s h) = x + h sum_j K_j P_j(s)
+_EP = np.array([
+    [1.0, -2.8535800653862835, 3.0717434641059005, -1.1270175653862835],
+    [0.0, 0.0, 0.0, 0.0],
+    [0.0, 4.023133379230305, -6.249321565289, 2.675424484351598],
+    [0.0, -3.7324019615885042, 10.068970589843675, -5.685526961588504],
+    [0.0, 2.5548038301849423, -6.399112377351017, 3.5219323679207912],
+    [0.0, -1.3744241142186024, 3.272657752246729, -1.7672812570757455],
+    [0.0, 1.3824689317781436, -3.764937863556287, 2.382468931778144],
+])
+#: Stiffness test of ``dopri5.f``: h |lambda| above this on 15 accepted steps
+#: (6 steps below it reset the count) switches the method to RODAS4.
+_STIFF_HLAMBDA = 3.25
+_STIFF_COUNT = 15
+_NONSTIFF_RESET = 6
 
-    The one compiled entry point of the device integrator (a single
-    specialisation: the steady-state loop does not re-compile the stepper).
+
+@njit(cache=True, error_model="numpy")
+def _dp5_attempt(mid, prm, eff, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, fsal, atol, rtol,
+                 kk, ys, y6, xn, sc, ft):
+    """One Dormand-Prince 5(4) step attempt of size h from (t, x); return its error norm.
+
+    ``kk[0]`` must hold f(t, x) when ``fsal``; on return ``kk[0..6]`` hold the
+    stages (``kk[6]`` = f(t + h, x_new), first same as last), ``xn`` the new
+    state, ``y6`` the stage-6 state and ``sc`` the error scales (for the
+    stiffness test).
+    """
+    n = x.size
+    y, v = y0, v0
+    for s_i in range(1 if fsal else 0, 7):
+        if s_i == 0:
+            for i in range(n):
+                ys[i] = x[i]
+        elif s_i < 6:
+            for i in range(n):
+                acc = 0.0
+                for j in range(s_i):
+                    acc += _EA[s_i, j] * kk[j, i]
+                ys[i] = x[i] + h * acc
+            y, v, a = stroke_eval(kind, t + _EC[s_i] * h, sp, st, sy, sv, sa)
+        else:  # the new solution; its f (at t + h, as stage 6) is FSAL
+            for i in range(n):
+                y6[i] = ys[i]
+                acc = 0.0
+                for j in range(6):
+                    acc += _EB[j] * kk[j, i]
+                xn[i] = x[i] + h * acc
+                ys[i] = xn[i]
+        _rhs_inline(mid, ys, y, v, prm, eff, ft)
+        for i in range(n):
+            kk[s_i, i] = ft[i]
+    err = 0.0
+    for i in range(n):
+        sc[i] = atol[i] + rtol * max(abs(x[i]), abs(xn[i]))
+        acc = 0.0
+        for j in range(7):
+            acc += _EE[j] * kk[j, i]
+        err += (h * acc / sc[i]) ** 2
+    return math.sqrt(err / n)
+
+
+@njit(cache=True, error_model="numpy")
+def _dp5_dense(x, kk, h, pc):
+    """Shampine's continuous extension of the accepted step as polynomial coefficients."""
+    for i in range(x.size):
+        pc[0, i] = x[i]
+        for q in range(4):
+            acc = 0.0
+            for j in range(7):
+                acc += kk[j, i] * _EP[j, q]
+            pc[q + 1, i] = h * acc
+
+
+@njit(cache=True, error_model="numpy")
+def _stiff_hlambda(kk, xn, y6, sc, h):
+    """h |lambda| estimate of ``dopri5.f`` from the last two stages (error-norm scaling)."""
+    num = 0.0
+    den = 0.0
+    for i in range(xn.size):
+        num += ((kk[6, i] - kk[5, i]) / sc[i]) ** 2
+        den += ((xn[i] - y6[i]) / sc[i]) ** 2
+    return h * math.sqrt(num / den) if den > 0.0 else 0.0
+
+
+@njit(cache=True, error_model="numpy")
+def _rodas_attempt(mid, prm, eff, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, reuse_f0, f0,
+                   J, fdt, atol, rtol, G, piv, dinv, kk, ys, ks, ft, xn):
+    """One RODAS4 step attempt of size h from (t, x); return its error norm (inf: singular).
+
+    ``J`` and ``fdt`` are the Jacobian and df/dt at (t, x); ``f0`` holds
+    f(t, x) when ``reuse_f0``, else it is computed here.  On return ``kk``
+    holds the six stages and ``xn`` the new state.
+    """
+    n = x.size
+    fac = 1.0 / (h * _GAM)
+    for i in range(5):
+        for j in range(5):
+            G[i, j] = -J[i, j]
+        G[i, i] += fac
+    if not _lu5(G, piv, dinv):
+        return np.inf
+    y, v = y0, v0
+    for st_i in range(6):
+        for i in range(n):
+            acc = x[i]
+            for j in range(st_i):
+                acc += _RA[st_i, j] * kk[j, i]
+            ys[i] = acc
+        if st_i == 0 and reuse_f0:
+            for i in range(n):
+                ft[i] = f0[i]
+        else:
+            if st_i == 0:
+                y, v = y0, v0
+            elif st_i != 5:  # stages 5 and 6 share the time t + h
+                y, v, a = stroke_eval(kind, t + _RC[st_i] * h, sp, st, sy, sv, sa)
+            rhs(mid, ys, y, v, prm, eff, ft)
+            if st_i == 0:
+                for i in range(n):
+                    f0[i] = ft[i]
+        for i in range(n):
+            acc = ft[i] + h * _RD[st_i] * fdt[i]
+            cs = 0.0
+            for j in range(st_i):
+                cs += _RCC[st_i, j] * kk[j, i]
+            ks[i] = acc + cs / h
+        _solve5(G, piv, dinv, ks)
+        for i in range(n):
+            kk[st_i, i] = ks[i]
+    err = 0.0
+    for i in range(n):
+        xn[i] = ys[i] + kk[5, i]
+        sci = atol[i] + rtol * max(abs(x[i]), abs(xn[i]))
+        err += (kk[5, i] / sci) ** 2
+    return math.sqrt(err / n)
+
+
+@njit(cache=True, error_model="numpy")
+def _rodas_dense(x, xn, kk, pc):
+    """RODAS4 continuous extension x(1-s) + s (x_new + (1-s)(d2 + s d3)) as a polynomial."""
+    for i in range(x.size):
+        d2 = (_D21 * kk[0, i] + _D22 * kk[1, i] + _D23 * kk[2, i] + _D24 * kk[3, i]
+              + _D25 * kk[4, i])
+        d3 = (_D31 * kk[0, i] + _D32 * kk[1, i] + _D33 * kk[2, i] + _D34 * kk[3, i]
+              + _D35 * kk[4, i])
+        pc[0, i] = x[i]
+        pc[1, i] = xn[i] - x[i] + d2
+        pc[2, i] = d3 - d2
+        pc[3, i] = -d3
+        pc[4, i] = 0.0
+
+
+def _integrate_source(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, atol,
+                      hmax, h0, fi1, fi2, pfloor, max_steps, steady_tol, min_cycles, max_cycles,
+                      meth, out, info):
+    """Integrate model ``mid``, dense output at ``teval``; or march periods.
+
+    The source of the two compiled entry points of the device integrator,
+    :data:`integrate` (both methods) and :data:`integrate_explicit` (the
+    same code with ``_WITH_RODAS = False``: the RODAS4 branches are pruned at
+    compile time, so that a non-stiff first call compiles about half the
+    code; where the stiffness test fires it returns ``ST_STIFF`` and the
+    caller reruns the span with :data:`integrate`, which starts identically).
+    Either serves a single span and the steady-state loop, so the stepper is
+    compiled once per process.
+
+    Method ``meth``: ``METH_RODAS4`` steps RODAS4 throughout;
+    ``METH_DOPRI5`` the explicit Dormand-Prince 5(4) pair (FSAL, Shampine's
+    continuous extension) throughout; ``METH_AUTO`` starts with
+    Dormand-Prince and switches to RODAS4 for the rest of the span (steady
+    mode: the rest of the period) when the stiffness test of Hairer's
+    ``dopri5.f`` fires (h |lambda| > 3.25 estimated from the last two stages
+    on 15 accepted steps), the way LSODA switches from Adams to BDF.  Both
+    methods control the error on ``atol_i + rtol max(|x_i|, |x_new,i|)``,
+    share the largest step ``hmax`` and the step size carried over, and
+    write their continuous extension into one polynomial form, so that the
+    output, the pressure-floor location and the steady-state test do not
+    depend on the method.
 
     ``max_cycles == 0``: one span [t0, t1]; ``teval`` must be sorted within
     [t0, t1]; states go to ``out`` (n x len(teval)).
@@ -650,9 +846,10 @@ def integrate(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, 
     (n x (N + 1)) holds the last period marched.
 
     ``fi1, fi2`` are the indices of the chamber pressures to watch against
-    ``pfloor`` (-1: none).  ``info`` (8 entries) receives [status, t_stop,
-    h_last, steps, rejected, cycles, residual, last change]; ``steps`` and
-    ``rejected`` count the last span (steady mode: ``steps`` counts all).
+    ``pfloor`` (-1: none).  ``info`` (10 entries) receives [status, t_stop,
+    h_last, steps, rejected, cycles, residual, last change, explicit steps,
+    switches to RODAS4]; ``steps`` and ``rejected`` count the last span
+    (steady mode: ``steps``, the explicit steps and the switches count all).
     Returns the final state.
     """
     n = x0.size
@@ -663,12 +860,8 @@ def integrate(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, 
     ft = np.empty(n)
     fdt = np.empty(n)
     ys = np.empty(n)
-    k1 = np.empty(n)
-    k2 = np.empty(n)
-    k3 = np.empty(n)
-    k4 = np.empty(n)
-    k5 = np.empty(n)
-    k6 = np.empty(n)
+    y6 = np.empty(n)
+    sc = np.empty(n)
     # the linear algebra is 5 x 5 for every model (N_STATES <= 5): a smaller
     # system is padded with the identity (J is zero there), so that one
     # specialised factorisation serves all and no generic one is compiled
@@ -676,9 +869,8 @@ def integrate(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, 
     G = np.empty((5, 5))
     piv = np.empty(5, np.int64)
     dinv = np.empty(5)
-    d2 = np.empty(n)
-    d3 = np.empty(n)
-    kk = np.empty((6, n))
+    kk = np.empty((7, n))
+    pc = np.empty((5, n))
     ks = np.zeros(5)
     nf = max(ne - 1, 1)
     force_now = np.empty(nf)
@@ -691,6 +883,9 @@ def integrate(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, 
     hits = 0
     hcar = h0
     total_steps = 0.0
+    explicit_steps = 0.0
+    switches = 0.0
+    fsal = False  # kk[0] holds f(t, x) for the explicit method
     for cyc in range(ncyc):
         if max_cycles > 0:
             ta = t0 + cyc * period
@@ -717,7 +912,8 @@ def integrate(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, 
         if span <= 0.0:
             info[2] = hcar
             return x
-        # initial step: small; the controller grows it by up to 5x per step
+        # initial step: small; the controllers grow it by up to 5x (RODAS4) or
+        # 10x (Dormand-Prince) per step
         h = hcar
         if not h > 0.0:
             h = 1e-5 * span
@@ -728,6 +924,9 @@ def integrate(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, 
         reject_prev = False
         hacc = 0.0
         erracc = 1.0
+        expl = meth != METH_RODAS4
+        iasti = 0
+        nonsti = 0
         while t < te:
             if steps >= max_steps:
                 info[0] = ST_TOO_MANY_STEPS
@@ -745,92 +944,52 @@ def integrate(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, 
                 last = tb >= te
                 hit_break = not last
             y0, v0, a0 = stroke_eval(kind, t, sp, st, sy, sv, sa)
-            if kind == 0:  # harmonic: the rates are the evaluated (v, a)
-                yd, vd = v0, a0
-            else:
-                yd, vd = stroke_rate(kind, t, sp, st, sy, sv, sa)
-            if mid == M_FULL:  # f, J and df/dt at (t, x) sharing the fluid laws
-                _full_all(x, y0, v0, yd, vd, prm, eff, f0, J, fdt)
-                reuse_f0 = True
-            else:
-                jac(mid, x, y0, v0, prm, eff, J)
-                rhs_t(mid, x, y0, v0, yd, vd, prm, eff, fdt)
-                reuse_f0 = False
-            while True:
+            if not expl:  # RODAS4: f, J and df/dt at (t, x)
+                fsal = False
+                if _WITH_RODAS:
+                    if kind == 0:  # harmonic: the rates are the evaluated (v, a)
+                        yd, vd = v0, a0
+                    else:
+                        yd, vd = stroke_rate(kind, t, sp, st, sy, sv, sa)
+                    if mid == M_FULL:  # sharing the fluid laws
+                        _full_all(x, y0, v0, yd, vd, prm, eff, f0, J, fdt)
+                        reuse_f0 = True
+                    else:
+                        jac(mid, x, y0, v0, prm, eff, J)
+                        rhs_t(mid, x, y0, v0, yd, vd, prm, eff, fdt)
+                        reuse_f0 = False
+            while True:  # attempts until one is accepted
                 steps += 1
-                fac = 1.0 / (h * _GAM)
-                for i in range(5):
-                    for j in range(5):
-                        G[i, j] = -J[i, j]
-                    G[i, i] += fac
-                ok = _lu5(G, piv, dinv)
-                finite = ok
-                if ok:
-                    for st_i in range(6):
-                        for i in range(n):
-                            acc = x[i]
-                            for j in range(st_i):
-                                acc += _RA[st_i, j] * kk[j, i]
-                            ys[i] = acc
-                        if st_i == 0 and reuse_f0:
-                            for i in range(n):
-                                ft[i] = f0[i]
-                        else:
-                            if st_i == 0:
-                                y, v = y0, v0
-                            elif st_i != 5:  # stages 5 and 6 share the time t + h
-                                y, v, a = stroke_eval(kind, t + _RC[st_i] * h, sp, st, sy, sv,
-                                                      sa)
-                            rhs(mid, ys, y, v, prm, eff, ft)
-                            if st_i == 0:
-                                for i in range(n):
-                                    f0[i] = ft[i]
-                                reuse_f0 = True
-                        for i in range(n):
-                            acc = ft[i] + h * _RD[st_i] * fdt[i]
-                            cs = 0.0
-                            for j in range(st_i):
-                                cs += _RCC[st_i, j] * kk[j, i]
-                            ks[i] = acc + cs / h
-                        _solve5(G, piv, dinv, ks)
-                        for i in range(n):
-                            kk[st_i, i] = ks[i]
-                    for i in range(n):
-                        k1[i] = kk[0, i]
-                        k2[i] = kk[1, i]
-                        k3[i] = kk[2, i]
-                        k4[i] = kk[3, i]
-                        k5[i] = kk[4, i]
-                        k6[i] = kk[5, i]
-                    err = 0.0
-                    for i in range(n):
-                        xn[i] = ys[i] + k6[i]
-                        sc = atol[i] + rtol * max(abs(x[i]), abs(xn[i]))
-                        err += (k6[i] / sc) ** 2
-                    err = math.sqrt(err / n)
-                    finite = math.isfinite(err)
-                if not finite:
-                    rejected += 1
-                    h *= 0.25
-                    last = False
-                    hit_break = False
-                    reject_prev = True
-                    if h < hmin:
-                        info[0] = ST_STEP_TOO_SMALL
-                        info[1] = t
-                        info[2] = h
-                        return x
-                    continue
-                q = max(1.0 / 6.0, min(5.0, err ** 0.25 / 0.9))
-                if err <= 1.0:
-                    if hacc > 0.0:  # predictive (Gustafsson) control, as rodas.f
+                if expl:
+                    explicit_steps += 1.0
+                    err = _dp5_attempt(mid, prm, eff, kind, sp, st, sy, sv, sa, x, t, h, y0, v0,
+                                       fsal, atol, rtol, kk, ys, y6, xn, sc, ft)
+                    fsal = True
+                elif _WITH_RODAS:
+                    err = _rodas_attempt(mid, prm, eff, kind, sp, st, sy, sv, sa, x, t, h, y0,
+                                         v0, reuse_f0, f0, J, fdt, atol, rtol, G, piv, dinv, kk,
+                                         ys, ks, ft, xn)
+                    reuse_f0 = True
+                else:  # not reached: the explicit-only kernel returns ST_STIFF instead
+                    err = np.inf
+                if not math.isfinite(err):
+                    hnew = 0.25 * h
+                elif expl:  # Dormand-Prince: error of order 5 (scipy's RK45 control)
+                    if err <= 1.0:
+                        hnew = h * (10.0 if err == 0.0 else min(10.0, 0.9 * err ** -0.2))
+                    else:
+                        hnew = h * max(0.2, 0.9 * err ** -0.2)
+                else:  # RODAS4, with the predictive (Gustafsson) control of rodas.f
+                    q = max(1.0 / 6.0, min(5.0, err ** 0.25 / 0.9))
+                    if err <= 1.0 and hacc > 0.0:
                         qg = hacc / h * (err * err / erracc) ** 0.25 / 0.9
                         q = max(q, max(1.0 / 6.0, min(5.0, qg)))
-                    hacc = h
-                    erracc = max(1e-2, err)
                     hnew = h / q
+                if err <= 1.0:
+                    if not expl:
+                        hacc = h
+                        erracc = max(1e-2, err)
                     break
-                hnew = h / q
                 rejected += 1
                 reject_prev = True
                 last = False
@@ -841,28 +1000,44 @@ def integrate(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, 
                     info[1] = t
                     info[2] = h
                     return x
-            # accepted: dense output coefficients
+            if expl:
+                _dp5_dense(x, kk, h, pc)
+                # stiffness test of dopri5.f: 15 stiff-looking steps switch the method
+                if meth == METH_AUTO:
+                    if _stiff_hlambda(kk, xn, y6, sc, h) > _STIFF_HLAMBDA:
+                        nonsti = 0
+                        iasti += 1
+                        if iasti >= _STIFF_COUNT:
+                            if not _WITH_RODAS:
+                                info[0] = ST_STIFF
+                                info[1] = t
+                                info[2] = h
+                                return x
+                            expl = False
+                            switches += 1.0
+                    else:
+                        nonsti += 1
+                        if nonsti >= _NONSTIFF_RESET:
+                            iasti = 0
+            elif _WITH_RODAS:
+                _rodas_dense(x, xn, kk, pc)
+            # ---------------- accepted step: output, pressure floor, advance
             tn = te if last else (tb if hit_break else t + h)
-            for i in range(n):
-                d2[i] = (_D21 * k1[i] + _D22 * k2[i] + _D23 * k3[i] + _D24 * k4[i]
-                         + _D25 * k5[i])
-                d3[i] = (_D31 * k1[i] + _D32 * k2[i] + _D33 * k3[i] + _D34 * k4[i]
-                         + _D35 * k5[i])
             while ie < ne and (teval[ie] + off) <= tn:
                 s = ((teval[ie] + off) - t) / h
-                s1 = 1.0 - s
                 for i in range(n):
-                    out[i, ie] = x[i] * s1 + s * (xn[i] + s1 * (d2[i] + s * d3[i]))
+                    out[i, ie] = pc[0, i] + s * (pc[1, i] + s * (pc[2, i] + s * (
+                        pc[3, i] + s * pc[4, i])))
                 ie += 1
             if fi1 >= 0 and min(xn[fi1], xn[fi2]) <= pfloor:
                 # locate the crossing on the continuous extension (bisection)
                 lo, hi = 0.0, 1.0
                 for _ in range(60):
                     s = 0.5 * (lo + hi)
-                    s1 = 1.0 - s
                     pm = 1e300
                     for i in (fi1, fi2):
-                        pi = x[i] * s1 + s * (xn[i] + s1 * (d2[i] + s * d3[i]))
+                        pi = pc[0, i] + s * (pc[1, i] + s * (pc[2, i] + s * (
+                            pc[3, i] + s * pc[4, i])))
                         pm = min(pm, pi)
                     if pm <= pfloor:
                         hi = s
@@ -877,6 +1052,7 @@ def integrate(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, 
             t = tn
             for i in range(n):
                 x[i] = xn[i]
+                kk[0, i] = kk[6, i]  # FSAL (meaningful only after an explicit step)
             if reject_prev:
                 hnew = min(hnew, h)
                 reject_prev = False
@@ -891,6 +1067,8 @@ def integrate(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, 
         info[4] = rejected
         total_steps += steps
         info[3] = total_steps
+        info[8] = explicit_steps
+        info[9] = switches
         if max_cycles == 0:
             return x
         hcar = h
@@ -938,6 +1116,28 @@ def integrate(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, 
     info[6] = residual
     info[7] = prev_change
     return x
+
+
+def _specialise(fn, name: str, **constants):
+    """``fn`` compiled (and cached under ``name``) with module globals overridden.
+
+    Numba freezes global values at compile time and prunes branches on
+    constant conditions, so a global flag selects which code is compiled.
+    """
+    g = dict(fn.__globals__)
+    g.update(constants)
+    f = types.FunctionType(fn.__code__, g, name, fn.__defaults__)
+    f.__qualname__ = name
+    f.__doc__ = fn.__doc__
+    return njit(cache=True, error_model="numpy")(f)
+
+
+_WITH_RODAS = True
+#: Compiled integrator with both steppers (``meth``: auto, rodas4 or dopri5).
+integrate = _specialise(_integrate_source, "integrate", _WITH_RODAS=True)
+#: The same without RODAS4 (``meth``: auto or dopri5; auto returns ``ST_STIFF``
+#: where it would switch).
+integrate_explicit = _specialise(_integrate_source, "integrate_explicit", _WITH_RODAS=False)
 
 
 # ------------------------------------------------- rotor + devices (coupled)

@@ -13,12 +13,20 @@ Design
   supported model (:data:`COMPILED_MODELS`), selected by an integer, so that
   one compiled specialisation (cached on disk, ``cache=True``) serves them
   all; parameters travel as a packed float vector (:func:`pack_params`).
-* Integrator: RODAS4 (Hairer & Wanner), an L-stable, stiffly accurate
+* Integrators: RODAS4 (Hairer & Wanner), an L-stable, stiffly accurate
   Rosenbrock method of order 4 with an embedded order-3 error estimate and a
   continuous extension for output between steps.  It needs one LU
   factorisation per step and no Newton iteration, which suits these small
-  and very stiff systems (time constants from ~1e-5 s to seconds).  The error
-  is controlled on ``atol_i + rtol |x_i|`` with the same ``rtol`` and
+  and very stiff systems (time constants from ~1e-5 s to seconds).  Many
+  working points are not stiff at all (the reference design at 3 Hz: fluid
+  mode near -127 +/- 133j 1/s against a 0.33 s period), and there the
+  explicit Dormand-Prince 5(4) pair takes ~2.5x fewer steps at a fraction
+  of the cost per step.  ``SolverOptions.compiled_method="auto"`` (default)
+  therefore starts each span (each period in the steady-state loop) with
+  Dormand-Prince and switches to RODAS4 when Hairer's stiffness test fires,
+  the way LSODA switches from Adams to BDF; ``"rodas4"`` and ``"dopri5"``
+  force one method.  The error is controlled on
+  ``atol_i + rtol max(|x_i|, |x_new,i|)`` with the same ``rtol`` and
   ``atol = atol_scale * state_scales`` as the Python path, and the largest
   step is ``max_step_fraction`` of the period, as there.
 * The harmonic stroke is evaluated analytically inside the compiled code; a
@@ -78,6 +86,11 @@ COMPILED_MODELS = tuple(K.MODEL_IDS)
 
 #: Largest number of integration steps (accepted and rejected) in one call.
 MAX_STEPS = 5_000_000
+
+#: Length of the ``info`` vector of ``_kernels.integrate``.
+N_INFO = 10
+
+_METHOD_CODES = {"auto": K.METH_AUTO, "rodas4": K.METH_RODAS4, "dopri5": K.METH_DOPRI5}
 
 _EFFECT_SLOTS = {"leakage": K.E_LEAK, "force_offset": K.E_FORCE_OFFSET}
 _DUMMY = np.zeros(2)
@@ -177,6 +190,41 @@ def _atol(model, params, options) -> np.ndarray:
     return np.ascontiguousarray(options.atol_scale * model.state_scales(params), dtype=float)
 
 
+def _method_code(options) -> int:
+    """Kernel code of ``options.compiled_method``."""
+    return _METHOD_CODES[options.compiled_method]
+
+
+def _run(options, args: tuple, out: np.ndarray, info: np.ndarray) -> tuple[np.ndarray, bool]:
+    """Run the compiled integrator on ``args`` (all but method, out, info).
+
+    ``"auto"`` and ``"dopri5"`` run the explicit-only kernel first (half the
+    compile time of the first call); if ``"auto"`` meets a stiff stretch
+    there, the whole call is rerun with the kernel that holds RODAS4 too,
+    which starts identically, so the answer does not depend on the route.
+    Returns the final state and whether the rerun happened.
+    """
+    meth = _method_code(options)
+    if meth == K.METH_RODAS4:
+        return K.integrate(*args, meth, out, info), False
+    x = K.integrate_explicit(*args, meth, out, info)
+    if int(info[0]) != K.ST_STIFF:
+        return x, False
+    return K.integrate(*args, meth, out, info), True
+
+
+def _fill_stats(stats: dict | None, options, info, rerun: bool) -> None:
+    """Write the step counts of ``info`` into ``stats`` (if given)."""
+    if stats is None:
+        return
+    steps = int(info[3])
+    explicit = int(info[8])
+    stats.update({"engine": "compiled", "method": options.compiled_method,
+                  "steps": steps, "explicit_steps": explicit,
+                  "rodas4_steps": steps - explicit, "switches_to_rodas4": int(info[9]),
+                  "rerun_with_rodas4": rerun})
+
+
 def _raise_status(model, options, info, t0, t1) -> None:
     status = int(info[0])
     if status == K.ST_PRESSURE:
@@ -190,19 +238,20 @@ def _raise_status(model, options, info, t0, t1) -> None:
         raise ConvergenceError(
             f"model {model.name!r}: time integration failed between t = {t0:.6g} s and "
             f"{t1:.6g} s: step size fell below the round-off limit at t = {info[1]:.6g} s "
-            "(compiled RODAS4)"
+            f"(compiled engine, method {options.compiled_method!r})"
         )
     if status == K.ST_TOO_MANY_STEPS:
         raise ConvergenceError(
             f"model {model.name!r}: time integration failed between t = {t0:.6g} s and "
-            f"{t1:.6g} s: more than {MAX_STEPS} steps (compiled RODAS4, stopped at "
+            f"{t1:.6g} s: more than {MAX_STEPS} steps (compiled engine, method "
+            f"{options.compiled_method!r}, stopped at "
             f"t = {info[1]:.6g} s)"
         )
 
 
 def march(model: DeviceModel, params: DeviceParams, stroke, x0, t0: float, t1: float, t_eval,
           options, max_step: float, *, effects: np.ndarray | None = None,
-          h0: float = 0.0) -> tuple[np.ndarray, np.ndarray, float]:
+          h0: float = 0.0, stats: dict | None = None) -> tuple[np.ndarray, np.ndarray, float]:
     """Integrate one span with the compiled engine.
 
     Parameters
@@ -223,6 +272,10 @@ def march(model: DeviceModel, params: DeviceParams, stroke, x0, t0: float, t1: f
         Effect vector (:func:`pack_effects`).
     h0 : float
         First step [s]; 0 picks one from the right-hand side.
+    stats : dict, optional
+        Filled in place with the step counts: ``steps`` (accepted and
+        rejected), ``explicit_steps`` (Dormand-Prince), ``rodas4_steps``,
+        ``switches_to_rodas4`` and the ``method`` used.
 
     Returns
     -------
@@ -251,11 +304,13 @@ def march(model: DeviceModel, params: DeviceParams, stroke, x0, t0: float, t1: f
     eff = pack_effects() if effects is None else effects
     fi1, fi2 = _floor_indices(model, params)
     out = np.empty((n, t_eval.size))
-    info = np.zeros(8)
-    x_end = K.integrate(mid, pack_params(params), eff, kind, sp, st, sy, sv, sa, x0,
-                        float(t0), float(t1), t_eval, float(options.rtol),
-                        _atol(model, params, options), float(max_step), float(h0), fi1, fi2,
-                        float(options.pressure_floor), MAX_STEPS, 0.0, 0, 0, out, info)
+    info = np.zeros(N_INFO)
+    x_end, rerun = _run(options, (mid, pack_params(params), eff, kind, sp, st, sy, sv, sa, x0,
+                                  float(t0), float(t1), t_eval, float(options.rtol),
+                                  _atol(model, params, options), float(max_step), float(h0), fi1,
+                                  fi2, float(options.pressure_floor), MAX_STEPS, 0.0, 0, 0),
+                        out, info)
+    _fill_stats(stats, options, info, rerun)
     _raise_status(model, options, info, t0, t1)
     if not (np.all(np.isfinite(out)) and np.all(np.isfinite(x_end))):
         raise ConvergenceError(f"model {model.name!r}: non-finite state in time integration")
@@ -263,8 +318,11 @@ def march(model: DeviceModel, params: DeviceParams, stroke, x0, t0: float, t1: f
 
 
 def steady_loop(model: DeviceModel, params: DeviceParams, stroke: HarmonicStroke, x0, options,
-                *, effects: np.ndarray | None = None):
+                *, effects: np.ndarray | None = None, stats: dict | None = None):
     """Periodic steady state by marching cycles in compiled code.
+
+    ``stats`` (optional dict) is filled in place as by :func:`march`, over
+    all cycles marched.
 
     Returns
     -------
@@ -288,18 +346,20 @@ def steady_loop(model: DeviceModel, params: DeviceParams, stroke: HarmonicStroke
     N = options.samples_per_period
     n = model.n_states
     out = np.empty((n, N + 1))
-    info = np.zeros(8)
+    info = np.zeros(N_INFO)
     kind, sp, st, sy, sv, sa = _stroke_arrays(stroke)
     fi1, fi2 = _floor_indices(model, params)
     eff = pack_effects() if effects is None else effects
     grid = np.arange(N + 1) * (T / N)
-    # the same compiled entry point as march (one specialisation), in its periodic mode
-    K.integrate(mid, pack_params(params), eff, kind, sp, st, sy, sv, sa,
-                np.ascontiguousarray(x0, dtype=float), 0.0, float(T), grid,
-                float(options.rtol), _atol(model, params, options),
-                float(options.max_step_fraction * T), 0.0, fi1, fi2,
-                float(options.pressure_floor), MAX_STEPS, float(options.steady_tol),
-                int(options.min_cycles), max(int(options.max_cycles), 1), out, info)
+    # the same compiled entry points as march, in their periodic mode
+    _, rerun = _run(options, (mid, pack_params(params), eff, kind, sp, st, sy, sv, sa,
+                              np.ascontiguousarray(x0, dtype=float), 0.0, float(T), grid,
+                              float(options.rtol), _atol(model, params, options),
+                              float(options.max_step_fraction * T), 0.0, fi1, fi2,
+                              float(options.pressure_floor), MAX_STEPS,
+                              float(options.steady_tol), int(options.min_cycles),
+                              max(int(options.max_cycles), 1)), out, info)
+    _fill_stats(stats, options, info, rerun)
     status = int(info[0])
     cycles = int(info[5])
     if status == K.ST_NOT_CONVERGED:
@@ -318,7 +378,10 @@ def steady_loop(model: DeviceModel, params: DeviceParams, stroke: HarmonicStroke
 
 
 def warm_up() -> float:
-    """Compile (or load from the cache) the kernels; return the seconds it took.
+    """Compile (or load from the cache) the device kernels; return the seconds it took.
+
+    Both integrator kernels are prepared: the explicit-only one that a
+    non-stiff ``"auto"`` run uses and the one with RODAS4.
 
     Examples
     --------
@@ -336,8 +399,9 @@ def warm_up() -> float:
     model = get_model("full")
     p = preset("reference")
     s = HarmonicStroke(0.001, 3.0)
-    march(model, p, s, model.initial_state(p, 0.0), 0.0, 0.01, np.array([0.01]),
-          DEFAULT_OPTIONS, 0.01)
+    for method in ("auto", "rodas4"):  # the explicit-only kernel and the full one
+        march(model, p, s, model.initial_state(p, 0.0), 0.0, 0.01, np.array([0.01]),
+              DEFAULT_OPTIONS.replace(compiled_method=method), 0.01)
     opts = DEFAULT_OPTIONS.replace(samples_per_period=16, min_cycles=1, max_cycles=2,
                                    steady_tol=1e-1)
     try:

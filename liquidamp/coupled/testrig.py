@@ -16,7 +16,9 @@ References
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from types import MappingProxyType
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -70,6 +72,11 @@ class DeviceResponse:
         Excitation frequency of a harmonic stroke [Hz].
     amplitude : float or None
         Excitation amplitude of a harmonic stroke [m].
+    solver_stats : Mapping
+        How the integration went: ``engine``, ``method`` and step counts
+        (compiled engine: ``steps``, ``explicit_steps``, ``rodas4_steps``,
+        ``switches_to_rodas4``; Python engine: ``nfev``, ``njev``, ``nlu``
+        summed over the spans).  Read-only.
     """
 
     model: str
@@ -92,8 +99,10 @@ class DeviceResponse:
     warnings: tuple[str, ...] = field(default=())
     frequency: float | None = None
     amplitude: float | None = None
+    solver_stats: Mapping = field(default_factory=dict)
 
     def __post_init__(self) -> None:
+        object.__setattr__(self, "solver_stats", MappingProxyType(dict(self.solver_stats)))
         for name in ("time", "stroke", "stroke_rate", "stroke_acceleration", "force", "states",
                      "p1", "p2"):
             arr = getattr(self, name)
@@ -196,8 +205,16 @@ def _march(model, params, stroke, x0, t0, t1, t_eval, options, max_step):
     return sol
 
 
+def _add_stats(stats: dict, options, sol) -> None:
+    """Accumulate the work counts of a ``solve_ivp`` span into ``stats``."""
+    stats["engine"] = "python"
+    stats["method"] = options.method
+    for key in ("nfev", "njev", "nlu"):
+        stats[key] = stats.get(key, 0) + int(getattr(sol, key, 0))
+
+
 def _response(model, params, stroke, t, X, options, *, status, message, residual=0.0,
-              cycles=0, warnings=()):
+              cycles=0, warnings=(), stats=None):
     y, v, a = stroke(t)
     y, v, a = (np.broadcast_to(np.asarray(q, float), t.shape).copy() for q in (y, v, a))
     u = (y, v, a)
@@ -232,7 +249,7 @@ def _response(model, params, stroke, t, X, options, *, status, message, residual
         force=force, states=X, state_names=model.state_names, state_units=model.state_units,
         p1=p1, p2=p2, mass_error=mass_error, status=status, message=message,
         residual=float(residual), cycles=cycles, warnings=tuple(warn), frequency=freq,
-        amplitude=amp,
+        amplitude=amp, solver_stats=stats or {},
     )
 
 
@@ -294,19 +311,21 @@ def simulate(model, params: DeviceParams, stroke, t_end: float, *, t_start: floa
     x = model.initial_state(params, float(stroke(t_start)[0])) if x0 is None else np.asarray(
         x0, float)
     period = getattr(stroke, "period", t_end - t_start)
+    stats = {}
     if model.n_states == 0:
         X = np.zeros((0, t_eval.size))
     elif options.engine == "compiled":
         from liquidamp.coupled.fast import march
 
         X, _, _ = march(model, params, stroke, x, t_start, t_end, t_eval, options,
-                        options.max_step_fraction * period)
+                        options.max_step_fraction * period, stats=stats)
     else:
         sol = _march(model, params, stroke, x, t_start, t_end, t_eval, options,
                      options.max_step_fraction * period)
         X = sol.y
+        _add_stats(stats, options, sol)
     return _response(model, params, stroke, t_eval, X, options, status="completed",
-                     message=f"integrated {t_end - t_start:.4g} s")
+                     message=f"integrated {t_end - t_start:.4g} s", stats=stats)
 
 
 def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
@@ -369,11 +388,13 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
     if options.engine == "compiled":
         from liquidamp.coupled.fast import steady_loop
 
-        Xp, cycles, residual = steady_loop(model, params, stroke, x, options)
+        stats = {}
+        Xp, cycles, residual = steady_loop(model, params, stroke, x, options, stats=stats)
         msg = (f"periodic steady state after {cycles} cycles; estimated remaining "
                f"change {residual:.2e} of peak force (compiled engine)")
         return _response(model, params, stroke, grid[:N], Xp, options, status="steady",
-                         message=msg, residual=residual, cycles=cycles)
+                         message=msg, residual=residual, cycles=cycles, stats=stats)
+    stats = {}
     prev_force = None
     prev_change = math.inf
     hits = 0
@@ -382,6 +403,7 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
         t0 = k * T
         sol = _march(model, params, stroke, x, t0, t0 + T, t0 + grid, options,
                      options.max_step_fraction * T)
+        _add_stats(stats, options, sol)
         x = sol.y[:, -1]
         u = stroke(sol.t[:N])
         force = np.asarray(model.force(sol.t[:N], sol.y[:, :N], u, params), float)
@@ -405,7 +427,7 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
                        f"change {residual:.2e} of peak force")
                 return _response(model, params, stroke, sol.t[:N] - t0, Xp, options,
                                  status="steady", message=msg, residual=min(residual, change),
-                                 cycles=k + 1)
+                                 cycles=k + 1, stats=stats)
             prev_change = change
         prev_force = force
     raise ConvergenceError(

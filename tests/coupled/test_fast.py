@@ -247,3 +247,56 @@ def test_padded_5x5_factorisation_solves_a_smaller_system():
     np.testing.assert_allclose(b[:3], np.linalg.solve(A, rhs), rtol=1e-10)
     assert np.all(b[3:] == 0.0)
     assert not K._lu5(np.zeros((5, 5)), piv, dinv)  # singular: reported, no division
+
+
+# ------------------------------------------------ explicit start, stiffness switch
+@pytest.mark.parametrize("method", ["auto", "rodas4", "dopri5"])
+def test_every_compiled_method_matches_the_python_steady_state(method):
+    """Non-stiff working point (reference, 3 Hz, 3 mm): each stepper, same |K*|."""
+    p, s = preset("reference"), HarmonicStroke(0.003, 3.0)
+    a = steady_state("full", p, s)
+    b = steady_state("full", p, s, options=FAST.replace(compiled_method=method))
+    ka, kb = dynamic_stiffness(a).value, dynamic_stiffness(b).value
+    assert abs(kb - ka) / abs(ka) < 1e-7
+    st = b.solver_stats
+    assert st["engine"] == "compiled" and st["method"] == method
+    assert st["steps"] == st["explicit_steps"] + st["rodas4_steps"] > 0
+    # the fluid mode (-127 +/- 133j 1/s) is not stiff against a 0.33 s period: auto
+    # never leaves Dormand-Prince here, and needs far fewer steps than RODAS4
+    expected_explicit = {"auto": st["steps"], "rodas4": 0, "dopri5": st["steps"]}[method]
+    assert st["explicit_steps"] == expected_explicit and st["switches_to_rodas4"] == 0
+    assert st["rerun_with_rodas4"] is False  # the explicit-only kernel did all of it
+    assert a.solver_stats["engine"] == "python" and a.solver_stats["nfev"] > 0
+
+
+def test_auto_switches_to_rodas4_where_the_device_is_stiff():
+    """Inerter preset as a Maxwell unit at 0.5 Hz: T_D = 1.5e-4 s against a 2 s period."""
+    p, s = preset("inerter"), HarmonicStroke(0.003, 0.5)
+    auto = steady_state("maxwell", p, s, options=FAST)
+    rodas = steady_state("maxwell", p, s, options=FAST.replace(compiled_method="rodas4"))
+    st = auto.solver_stats
+    assert st["switches_to_rodas4"] >= auto.cycles  # the stiffness test fires every period
+    assert st["rodas4_steps"] > 0 and st["explicit_steps"] > 0
+    # the explicit-only kernel met the stiff stretch and the full kernel redid the run
+    assert st["rerun_with_rodas4"] is True
+    ka, kr = dynamic_stiffness(auto).value, dynamic_stiffness(rodas).value
+    assert abs(ka - kr) / abs(kr) < 1e-7
+    # closed form of the linear Maxwell unit: K = k_D i w T_D / (1 + i w T_D)
+    iwt = 1j * s.omega * p.T_D
+    k_exact = p.k_D * iwt / (1 + iwt)
+    assert abs(ka - k_exact) / abs(k_exact) < 1e-5
+
+
+def test_pressure_floor_crossing_is_located_alike_by_every_stepper():
+    """Continuous extensions of both methods put the floor crossing at the same time."""
+    import re
+
+    p, s = preset("reference"), HarmonicStroke(0.003, 3.0)
+    times = []
+    for opts in [SolverOptions(rtol=1e-10)] + [
+            FAST.replace(compiled_method=m, rtol=1e-10) for m in ("auto", "rodas4", "dopri5")]:
+        with pytest.raises(PressureError) as info:
+            simulate("full", p, s, 1.0, options=opts.replace(pressure_floor=4.2e4))
+        times.append(float(re.search(r"at t = (\S+) s", str(info.value)).group(1)))
+    assert 0.1 < times[0] < 0.2  # past the first half cycle: a crossing inside a long step
+    np.testing.assert_allclose(times, times[0], rtol=1e-5)
