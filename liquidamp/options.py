@@ -18,7 +18,7 @@ _METHODS = ("Radau", "BDF", "LSODA", "RK45", "DOP853")
 #: Steppers of the compiled engine (see ``SolverOptions.compiled_method``).
 COMPILED_METHODS = ("auto", "rodas4", "dopri5")
 #: Integration engines: the plain-Python reference (scipy ``solve_ivp``) and the
-#: numba-compiled RODAS4 core of :mod:`liquidamp.coupled.fast`.
+#: numba-compiled core of :mod:`liquidamp.coupled.fast`.
 ENGINES = ("python", "compiled")
 
 
@@ -56,11 +56,15 @@ class SolverOptions:
     engine : {"python", "compiled"}
         ``"python"``: scipy :func:`~scipy.integrate.solve_ivp` with the
         models' Python right-hand sides (the reference).  ``"compiled"``: the
-        numba-compiled RODAS4 core of :mod:`liquidamp.coupled.fast`, with the
+        numba-compiled core of :mod:`liquidamp.coupled.fast`, with the
         same ``rtol``, ``atol_scale`` and largest step, and much faster;
         it supports the models listed in
         :data:`liquidamp.coupled.fast.COMPILED_MODELS` and raises
-        ParameterError for others.
+        ParameterError for others.  It serves the test machine
+        (:mod:`liquidamp.coupled.testrig`, stepper ``compiled_method``) and
+        :func:`liquidamp.coupled.assembly.simulate_coupled` for a rotor built by
+        ``rotor_system`` with compiled device models (always DOP853 there:
+        ``method`` is ignored).
     compiled_method : {"auto", "rodas4", "dopri5"}
         Stepper of the ``"compiled"`` engine.  ``"auto"`` (default): the
         explicit Dormand-Prince 5(4) pair while the problem is not stiff,

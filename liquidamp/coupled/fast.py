@@ -50,8 +50,9 @@ Design
   and solved (6 x 6 LU) inside the right-hand side, the device models are
   the same compiled ones, and the integrator is DOP853 with scipy's
   coefficients, error norm, step control and dense output (the coupled Hammond system is
-  not stiff for these devices; the Python route
-  :func:`~liquidamp.coupled.assembly.simulate_coupled` stays the reference).
+  not stiff for these devices).  :func:`~liquidamp.coupled.assembly.simulate_coupled`
+  dispatches here under ``SolverOptions(engine="compiled")``; its Python route stays the
+  reference.
 
 ``SolverOptions.method`` applies to the Python engine only.  A model outside
 :data:`COMPILED_MODELS`, or a :class:`DeviceModel` that is not the registered

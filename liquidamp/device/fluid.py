@@ -15,9 +15,12 @@ References
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
+
+from liquidamp.errors import ParameterError
 
 __all__ = [
     "air_fraction",
@@ -172,17 +175,28 @@ def density_gholizadeh(p, rho0: float, B_l: float, X0: float, p0: float, n: floa
     >>> rho = density_gholizadeh(101325.0, 998.2, 1.5513e9, 0.05, 101325.0, 1.35)
     >>> float(rho)
     998.2
+    >>> [round(float(r), 2) for r in density_gholizadeh([5e4, 2e5], 998.2, 1.5513e9, 0.05,
+    ...                                                 101325.0, 1.35)]
+    [965.0, 1018.41]
     """
-    p_arr = np.atleast_1d(np.asarray(p, dtype=float))
-    x, w = np.polynomial.legendre.leggauss(points)
-    out = np.empty_like(p_arr)
-    for i, pi in enumerate(p_arr):
-        a, b = math.log(p0), math.log(pi)
-        s = 0.5 * (b - a) * x + 0.5 * (a + b)
-        pp = np.exp(s)
-        B = np.array([bulk_modulus_gholizadeh(q, B_l, X0, p0, n) for q in pp])
-        out[i] = rho0 * math.exp(0.5 * (b - a) * float(np.sum(w * pp / B)))
+    p_arr = np.atleast_1d(np.asarray(p, dtype=float)).ravel()
+    if not np.all(p_arr > 0.0):
+        bad = p_arr[~(p_arr > 0.0)][0]
+        raise ParameterError(f"pressure must be > 0 Pa (absolute) for eq. (3), got {bad:g} Pa")
+    x, w = _gauss_legendre(int(points))
+    a = math.log(p0)
+    b = np.log(p_arr)[:, None]
+    half = 0.5 * (b - a)
+    pp = np.exp(half * x + 0.5 * (a + b))  # quadrature pressures, one row per p
+    B = bulk_modulus_gholizadeh(pp, B_l, X0, p0, n)
+    out = rho0 * np.exp(half[:, 0] * np.sum(w * pp / B, axis=1))
     return out.reshape(np.shape(p)) if np.ndim(p) else float(out[0])
+
+
+@functools.lru_cache(maxsize=8)
+def _gauss_legendre(points: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss-Legendre nodes and weights on [-1, 1] (cached)."""
+    return np.polynomial.legendre.leggauss(points)
 
 
 def loss_pressure(flow, k1: float, k2: float):

@@ -51,7 +51,10 @@ def test_shooting_agrees_with_marching_for_the_air_free_inerter(name, f, amplitu
     assert shot.residual < FAST.steady_tol
     a, b = dynamic_stiffness(marched), dynamic_stiffness(shot)
     assert abs(b.magnitude - a.magnitude) / a.magnitude < 1e-3  # the acceptance criterion
-    assert abs(b.value - a.value) / abs(a.value) < 1e-6  # what it reaches (<= 4e-8 seen)
+    # what it reaches: marching stops once the estimated remaining change is below
+    # steady_tol = 1e-6 and carries about that error (inerter 7 Hz 2 mm: 1.3e-6 against a
+    # tight reference, while shooting is within 1.4e-9); the others agree to <= 4e-8
+    assert abs(b.value - a.value) / abs(a.value) < 3e-6
     model = get_model("full")
     v0, _ = invariants(model, p, model.initial_state(p, 0.0), 0.0)
     v, _ = invariants(model, p, shot.states[:, 0], 0.0)
