@@ -6,6 +6,7 @@ import sys
 
 from liquidamp.commands._args import parse_length, write_json
 from liquidamp.commands.params import add_device_arguments, device_from_args
+from liquidamp.options import COMPILED_METHODS
 
 
 def register(sub) -> None:
@@ -22,6 +23,9 @@ def register(sub) -> None:
                    help="stroke amplitude, SI metres or with unit (3mm)")
     p.add_argument("--engine", choices=("compiled", "python"), default="compiled",
                    help="integration engine (default %(default)s; python is the reference)")
+    p.add_argument("--compiled-method", choices=COMPILED_METHODS, default="auto",
+                   help="stepper of the compiled engine: auto (Dormand-Prince, RODAS4 where "
+                        "stiff), rodas4 or dopri5 (default %(default)s)")
     p.add_argument("--json", default=None, help="output JSON (default stdout)")
     p.add_argument("--plot", default=None, help="three-panel loop figure (PNG)")
     p.set_defaults(func=run)
@@ -48,6 +52,7 @@ def summary(response) -> dict:
         "status": response.status,
         "message": response.message,
         "warnings": list(response.warnings),
+        "solver": dict(response.solver_stats),
     }
 
 
@@ -64,7 +69,8 @@ def run(args) -> int:
     stroke = HarmonicStroke(parse_length(args.amplitude, "amplitude"), args.frequency)
     from liquidamp.options import SolverOptions
 
-    response = steady_state(model, params, stroke, options=SolverOptions(engine=args.engine))
+    options = SolverOptions(engine=args.engine, compiled_method=args.compiled_method)
+    response = steady_state(model, params, stroke, options=options)
     data = summary(response)
     for w in response.warnings:
         print(f"warning: {w}", file=sys.stderr)
