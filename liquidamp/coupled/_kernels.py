@@ -907,7 +907,7 @@ def _integrate_source(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval
     total_steps = 0.0
     explicit_steps = 0.0
     switches = 0.0
-    fsal = False  # kk[0] holds f(t, x) for the explicit method
+    fsal = 0  # 1: kk[0] holds f(t, x) for the explicit method (int: no literal specialisation)
     for cyc in range(ncyc):
         if max_cycles > 0:
             ta = t0 + cyc * period
@@ -967,7 +967,7 @@ def _integrate_source(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval
                 hit_break = not last
             y0, v0, a0 = stroke_eval(kind, t, sp, st, sy, sv, sa)
             if not expl:  # RODAS4: f, J and df/dt at (t, x)
-                fsal = False
+                fsal = 0
                 if _WITH_RODAS:
                     if kind == 0:  # harmonic: the rates are the evaluated (v, a)
                         yd, vd = v0, a0
@@ -985,8 +985,8 @@ def _integrate_source(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval
                 if expl:
                     explicit_steps += 1.0
                     err = _dp5_attempt(mid, prm, eff, kind, sp, st, sy, sv, sa, x, t, h, y0, v0,
-                                       fsal, atol, rtol, kk, ys, y6, xn, sc, ft)
-                    fsal = True
+                                       fsal == 1, atol, rtol, kk, ys, y6, xn, sc, ft)
+                    fsal = 1
                 elif _WITH_RODAS:
                     err = _rodas_attempt(mid, prm, eff, kind, sp, st, sy, sv, sa, x, t, h, y0,
                                          v0, reuse_f0, f0, J, fdt, atol, rtol, G, piv, dinv, kk,
