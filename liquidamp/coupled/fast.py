@@ -35,9 +35,14 @@ Design
   where the interpolant has a kink, so each step sees a smooth input.
 * The periodic-steady-state loop (march a period, compare the force
   waveform, stop on the same rule as the Python path) runs entirely in
-  compiled code, in the periodic mode of the same compiled entry point
-  (``_kernels.integrate``) as :func:`march`, so one specialisation serves
-  both and the first call compiles the stepper once.
+  compiled code, in the periodic mode of the same compiled entry points as
+  :func:`march`.  There are two, compiled from one source: the explicit-only
+  kernel (``_kernels.integrate_explicit``) that a non-stiff ``"auto"`` call
+  uses, so that its first call compiles about half the code, and the kernel
+  with RODAS4 (``_kernels.integrate``), compiled when first needed: a stiff
+  stretch makes the explicit kernel stop, and the call is rerun with the full
+  kernel from the start (:func:`_run`), which gives the answer ``"auto"``
+  would have given in one go.
 * Add-on effects: the kernels take an effect vector (``_kernels.E_*``) whose
   zero entries mean "absent" (at present a laminar leakage bypass
   ``rho_l k (p1 - p2)`` for ``full`` and ``no_inertia``, and a force offset),
@@ -276,7 +281,9 @@ def march(model: DeviceModel, params: DeviceParams, stroke, x0, t0: float, t1: f
     stats : dict, optional
         Filled in place with the step counts: ``steps`` (accepted and
         rejected), ``explicit_steps`` (Dormand-Prince), ``rodas4_steps``,
-        ``switches_to_rodas4`` and the ``method`` used.
+        ``switches_to_rodas4``, ``rerun_with_rodas4`` (the explicit-only
+        kernel met a stiff stretch and the call was rerun) and the
+        ``method`` used.
 
     Returns
     -------

@@ -75,8 +75,9 @@ class DeviceResponse:
     solver_stats : Mapping
         How the integration went: ``engine``, ``method`` and step counts
         (compiled engine: ``steps``, ``explicit_steps``, ``rodas4_steps``,
-        ``switches_to_rodas4``; Python engine: ``nfev``, ``njev``, ``nlu``
-        summed over the spans).  Read-only.
+        ``switches_to_rodas4``, ``rerun_with_rodas4``, see
+        :func:`liquidamp.coupled.fast.march`; Python engine: ``nfev``,
+        ``njev``, ``nlu`` summed over the spans).  Read-only.
     """
 
     model: str
