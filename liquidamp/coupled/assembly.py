@@ -89,6 +89,7 @@ __all__ = [
     "EnergyBalance",
     "CoupledResponse",
     "simulate_coupled",
+    "compiled_support",
 ]
 
 
@@ -858,6 +859,42 @@ def _compiled_origin(system: CoupledSystem) -> _RotorOrigin:
         except ParameterError as exc:
             raise ParameterError(f"{where}: {exc}") from None
     return o
+
+
+def compiled_support(system: CoupledSystem) -> str | None:
+    """Why ``SolverOptions(engine="compiled")`` cannot run ``system``, or None if it can.
+
+    The compiled route of :func:`simulate_coupled` takes a ground-resonance
+    rotor built by :func:`rotor_system` whose devices all have compiled
+    models (:data:`liquidamp.coupled.fast.COMPILED_MODELS`) without add-on
+    effects; it integrates with DOP853 and agrees with the Python route run
+    with ``method="DOP853"`` to round-off (about 1e-13 relative).
+
+    Parameters
+    ----------
+    system : CoupledSystem
+        Host with devices.
+
+    Returns
+    -------
+    str or None
+        The reason, as the ParameterError :func:`simulate_coupled` would raise.
+
+    Examples
+    --------
+    >>> from liquidamp.structure.hostio import load_rotor
+    >>> from liquidamp.device import preset
+    >>> rotor = load_rotor("hammond1974")
+    >>> compiled_support(rotor_system(rotor, 27.2, Device("full", preset("reference")))) is None
+    True
+    >>> "viscous" in compiled_support(rotor_system(rotor, 27.2, viscous(5e4)))
+    True
+    """
+    try:
+        _compiled_origin(system)
+    except ParameterError as exc:
+        return str(exc)
+    return None
 
 
 def _run_compiled(system, T_end, X0, t_eval, opts, max_step, conds):

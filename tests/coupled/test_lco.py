@@ -71,3 +71,23 @@ def test_growth_rate_fit_closed_form():
     t = np.linspace(0.0, 8.0, 1601)
     fit = growth_rate(t, np.exp(0.25 * t) * np.cos(7.0 * t + 0.3))
     assert fit.rate == pytest.approx(0.25, abs=1e-4)
+
+
+def test_default_run_takes_the_compiled_rotor_route_with_the_same_answer(device_a):
+    """The default options pick the compiled DOP853 where the system allows it."""
+    import numpy as np
+
+    from liquidamp.coupled.assembly import compiled_support, rotor_system, viscous
+    from liquidamp.options import SolverOptions
+
+    W = 230.0 * 2.0 * math.pi / 60.0
+    assert compiled_support(rotor_system(ROTOR, W, device_a)) is None
+    assert "viscous damper" in compiled_support(rotor_system(ROTOR, W, viscous(5e4)))
+    cm = critical_mode(ROTOR, W, device_a)
+    fast = simulate_lco(ROTOR, W, device_a, initial_lag=1e-3, t_end=2.0, mode=cm)
+    ref = simulate_lco(ROTOR, W, device_a, initial_lag=1e-3, t_end=2.0, mode=cm,
+                       options=SolverOptions(method="DOP853", rtol=1e-7))
+    assert fast.response.time.shape == ref.response.time.shape
+    scale = np.max(np.abs(ref.response.host_states))
+    assert np.max(np.abs(fast.response.host_states - ref.response.host_states)) < 1e-10 * scale
+    assert fast.lag_amplitude == pytest.approx(ref.lag_amplitude, rel=1e-9)
