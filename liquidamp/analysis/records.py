@@ -457,6 +457,45 @@ def integrate(model: DeviceModel, params: DeviceParams, stroke, t_eval, x0, *,
     return X.T
 
 
+def _stroke_driven_split(model: DeviceModel, base: DeviceModel | None) -> DeviceModel | None:
+    """The states of ``model``'s stroke-driven effects as a model of their own, or None.
+
+    None unless ``model`` is a registered model (``base``) composed only with
+    effects whose ``stroke_driven`` flag is set (they add to the force and
+    own states driven by the measured stroke alone), so that its fluid states
+    are those of ``base`` under the same stroke.  The returned model's
+    right-hand side stacks each effect's
+    :meth:`~liquidamp.device.effects.Effect.stroke_state_rate` (no states for
+    a registered model or force-only effects).
+    """
+    if base is None or not base.n_states:
+        return None
+    if not model.effects and model.rhs is not base.rhs:
+        return None  # a user-modified copy of a registered model
+    if not all(e.stroke_driven for e in model.effects):
+        return None
+    owners = [e for e in model.effects if e.state_names]
+    names = tuple(n for e in owners for n in e.state_names)
+    if model.n_states != base.n_states + len(names):
+        return None
+    nb = base.n_states
+    sizes = [len(e.state_names) for e in owners]
+
+    def rhs(t, z, u, p):
+        out, i = [], 0
+        for e, k in zip(owners, sizes, strict=True):
+            out.extend(e.stroke_state_rate(u, z[i:i + k]))
+            i += k
+        return np.array(out, dtype=float)
+
+    return DeviceModel(
+        name=f"{model.name} (stroke-driven states)", equation="", description="",
+        state_names=names, state_units=model.state_units[nb:], limits="", rhs=rhs,
+        fluid_force=lambda t, x, u, p: 0.0,
+        initial_state=lambda p, y0=0.0: np.asarray(model.initial_state(p, y0), float)[nb:],
+        state_scales=lambda p: np.asarray(model.state_scales(p), float)[nb:])
+
+
 def _engine(options) -> str:
     return getattr(options, "engine", "python")
 
@@ -477,11 +516,14 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
         and acceleration drive the model).
     options : SolverOptions, optional
         ``rtol``, ``atol_scale`` and ``pressure_floor`` are used.  With
-        ``engine="compiled"`` the runs of a registered model, or of one
-        composed with force-only effects (coulomb_friction, force_offset,
-        moving_mass: same states), go through
-        :func:`liquidamp.coupled.testrig.simulate` (the compiled engine);
-        effects with states, and the ``python`` engine, use LSODA
+        ``engine="compiled"`` the fluid states of a registered model, or of
+        one composed only with stroke-driven effects (coulomb_friction,
+        force_offset, moving_mass; smooth_friction, whose bristle state sees
+        the stroke alone), come from :func:`liquidamp.coupled.testrig.simulate`
+        (the compiled engine) and the effects' own states from their
+        one-state ODE (:func:`integrate`); effects that change what the fluid
+        sees (leakage, cavitation, series compliance, freeplay), and the
+        ``python`` engine, integrate the composed model with LSODA
         (:func:`integrate`).
     preroll : int
         Passes over the first cycle discarded before the record is run
@@ -529,24 +571,31 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     x = model.initial_state(params, y0) if x0 is None else np.asarray(x0, float)
     engine = _engine(options)
 
+    fast = _Interp(stroke.time, stroke.displacement, stroke.velocity, stroke.acceleration)
+    # a bounded step: a state that rests while the input moves (freeplay in its gap, a
+    # closed cavity) gives zero derivatives at the start, and an unbounded first step
+    # can jump over the whole record without ever seeing the contact
+    hmax = max(options.max_step_fraction, 1e-4) * record.period
     base = REGISTRY.get(model.name.split("+")[0])
-    if (engine != "python" and model.n_states and base is not None
-            and base.rhs is model.rhs and base.n_states == model.n_states):
-        # a registered model, or one with force-only effects (same states, same rhs):
-        # the states come from the compiled engine, the force from the composed model
+    split = _stroke_driven_split(model, base)
+    if engine != "python" and model.n_states and split is not None:
+        # a registered model, or one whose effects act on the force only and own states
+        # driven by the stroke alone: the fluid states come from the compiled engine, the
+        # effects' states from their own (small) ODE, the force from the composed model
         from liquidamp.coupled.testrig import simulate
+
+        nb = base.n_states
 
         def run(t_eval, xs):
             r = simulate(base, params, stroke, float(t_eval[-1]), t_start=float(t_eval[0]),
-                         x0=xs, t_eval=t_eval, options=options)
-            return np.array(r.states)
+                         x0=xs[:nb], t_eval=t_eval, options=options)
+            X = np.array(r.states)
+            if split.n_states:
+                Z = integrate(split, params, fast, t_eval, xs[nb:], rtol=options.rtol,
+                              atol_scale=options.atol_scale, hmax=hmax)
+                X = np.vstack((X, Z))
+            return X
     else:
-        fast = _Interp(stroke.time, stroke.displacement, stroke.velocity, stroke.acceleration)
-        # a bounded step: a state that rests while the input moves (freeplay in its gap, a
-        # closed cavity) gives zero derivatives at the start, and an unbounded first step
-        # can jump over the whole record without ever seeing the contact
-        hmax = max(options.max_step_fraction, 1e-4) * record.period
-
         def run(t_eval, xs):
             return integrate(model, params, fast, t_eval, xs, rtol=options.rtol,
                              atol_scale=options.atol_scale, hmax=hmax)

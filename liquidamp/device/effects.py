@@ -194,7 +194,11 @@ class Effect:
     Class attributes: ``name`` (registry key), ``units`` (parameter key ->
     unit), ``fit_keys`` (parameters a calibration varies by default),
     ``bounds`` (key -> (low, high) for fitting), ``needs_pressures`` (only for
-    models with chamber pressures), ``order`` (canonical composition rank).
+    models with chamber pressures), ``order`` (canonical composition rank),
+    ``stroke_driven`` (the effect acts on the load-cell force only and its own
+    states, ``state_names``, obey ODEs driven by the measured stroke alone,
+    :meth:`stroke_state_rate`: the fluid states do not see it, so a run can
+    take the fluid states from the compiled engine and integrate these apart).
     """
 
     name: ClassVar[str] = ""
@@ -204,6 +208,15 @@ class Effect:
     needs_pressures: ClassVar[bool] = False
     order: ClassVar[int] = 0
     description: ClassVar[str] = ""
+    stroke_driven: ClassVar[bool] = False
+    state_names: ClassVar[tuple] = ()
+
+    def stroke_state_rate(self, u, z) -> list:
+        """Rates of the effect's own states under the measured stroke ``u = (y, v, a)``.
+
+        Only for ``stroke_driven`` effects with states.
+        """
+        raise NotImplementedError(f"effect {self.name!r} has no stroke-driven states")
 
     @property
     def parameters(self) -> dict[str, float]:
@@ -227,7 +240,8 @@ class Effect:
 def _compose(model: DeviceModel, effect: Effect, **changes) -> DeviceModel:
     name = f"{model.name}+{effect.name}"
     desc = f"{model.description}; with {effect}"
-    return dataclasses.replace(model, name=name, description=desc, jacobian=None, **changes)
+    return dataclasses.replace(model, name=name, description=desc, jacobian=None,
+                               effects=model.effects + (effect,), **changes)
 
 
 def _force_only(model: DeviceModel, effect: Effect, extra, *, uses_acceleration=False):
@@ -261,6 +275,7 @@ class CoulombFriction(Effect):
 
     force_N: float = 0.0
     name: ClassVar[str] = "coulomb_friction"
+    stroke_driven: ClassVar[bool] = True
     units: ClassVar[dict] = {"force_N": "N"}
     fit_keys: ClassVar[tuple] = ("force_N",)
     bounds: ClassVar[dict] = {"force_N": (1e-2, 1e4)}
@@ -287,6 +302,7 @@ class ForceOffset(Effect):
 
     offset_N: float = 0.0
     name: ClassVar[str] = "force_offset"
+    stroke_driven: ClassVar[bool] = True
     units: ClassVar[dict] = {"offset_N": "N"}
     fit_keys: ClassVar[tuple] = ("offset_N",)
     bounds: ClassVar[dict] = {"offset_N": (-1e4, 1e4)}
@@ -313,6 +329,7 @@ class MovingMass(Effect):
 
     mass_kg: float = 0.0
     name: ClassVar[str] = "moving_mass"
+    stroke_driven: ClassVar[bool] = True
     units: ClassVar[dict] = {"mass_kg": "kg"}
     fit_keys: ClassVar[tuple] = ("mass_kg",)
     bounds: ClassVar[dict] = {"mass_kg": (1e-3, 1e3)}
@@ -413,6 +430,8 @@ class SmoothFriction(Effect):
                               "static_ratio": (1.0, 5.0)}
     order: ClassVar[int] = 35
     description: ClassVar[str] = "LuGre/Dahl friction: gradual reversal, Stribeck"
+    stroke_driven: ClassVar[bool] = True
+    state_names: ClassVar[tuple] = ("z_friction",)
 
     def __post_init__(self):
         check_nonnegative("smooth_friction force_N", self.force_N, "N")
@@ -424,15 +443,19 @@ class SmoothFriction(Effect):
         if r < 1.0:
             raise ParameterError(f"smooth_friction static_ratio must be >= 1 [-], got {r:g}")
 
+    def stroke_state_rate(self, u, z) -> list:
+        """[dz/dt] of :func:`lugre_rate` at the rod velocity ``u[1]`` [1/s]."""
+        return [lugre_rate(float(u[1]), float(z[0]), self.force_N, self.stiffness_N_per_m,
+                           self.stribeck_velocity_m_per_s, self.static_ratio)]
+
     def apply(self, model):
-        fc, k, vs, r = (self.force_N, self.stiffness_N_per_m, self.stribeck_velocity_m_per_s,
-                        self.static_ratio)
+        fc = self.force_N
         n = model.n_states
 
         def extra(t, x, u, p, dx, xe, up):
-            return [lugre_rate(float(u[1]), float(xe[0]), fc, k, vs, r)]
+            return self.stroke_state_rate(u, xe)
 
-        return _append_states(model, self, ("z_friction",), ("-",), extra,
+        return _append_states(model, self, self.state_names, ("-",), extra,
                               lambda p, y0: np.zeros(1), lambda p: np.ones(1),
                               force=lambda x, u, p: fc * x[n])
 

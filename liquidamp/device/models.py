@@ -103,6 +103,10 @@ class DeviceModel:
         (eq. 2 is singular at p = 0, so the run stops at the pressure floor);
         the constant-bulk reductions can pass through zero pressure, which
         the run reports as a warning.
+    effects : tuple of Effect
+        Add-on effects composed into this model by
+        :func:`liquidamp.device.effects.with_effects`, in composition order
+        (empty for a registered model).
     """
 
     name: str
@@ -122,6 +126,7 @@ class DeviceModel:
     uses_acceleration: bool = False
     requires: tuple[str, ...] = field(default=())
     uses_bulk_law: bool = False
+    effects: tuple = field(default=())
 
     @property
     def n_states(self) -> int:
