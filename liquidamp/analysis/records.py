@@ -457,14 +457,27 @@ def integrate(model: DeviceModel, params: DeviceParams, stroke, t_eval, x0, *,
     return X.T
 
 
-def _stroke_driven_split(model: DeviceModel, base: DeviceModel | None) -> DeviceModel | None:
-    """The states of ``model``'s stroke-driven effects as a model of their own, or None.
+@dataclass(frozen=True)
+class _Split:
+    """How a composed model runs beside the compiled engine (:func:`_stroke_driven_split`)."""
+
+    states: DeviceModel  # the stroke-driven effects' own states as a model
+    compiled: dict  # fluid effects the compiled kernels hold (``fast.pack_effects`` keys)
+
+
+#: Registered models whose compiled kernels hold the leakage bypass.
+_COMPILED_LEAKAGE = ("full", "no_inertia")
+
+
+def _stroke_driven_split(model: DeviceModel, base: DeviceModel | None) -> _Split | None:
+    """Split ``model`` into compiled fluid states and stroke-driven effect states, or None.
 
     None unless ``model`` is a registered model (``base``) composed only with
     effects whose ``stroke_driven`` flag is set (they add to the force and
-    own states driven by the measured stroke alone), so that its fluid states
-    are those of ``base`` under the same stroke.  The returned model's
-    right-hand side stacks each effect's
+    own states driven by the measured stroke alone) and, for ``full`` and
+    ``no_inertia``, a leakage (held by the compiled kernels' effect vector),
+    so that its fluid states are those of the compiled ``base`` under the
+    same stroke.  ``states`` stacks each effect's
     :meth:`~liquidamp.device.effects.Effect.stroke_state_rate` (no states for
     a registered model or force-only effects).
     """
@@ -472,8 +485,12 @@ def _stroke_driven_split(model: DeviceModel, base: DeviceModel | None) -> Device
         return None
     if not model.effects and model.rhs is not base.rhs:
         return None  # a user-modified copy of a registered model
-    if not all(e.stroke_driven for e in model.effects):
-        return None
+    compiled = {}
+    for e in model.effects:
+        if e.name == "leakage" and base.name in _COMPILED_LEAKAGE and "leakage" not in compiled:
+            compiled["leakage"] = e.coefficient_m3_per_s_Pa
+        elif not e.stroke_driven:
+            return None
     owners = [e for e in model.effects if e.state_names]
     names = tuple(n for e in owners for n in e.state_names)
     if model.n_states != base.n_states + len(names):
@@ -488,12 +505,13 @@ def _stroke_driven_split(model: DeviceModel, base: DeviceModel | None) -> Device
             i += k
         return np.array(out, dtype=float)
 
-    return DeviceModel(
+    states = DeviceModel(
         name=f"{model.name} (stroke-driven states)", equation="", description="",
         state_names=names, state_units=model.state_units[nb:], limits="", rhs=rhs,
         fluid_force=lambda t, x, u, p: 0.0,
         initial_state=lambda p, y0=0.0: np.asarray(model.initial_state(p, y0), float)[nb:],
         state_scales=lambda p: np.asarray(model.state_scales(p), float)[nb:])
+    return _Split(states, compiled)
 
 
 def _engine(options) -> str:
@@ -580,16 +598,20 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     split = _stroke_driven_split(model, base)
     if engine != "python" and model.n_states and split is not None:
         # a registered model, or one whose effects act on the force only and own states
-        # driven by the stroke alone: the fluid states come from the compiled engine, the
-        # effects' states from their own (small) ODE, the force from the composed model
-        from liquidamp.coupled.testrig import simulate
+        # driven by the stroke alone (and a leakage the compiled kernels hold): the fluid
+        # states come from the compiled engine, the effects' states from their own (small)
+        # ODE, the force from the composed model
+        from liquidamp.coupled.fast import march, pack_effects
 
         nb = base.n_states
+        eff = pack_effects(split.compiled)
+        split = split.states
 
         def run(t_eval, xs):
-            r = simulate(base, params, stroke, float(t_eval[-1]), t_start=float(t_eval[0]),
-                         x0=xs[:nb], t_eval=t_eval, options=options)
-            X = np.array(r.states)
+            t0, t1 = float(t_eval[0]), float(t_eval[-1])
+            X, _, _ = march(base, params, stroke, xs[:nb], t0, t1, t_eval, options,
+                            options.max_step_fraction * getattr(stroke, "period", t1 - t0),
+                            effects=eff)
             if split.n_states:
                 Z = integrate(split, params, fast, t_eval, xs[nb:], rtol=options.rtol,
                               atol_scale=options.atol_scale, hmax=hmax)

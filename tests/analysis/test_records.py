@@ -116,8 +116,8 @@ def test_stroke_driven_effects_run_beside_the_compiled_fluid_states():
     full = get_model("full")
     m = with_effects(full, SmoothFriction(30.0, 3e5), ForceOffset(5.0))
     split = _stroke_driven_split(m, full)
-    assert split.state_names == ("z_friction",) and split.n_states == 1
-    assert _stroke_driven_split(full, full).n_states == 0
+    assert split.states.state_names == ("z_friction",) and split.compiled == {}
+    assert _stroke_driven_split(full, full).states.n_states == 0
     assert _stroke_driven_split(with_effects(full, Freeplay(1e-4)), full) is None
     p = preset("reference")
     a = simulate_record(m, p, rec, options=FIT_OPTIONS)
@@ -125,3 +125,29 @@ def test_stroke_driven_effects_run_beside_the_compiled_fluid_states():
     assert np.max(np.abs(a.force - b.force)) < 1e-4 * np.max(np.abs(b.force))
     z = a.state("z_friction")  # the bristle state saturates at +-1 between reversals
     assert 0.9 < np.max(np.abs(z)) <= 1.0 + 1e-6
+
+
+@pytest.mark.parametrize("name", ["full", "no_inertia"])
+def test_leakage_runs_in_the_compiled_kernels_effect_vector(name):
+    """The composed Python leakage (effects.Leakage) and the kernels' bypass agree."""
+    from liquidamp.analysis.calibration import FIT_OPTIONS
+    from liquidamp.analysis.records import _stroke_driven_split
+    from liquidamp.analysis.synthetic import synthetic_record
+    from liquidamp.device.effects import Leakage, SmoothFriction, with_effects
+    from liquidamp.device.models import get_model
+
+    rec = synthetic_record(preset="paper_calibrated", frequency=2.5, amplitude=0.0035,
+                           cycles=2, seed=5)
+    base = get_model(name)
+    m = with_effects(base, Leakage(2e-11), SmoothFriction(30.0, 3e5))
+    assert _stroke_driven_split(m, base).compiled == {"leakage": 2e-11}
+    const = get_model("constant_bulk")  # its kernel has no bypass: the composed model runs
+    assert _stroke_driven_split(with_effects(const, Leakage(2e-11)), const) is None
+    p = preset("paper_calibrated")
+    a = simulate_record(m, p, rec, options=FIT_OPTIONS)
+    b = simulate_record(m, p, rec, options=FIT_OPTIONS.replace(engine="python"))
+    c = simulate_record(with_effects(base, SmoothFriction(30.0, 3e5)), p, rec,
+                        options=FIT_OPTIONS)
+    peak = np.max(np.abs(b.force))
+    assert np.max(np.abs(a.force - b.force)) < 1e-4 * peak
+    assert np.max(np.abs(a.force - c.force)) > 1e-2 * peak  # the leak matters here
