@@ -230,6 +230,19 @@ def r_const(p, B0, prm):
 
 # --------------------------------------------------------------------- stroke
 @njit(cache=True, error_model="numpy")
+def _segment(st, t):
+    """Index i of the sample interval [st[i], st[i+1]) holding t, st[0] <= t < st[-1]."""
+    lo, hi = 0, st.size - 1
+    while hi - lo > 1:
+        mid = (lo + hi) >> 1
+        if st[mid] <= t:
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
+@njit(cache=True, error_model="numpy")
 def stroke_eval(kind, t, sp, st, sy, sv, sa):
     """Stroke (y [m], v [m/s], a [m/s^2]) at time t [s]."""
     if kind == 0:
@@ -242,13 +255,8 @@ def stroke_eval(kind, t, sp, st, sy, sv, sa):
         return sy[0], sv[0], sa[0]
     if t >= st[n - 1]:
         return sy[n - 1], sv[n - 1], sa[n - 1]
-    lo, hi = 0, n - 1
-    while hi - lo > 1:
-        mid = (lo + hi) >> 1
-        if st[mid] <= t:
-            lo = mid
-        else:
-            hi = mid
+    lo = _segment(st, t)
+    hi = lo + 1
     w = (t - st[lo]) / (st[hi] - st[lo])
     return (sy[lo] + w * (sy[hi] - sy[lo]), sv[lo] + w * (sv[hi] - sv[lo]),
             sa[lo] + w * (sa[hi] - sa[lo]))
@@ -268,13 +276,8 @@ def stroke_rate(kind, t, sp, st, sy, sv, sa):
     n = st.size
     if t < st[0] or t >= st[n - 1]:
         return 0.0, 0.0
-    lo, hi = 0, n - 1
-    while hi - lo > 1:
-        mid = (lo + hi) >> 1
-        if st[mid] <= t:
-            lo = mid
-        else:
-            hi = mid
+    lo = _segment(st, t)
+    hi = lo + 1
     d = st[hi] - st[lo]
     return (sy[hi] - sy[lo]) / d, (sv[hi] - sv[lo]) / d
 
@@ -289,14 +292,7 @@ def _next_break(kind, t, st, tiny):
         return np.inf
     if t + tiny < st[0]:
         return st[0]
-    lo, hi = 0, n - 1
-    while hi - lo > 1:
-        mid = (lo + hi) >> 1
-        if st[mid] <= t + tiny:
-            lo = mid
-        else:
-            hi = mid
-    return st[hi]
+    return st[_segment(st, t + tiny) + 1]
 
 
 # ------------------------------------------------------------ models: rhs, jac
