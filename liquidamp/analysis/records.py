@@ -49,7 +49,7 @@ from pathlib import Path
 import numpy as np
 
 from liquidamp.coupled.testrig import DeviceResponse
-from liquidamp.device.models import REGISTRY, DeviceModel, get_model
+from liquidamp.device.models import DeviceModel, get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, DataFileError, ParameterError, PressureError
 from liquidamp.options import DEFAULT_OPTIONS, SolverOptions
@@ -457,63 +457,6 @@ def integrate(model: DeviceModel, params: DeviceParams, stroke, t_eval, x0, *,
     return X.T
 
 
-@dataclass(frozen=True)
-class _Split:
-    """How a composed model runs beside the compiled engine (:func:`_stroke_driven_split`)."""
-
-    states: DeviceModel  # the stroke-driven effects' own states as a model
-    compiled: dict  # fluid effects the compiled kernels hold (``fast.pack_effects`` keys)
-
-
-#: Registered models whose compiled kernels hold the leakage bypass.
-_COMPILED_LEAKAGE = ("full", "no_inertia")
-
-
-def _stroke_driven_split(model: DeviceModel, base: DeviceModel | None) -> _Split | None:
-    """Split ``model`` into compiled fluid states and stroke-driven effect states, or None.
-
-    None unless ``model`` is a registered model (``base``) composed only with
-    effects whose ``stroke_driven`` flag is set (they add to the force and
-    own states driven by the measured stroke alone) and, for ``full`` and
-    ``no_inertia``, a leakage (held by the compiled kernels' effect vector),
-    so that its fluid states are those of the compiled ``base`` under the
-    same stroke.  ``states`` stacks each effect's
-    :meth:`~liquidamp.device.effects.Effect.stroke_state_rate` (no states for
-    a registered model or force-only effects).
-    """
-    if base is None or not base.n_states:
-        return None
-    if not model.effects and model.rhs is not base.rhs:
-        return None  # a user-modified copy of a registered model
-    compiled = {}
-    for e in model.effects:
-        if e.name == "leakage" and base.name in _COMPILED_LEAKAGE and "leakage" not in compiled:
-            compiled["leakage"] = e.coefficient_m3_per_s_Pa
-        elif not e.stroke_driven:
-            return None
-    owners = [e for e in model.effects if e.state_names]
-    names = tuple(n for e in owners for n in e.state_names)
-    if model.n_states != base.n_states + len(names):
-        return None
-    nb = base.n_states
-    sizes = [len(e.state_names) for e in owners]
-
-    def rhs(t, z, u, p):
-        out, i = [], 0
-        for e, k in zip(owners, sizes, strict=True):
-            out.extend(e.stroke_state_rate(u, z[i:i + k]))
-            i += k
-        return np.array(out, dtype=float)
-
-    states = DeviceModel(
-        name=f"{model.name} (stroke-driven states)", equation="", description="",
-        state_names=names, state_units=model.state_units[nb:], limits="", rhs=rhs,
-        fluid_force=lambda t, x, u, p: 0.0,
-        initial_state=lambda p, y0=0.0: np.asarray(model.initial_state(p, y0), float)[nb:],
-        state_scales=lambda p: np.asarray(model.state_scales(p), float)[nb:])
-    return _Split(states, compiled)
-
-
 def _engine(options) -> str:
     return getattr(options, "engine", "python")
 
@@ -533,16 +476,11 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
         The measured record (its smoothed stroke about its mean, SG velocity
         and acceleration drive the model).
     options : SolverOptions, optional
-        ``rtol``, ``atol_scale`` and ``pressure_floor`` are used.  With
-        ``engine="compiled"`` the fluid states of a registered model, or of
-        one composed only with stroke-driven effects (coulomb_friction,
-        force_offset, moving_mass; smooth_friction, whose bristle state sees
-        the stroke alone), come from :func:`liquidamp.coupled.testrig.simulate`
-        (the compiled engine) and the effects' own states from their
-        one-state ODE (:func:`integrate`); effects that change what the fluid
-        sees (leakage, cavitation, series compliance, freeplay), and the
-        ``python`` engine, integrate the composed model with LSODA
-        (:func:`integrate`).
+        ``rtol``, ``atol_scale``, ``max_step_fraction`` and
+        ``pressure_floor`` are used.  With ``engine="compiled"`` the model,
+        with any effects, runs on the compiled engine
+        (:func:`liquidamp.coupled.fast.march`); the reference engine
+        integrates the same right-hand side with LSODA (:func:`integrate`).
     preroll : int
         Passes over the first cycle discarded before the record is run
         (module docstring) [-].
@@ -594,28 +532,14 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     # closed cavity) gives zero derivatives at the start, and an unbounded first step
     # can jump over the whole record without ever seeing the contact
     hmax = max(options.max_step_fraction, 1e-4) * record.period
-    base = REGISTRY.get(model.name.split("+")[0])
-    split = _stroke_driven_split(model, base)
-    if engine != "python" and model.n_states and split is not None:
-        # a registered model, or one whose effects act on the force only and own states
-        # driven by the stroke alone (and a leakage the compiled kernels hold): the fluid
-        # states come from the compiled engine, the effects' states from their own (small)
-        # ODE, the force from the composed model
-        from liquidamp.coupled.fast import march, pack_effects
-
-        nb = base.n_states
-        eff = pack_effects(split.compiled)
-        split = split.states
+    if engine == "compiled" and model.n_states:
+        # every model with any effects runs on the compiled engine (one copy of the physics)
+        from liquidamp.coupled.fast import march
 
         def run(t_eval, xs):
             t0, t1 = float(t_eval[0]), float(t_eval[-1])
-            X, _, _ = march(base, params, stroke, xs[:nb], t0, t1, t_eval, options,
-                            options.max_step_fraction * getattr(stroke, "period", t1 - t0),
-                            effects=eff)
-            if split.n_states:
-                Z = integrate(split, params, fast, t_eval, xs[nb:], rtol=options.rtol,
-                              atol_scale=options.atol_scale, hmax=hmax)
-                X = np.vstack((X, Z))
+            X, _, _ = march(model, params, stroke, xs, t0, t1, t_eval, options,
+                            options.max_step_fraction * record.period)
             return X
     else:
         def run(t_eval, xs):
@@ -646,7 +570,7 @@ def _response(model, params, t, X, u, options) -> DeviceResponse:
         if pmin <= 0.0:
             warn.append(f"absolute chamber pressure went negative (lowest {pmin:.4g} Pa): "
                         "non-physical for this model")
-        elif pmin < options.vapour_pressure and "cavitation" not in model.name:
+        elif pmin < options.vapour_pressure and model.effect("cavitation") is None:
             warn.append(f"lowest chamber pressure {pmin:.4g} Pa is below the vapour pressure "
                         f"{options.vapour_pressure:g} Pa (add the 'cavitation' effect)")
     mass_error = None

@@ -1,14 +1,15 @@
-"""Compiled (numba) kernels of the device models and their integrators.
+"""Compiled (numba) integrators of the device models and of the rotor with devices.
 
 Private module: use it through :mod:`liquidamp.coupled.fast` or through
-``SolverOptions(engine="compiled")``.  Everything here works on plain float
-arrays so that one compiled specialisation serves every model:
+``SolverOptions(engine="compiled")``.  The physics is not here: the
+right-hand side, Jacobian, time derivative and force of every model and
+effect are those of :mod:`liquidamp.device.kernels` (the one copy both
+engines run), called on the arrays of
+:meth:`~liquidamp.device.models.DeviceModel.packed`:
 
-* ``mid`` selects the model (``MODEL_IDS``);
-* ``prm`` is the packed parameter vector (``P_*`` indices, built by
-  :func:`liquidamp.coupled.fast.pack_params`);
-* ``eff`` is the add-on effect vector (``E_*`` indices); a zero entry means
-  the effect is absent, so a model without effects runs the same code;
+* ``spec`` describes the composed model (base id, states, effect slots);
+* ``prm`` is the packed parameter vector;
+* ``ep`` the effect parameters and state scales;
 * the stroke is ``kind`` 0 (harmonic, evaluated analytically from
   ``sp = [Y, omega, offset, phase]``) or 1 (recorded, linear interpolation of
   the arrays ``st, sy, sv, sa`` with the end values held outside, like
@@ -42,10 +43,11 @@ compiled twice from one text, as :data:`integrate` (both steppers) and as
 a global flag), so that a non-stiff first call compiles about half the code;
 each serves a single span and, with ``max_cycles > 0``, the whole
 periodic-steady-state loop.  The linear algebra is one 5 x 5 LU
-specialisation for every model (smaller systems padded with the identity);
+specialisation for every base model (smaller systems padded with the identity);
 the full model evaluates f, J and df/dt at the start of a RODAS4 step
-together (:func:`_full_all`); the stage times t + h share one stroke
-evaluation.
+together (``device.kernels.full_all``); the stage times t + h share one stroke
+evaluation.  A composition with more than five states (effect states) uses
+the general LU.
 
 References
 ----------
@@ -69,45 +71,26 @@ import types
 import numpy as np
 from numba import njit
 
+from liquidamp.device.kernels import (
+    E_LEAK,
+    M_FULL,
+    P_FRIC,  # noqa: F401  (re-exported for the rotor packing)
+    S_ANALYTIC,
+    S_LEAK,
+    S_MID,
+    S_N,
+    S_NB,
+    base_rhs_inline,
+    full_all,
+    model_force,
+    model_jac,
+    model_rhs,
+    model_rhs_t,
+)
+
 #: Fast-math flags of the pure arithmetic kernels: reciprocal and contraction only
 #: (no assumption of finite values, so NaN/inf checks keep working).
 _FM = {"arcp", "contract"}
-
-# ---------------------------------------------------------------- model ids
-M_FULL = 0
-M_NO_INERTIA = 1
-M_CONSTANT_BULK = 2
-M_VOLUMETRIC = 3
-M_SINGLE_STATE = 4
-M_INERTIAL = 5
-M_INERTIAL_2STATE = 6
-M_MAXWELL = 7
-
-MODEL_IDS = {
-    "full": M_FULL,
-    "no_inertia": M_NO_INERTIA,
-    "constant_bulk": M_CONSTANT_BULK,
-    "volumetric": M_VOLUMETRIC,
-    "single_state": M_SINGLE_STATE,
-    "inertial": M_INERTIAL,
-    "inertial_2state": M_INERTIAL_2STATE,
-    "maxwell": M_MAXWELL,
-}
-N_STATES = {0: 5, 1: 4, 2: 2, 3: 2, 4: 1, 5: 3, 6: 2, 7: 1}
-
-# ------------------------------------------------------- parameter vector
-P_AP, P_V01, P_V02, P_BL, P_X01, P_X02, P_P0, P_N, P_RHO0 = range(9)
-P_G1, P_G2, P_C1, P_C2, P_ST, P_LT, P_B01, P_B02, P_KD, P_TD = range(9, 19)
-P_CONSTB, P_FRIC = 19, 20
-N_PRM = 21
-
-# ------------------------------------------------ add-on effect vector
-#: laminar leakage conductance k [m^3/(s Pa)]: bypass mass flow rho_l k (p1 - p2)
-#: (models full and no_inertia).
-E_LEAK = 0
-#: constant force offset added to the load-cell force [N] (every model).
-E_FORCE_OFFSET = 1
-N_EFF = 8
 
 # ----------------------------------------------------------- status codes
 ST_OK = 0
@@ -161,71 +144,6 @@ _RCC = np.array([
 ])
 _RC = np.array([0.0, _C2, _C3, _C4, 1.0, 1.0])
 _RD = np.array([_D1, _D2, _D3, _D4, 0.0, 0.0])
-
-
-# ------------------------------------------------------------------ fluid laws
-@njit(cache=True, error_model="numpy", fastmath=_FM)
-def bulk(p, X0, prm):
-    """Bulk modulus of eq. (2) under the parameter set's law; p floored at 1 Pa [Pa]."""
-    if prm[P_CONSTB] != 0.0:
-        p = prm[P_P0]
-    if p < 1.0:
-        p = 1.0
-    B_l, n = prm[P_BL], prm[P_N]
-    r = (prm[P_P0] / p) ** (1.0 / n)
-    return B_l * (1.0 - X0 + X0 * r) / (1.0 - X0 + B_l * X0 * r / (n * p))
-
-
-@njit(cache=True, error_model="numpy", fastmath=_FM)
-def bulk_dp(p, X0, prm):
-    """dB/dp of eq. (2) (0 for the constant law or below the 1 Pa floor) [-]."""
-    if prm[P_CONSTB] != 0.0 or p < 1.0:
-        return 0.0
-    B_l, n, p0 = prm[P_BL], prm[P_N], prm[P_P0]
-    r = (p0 / p) ** (1.0 / n)
-    dr = -r / (n * p)
-    num = 1.0 - X0 + X0 * r
-    den = 1.0 - X0 + B_l * X0 * r / (n * p)
-    dnum = X0 * dr
-    dden = B_l * X0 / n * (dr / p - r / (p * p))
-    return B_l * (dnum * den - num * dden) / (den * den)
-
-
-@njit(cache=True, error_model="numpy", fastmath=_FM)
-def bulk_and_dp(p, X0, prm):
-    """:func:`bulk` and :func:`bulk_dp` sharing one power evaluation."""
-    if prm[P_CONSTB] != 0.0:
-        return bulk(p, X0, prm), 0.0
-    if p < 1.0:
-        return bulk(p, X0, prm), 0.0
-    B_l, n, p0 = prm[P_BL], prm[P_N], prm[P_P0]
-    r = (p0 / p) ** (1.0 / n)
-    num = 1.0 - X0 + X0 * r
-    den = 1.0 - X0 + B_l * X0 * r / (n * p)
-    dr = -r / (n * p)
-    dnum = X0 * dr
-    dden = B_l * X0 / n * (dr / p - r / (p * p))
-    return B_l * num / den, B_l * (dnum * den - num * dden) / (den * den)
-
-
-@njit(cache=True, error_model="numpy", fastmath=_FM)
-def loss_flow(dp, k1, k2):
-    """Analytic inverse of eq. (5), cancellation-free [flow unit]."""
-    if dp == 0.0:
-        return 0.0
-    return 2.0 * dp / (k1 + math.sqrt(k1 * k1 + 4.0 * k2 * abs(dp)))
-
-
-@njit(cache=True, error_model="numpy", fastmath=_FM)
-def loss_flow_dp(dp, k1, k2):
-    """d(flow)/d(dp) of :func:`loss_flow` [flow unit / Pa]."""
-    return 1.0 / max(math.sqrt(k1 * k1 + 4.0 * k2 * abs(dp)), 1e-300)
-
-
-@njit(cache=True, error_model="numpy", fastmath=_FM)
-def r_const(p, B0, prm):
-    """Density of a constant-bulk chamber r(p) = rho0 exp((p - p0)/B0) [kg/m^3]."""
-    return prm[P_RHO0] * math.exp((p - prm[P_P0]) / B0)
 
 
 # --------------------------------------------------------------------- stroke
@@ -293,265 +211,6 @@ def _next_break(kind, t, st, tiny):
     if t + tiny < st[0]:
         return st[0]
     return st[_segment(st, t + tiny) + 1]
-
-
-# ------------------------------------------------------------ models: rhs, jac
-@njit(cache=True, error_model="numpy", fastmath=_FM)
-def rhs(mid, x, y, v, prm, eff, out):
-    """Right-hand side dx/dt of model ``mid`` at stroke (y, v), written to ``out``."""
-    Ap = prm[P_AP]
-    V1 = prm[P_V01] - Ap * y
-    V2 = prm[P_V02] + Ap * y
-    if mid == M_FULL or mid == M_NO_INERTIA:
-        p1, r1, p2, r2 = x[0], x[1], x[2], x[3]
-        if mid == M_FULL:
-            m = x[4]
-        else:
-            m = loss_flow(p1 - p2, prm[P_G1], prm[P_G2])
-        mt = m + prm[P_RHO0] * eff[E_LEAK] * (p1 - p2)
-        B1 = bulk(p1, prm[P_X01], prm)
-        B2 = bulk(p2, prm[P_X02], prm)
-        out[0] = B1 / V1 * (Ap * v - mt / r1)
-        out[1] = (r1 * Ap * v - mt) / V1
-        out[2] = B2 / V2 * (-Ap * v + mt / r2)
-        out[3] = (-r2 * Ap * v + mt) / V2
-        if mid == M_FULL:
-            out[4] = (p1 - p2 - prm[P_G1] * m - prm[P_G2] * m * abs(m)) / prm[P_ST]
-    elif mid == M_CONSTANT_BULK:
-        p1, p2 = x[0], x[1]
-        m = loss_flow(p1 - p2, prm[P_G1], prm[P_G2])
-        B1, B2 = prm[P_B01], prm[P_B02]
-        out[0] = B1 / V1 * (Ap * v - m / r_const(p1, B1, prm))
-        out[1] = B2 / V2 * (-Ap * v + m / r_const(p2, B2, prm))
-    elif mid == M_VOLUMETRIC:
-        q = loss_flow(x[0] - x[1], prm[P_C1], prm[P_C2])
-        out[0] = prm[P_B01] / V1 * (Ap * v - q)
-        out[1] = prm[P_B02] / V2 * (-Ap * v + q)
-    elif mid == M_SINGLE_STATE:
-        q = loss_flow(x[0], prm[P_C1], prm[P_C2])
-        out[0] = (prm[P_B01] / V1 + prm[P_B02] / V2) * (Ap * v - q)
-    elif mid == M_INERTIAL:
-        p1, p2, m = x[0], x[1], x[2]
-        B1, B2 = prm[P_B01], prm[P_B02]
-        out[0] = B1 / V1 * (Ap * v - m / r_const(p1, B1, prm))
-        out[1] = B2 / V2 * (-Ap * v + m / r_const(p2, B2, prm))
-        out[2] = (p1 - p2 - prm[P_G1] * m - prm[P_G2] * m * abs(m)) / prm[P_ST]
-    elif mid == M_INERTIAL_2STATE:
-        q = x[1]
-        B = prm[P_B01] / V1 + prm[P_B02] / V2
-        out[0] = B * (Ap * v - q)
-        out[1] = (x[0] - prm[P_C1] * q - prm[P_C2] * q * abs(q)) / prm[P_LT]
-    else:  # maxwell
-        out[0] = prm[P_KD] * v - x[0] / prm[P_TD]
-
-
-#: :func:`rhs` inlined into the explicit stepper, where it is most of the work per step
-#: (elsewhere it is called, which keeps the compile time down).
-_rhs_inline = njit(cache=True, error_model="numpy", fastmath=_FM, inline="always")(rhs.py_func)
-
-
-@njit(cache=True, error_model="numpy", fastmath=_FM)
-def rhs_t(mid, x, y, v, yd, a, prm, eff, out):
-    """Partial derivative d rhs / dt at fixed x through the stroke (y' = yd, v' = a)."""
-    Ap = prm[P_AP]
-    V1 = prm[P_V01] - Ap * y
-    V2 = prm[P_V02] + Ap * y
-    if mid == M_MAXWELL:
-        out[0] = prm[P_KD] * a
-        return
-    if mid == M_SINGLE_STATE or mid == M_INERTIAL_2STATE:
-        if mid == M_SINGLE_STATE:
-            q = loss_flow(x[0], prm[P_C1], prm[P_C2])
-        else:
-            q = x[1]
-            out[1] = 0.0
-        B1, B2 = prm[P_B01], prm[P_B02]
-        out[0] = (B1 / (V1 * V1) - B2 / (V2 * V2)) * Ap * yd * (Ap * v - q) + (
-            B1 / V1 + B2 / V2) * Ap * a
-        return
-    if mid == M_FULL or mid == M_NO_INERTIA:
-        p1, r1, p2, r2 = x[0], x[1], x[2], x[3]
-        if mid == M_FULL:
-            m = x[4]
-            out[4] = 0.0
-        else:
-            m = loss_flow(p1 - p2, prm[P_G1], prm[P_G2])
-        m = m + prm[P_RHO0] * eff[E_LEAK] * (p1 - p2)
-        B1 = bulk(p1, prm[P_X01], prm)
-        B2 = bulk(p2, prm[P_X02], prm)
-        w1 = Ap * v - m / r1
-        w2 = -Ap * v + m / r2
-        out[0] = B1 / V1 * (Ap * yd / V1 * w1 + Ap * a)
-        out[1] = (r1 * Ap * a + (r1 * Ap * v - m) / V1 * Ap * yd) / V1
-        out[2] = B2 / V2 * (-Ap * yd / V2 * w2 - Ap * a)
-        out[3] = (-r2 * Ap * a - (-r2 * Ap * v + m) / V2 * Ap * yd) / V2
-        return
-    # constant_bulk, volumetric, inertial: two pressure equations of the same form
-    B1, B2 = prm[P_B01], prm[P_B02]
-    if mid == M_VOLUMETRIC:
-        q = loss_flow(x[0] - x[1], prm[P_C1], prm[P_C2])
-        w1 = Ap * v - q
-        w2 = -Ap * v + q
-    else:
-        if mid == M_INERTIAL:
-            m = x[2]
-            out[2] = 0.0
-        else:
-            m = loss_flow(x[0] - x[1], prm[P_G1], prm[P_G2])
-        w1 = Ap * v - m / r_const(x[0], B1, prm)
-        w2 = -Ap * v + m / r_const(x[1], B2, prm)
-    out[0] = B1 / V1 * (Ap * yd / V1 * w1 + Ap * a)
-    out[1] = B2 / V2 * (-Ap * yd / V2 * w2 - Ap * a)
-
-
-@njit(cache=True, error_model="numpy", fastmath=_FM)
-def jac(mid, x, y, v, prm, eff, J):
-    """Analytic Jacobian d rhs / dx of model ``mid``, written to ``J`` (zeroed here)."""
-    J[:, :] = 0.0
-    Ap = prm[P_AP]
-    V1 = prm[P_V01] - Ap * y
-    V2 = prm[P_V02] + Ap * y
-    if mid == M_FULL or mid == M_NO_INERTIA:
-        p1, r1, p2, r2 = x[0], x[1], x[2], x[3]
-        dmL = prm[P_RHO0] * eff[E_LEAK]
-        if mid == M_FULL:
-            m = x[4]
-            dm = dmL  # d(total flow)/dp1 = -d/dp2
-        else:
-            m = loss_flow(p1 - p2, prm[P_G1], prm[P_G2])
-            dm = loss_flow_dp(p1 - p2, prm[P_G1], prm[P_G2]) + dmL
-        mt = m + dmL * (p1 - p2)
-        X1, X2 = prm[P_X01], prm[P_X02]
-        B1, dB1 = bulk_and_dp(p1, X1, prm)
-        B2, dB2 = bulk_and_dp(p2, X2, prm)
-        J[0, 0] = dB1 / V1 * (Ap * v - mt / r1) - B1 / (V1 * r1) * dm
-        J[0, 1] = B1 / V1 * mt / (r1 * r1)
-        J[0, 2] = B1 / (V1 * r1) * dm
-        J[1, 0] = -dm / V1
-        J[1, 1] = Ap * v / V1
-        J[1, 2] = dm / V1
-        J[2, 0] = B2 / (V2 * r2) * dm
-        J[2, 2] = dB2 / V2 * (-Ap * v + mt / r2) - B2 / (V2 * r2) * dm
-        J[2, 3] = -B2 / V2 * mt / (r2 * r2)
-        J[3, 0] = dm / V2
-        J[3, 2] = -dm / V2
-        J[3, 3] = -Ap * v / V2
-        if mid == M_FULL:
-            S = prm[P_ST]
-            J[0, 4] = -B1 / (V1 * r1)
-            J[1, 4] = -1.0 / V1
-            J[2, 4] = B2 / (V2 * r2)
-            J[3, 4] = 1.0 / V2
-            J[4, 0] = 1.0 / S
-            J[4, 2] = -1.0 / S
-            J[4, 4] = -(prm[P_G1] + 2.0 * prm[P_G2] * abs(m)) / S
-    elif mid == M_CONSTANT_BULK:
-        p1, p2 = x[0], x[1]
-        m = loss_flow(p1 - p2, prm[P_G1], prm[P_G2])
-        dm = loss_flow_dp(p1 - p2, prm[P_G1], prm[P_G2])
-        B1, B2 = prm[P_B01], prm[P_B02]
-        r1, r2 = r_const(p1, B1, prm), r_const(p2, B2, prm)
-        J[0, 0] = -B1 / (V1 * r1) * dm + m / (V1 * r1)
-        J[0, 1] = B1 / (V1 * r1) * dm
-        J[1, 0] = B2 / (V2 * r2) * dm
-        J[1, 1] = -B2 / (V2 * r2) * dm - m / (V2 * r2)
-    elif mid == M_VOLUMETRIC:
-        dq = loss_flow_dp(x[0] - x[1], prm[P_C1], prm[P_C2])
-        J[0, 0] = -prm[P_B01] / V1 * dq
-        J[0, 1] = prm[P_B01] / V1 * dq
-        J[1, 0] = prm[P_B02] / V2 * dq
-        J[1, 1] = -prm[P_B02] / V2 * dq
-    elif mid == M_SINGLE_STATE:
-        dq = loss_flow_dp(x[0], prm[P_C1], prm[P_C2])
-        J[0, 0] = -(prm[P_B01] / V1 + prm[P_B02] / V2) * dq
-    elif mid == M_INERTIAL:
-        p1, p2, m = x[0], x[1], x[2]
-        B1, B2 = prm[P_B01], prm[P_B02]
-        r1, r2 = r_const(p1, B1, prm), r_const(p2, B2, prm)
-        S = prm[P_ST]
-        J[0, 0] = m / (V1 * r1)
-        J[0, 2] = -B1 / (V1 * r1)
-        J[1, 1] = -m / (V2 * r2)
-        J[1, 2] = B2 / (V2 * r2)
-        J[2, 0] = 1.0 / S
-        J[2, 1] = -1.0 / S
-        J[2, 2] = -(prm[P_G1] + 2.0 * prm[P_G2] * abs(m)) / S
-    elif mid == M_INERTIAL_2STATE:
-        B = prm[P_B01] / V1 + prm[P_B02] / V2
-        J[0, 1] = -B
-        J[1, 0] = 1.0 / prm[P_LT]
-        J[1, 1] = -(prm[P_C1] + 2.0 * prm[P_C2] * abs(x[1])) / prm[P_LT]
-    else:
-        J[0, 0] = -1.0 / prm[P_TD]
-
-
-@njit(cache=True, error_model="numpy", fastmath=_FM)
-def _full_all(x, y, v, yd, a, prm, eff, f, J, ft):
-    """:func:`rhs`, :func:`jac` (non-zero entries only) and :func:`rhs_t` of the full
-    model (eq. 10) at one point, sharing the two bulk-modulus evaluations."""
-    Ap = prm[P_AP]
-    V1 = prm[P_V01] - Ap * y
-    V2 = prm[P_V02] + Ap * y
-    p1, r1, p2, r2, m = x[0], x[1], x[2], x[3], x[4]
-    dm = prm[P_RHO0] * eff[E_LEAK]
-    mt = m + dm * (p1 - p2)
-    B1, dB1 = bulk_and_dp(p1, prm[P_X01], prm)
-    B2, dB2 = bulk_and_dp(p2, prm[P_X02], prm)
-    S = prm[P_ST]
-    w1 = Ap * v - mt / r1
-    w2 = -Ap * v + mt / r2
-    f[0] = B1 / V1 * w1
-    f[1] = (r1 * Ap * v - mt) / V1
-    f[2] = B2 / V2 * w2
-    f[3] = (-r2 * Ap * v + mt) / V2
-    f[4] = (p1 - p2 - prm[P_G1] * m - prm[P_G2] * m * abs(m)) / S
-    c1 = B1 / (V1 * r1)
-    c2 = B2 / (V2 * r2)
-    J[0, 0] = dB1 / V1 * w1 - c1 * dm
-    J[0, 1] = B1 / V1 * mt / (r1 * r1)
-    J[0, 2] = c1 * dm
-    J[0, 4] = -c1
-    J[1, 0] = -dm / V1
-    J[1, 1] = Ap * v / V1
-    J[1, 2] = dm / V1
-    J[1, 4] = -1.0 / V1
-    J[2, 0] = c2 * dm
-    J[2, 2] = dB2 / V2 * w2 - c2 * dm
-    J[2, 3] = -B2 / V2 * mt / (r2 * r2)
-    J[2, 4] = c2
-    J[3, 0] = dm / V2
-    J[3, 2] = -dm / V2
-    J[3, 3] = -Ap * v / V2
-    J[3, 4] = 1.0 / V2
-    J[4, 0] = 1.0 / S
-    J[4, 2] = -1.0 / S
-    J[4, 4] = -(prm[P_G1] + 2.0 * prm[P_G2] * abs(m)) / S
-    ft[0] = B1 / V1 * (Ap * yd / V1 * w1 + Ap * a)
-    ft[1] = (r1 * Ap * a + (r1 * Ap * v - mt) / V1 * Ap * yd) / V1
-    ft[2] = B2 / V2 * (-Ap * yd / V2 * w2 - Ap * a)
-    ft[3] = (-r2 * Ap * a - (-r2 * Ap * v + mt) / V2 * Ap * yd) / V2
-    ft[4] = 0.0
-
-
-@njit(cache=True, error_model="numpy")
-def force(mid, x, v, prm, eff):
-    """Load-cell force: fluid force + |F_f| sign(v) + force offset [N]."""
-    Ap = prm[P_AP]
-    if mid == M_FULL or mid == M_NO_INERTIA:
-        f = Ap * (x[0] - x[2])
-    elif mid == M_CONSTANT_BULK or mid == M_VOLUMETRIC or mid == M_INERTIAL:
-        f = Ap * (x[0] - x[1])
-    elif mid == M_SINGLE_STATE or mid == M_INERTIAL_2STATE:
-        f = Ap * x[0]
-    else:
-        f = x[0]
-    fr = prm[P_FRIC]
-    if fr > 0.0:
-        if v > 0.0:
-            f += fr
-        elif v < 0.0:
-            f -= fr
-    return f + eff[E_FORCE_OFFSET]
 
 
 # ------------------------------------------------------------ linear algebra
@@ -691,7 +350,7 @@ _NONSTIFF_RESET = 6
 
 
 @njit(cache=True, error_model="numpy")
-def _dp5_attempt(mid, prm, eff, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, fsal, atol, rtol,
+def _dp5_attempt(spec, prm, ep, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, fsal, atol, rtol,
                  kk, ys, y6, xn, sc, ft):
     """One Dormand-Prince 5(4) step attempt of size h from (t, x); return its error norm.
 
@@ -701,6 +360,8 @@ def _dp5_attempt(mid, prm, eff, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, fsal,
     stiffness test).
     """
     n = x.size
+    mid = spec[S_MID]
+    plain = spec[S_N] == spec[S_NB] and spec[S_LEAK] == 0
     y, v = y0, v0
     for s_i in range(1 if fsal else 0, 7):
         if s_i == 0:
@@ -721,7 +382,10 @@ def _dp5_attempt(mid, prm, eff, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, fsal,
                     acc += _EB[j] * kk[j, i]
                 xn[i] = x[i] + h * acc
                 ys[i] = xn[i]
-        _rhs_inline(mid, ys, y, v, prm, eff, ft)
+        if plain:  # the base equation alone: inlined
+            base_rhs_inline(mid, ys, y, v, prm, 0.0, ft)
+        else:
+            model_rhs(spec, ys, y, v, prm, ep, ft)
         for i in range(n):
             kk[s_i, i] = ft[i]
     err = 0.0
@@ -758,7 +422,7 @@ def _stiff_hlambda(kk, xn, y6, sc, h):
 
 
 @njit(cache=True, error_model="numpy")
-def _rodas_attempt(mid, prm, eff, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, reuse_f0, f0,
+def _rodas_attempt(spec, prm, ep, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, reuse_f0, f0,
                    J, fdt, atol, rtol, G, piv, dinv, kk, ys, ks, ft, xn):
     """One RODAS4 step attempt of size h from (t, x); return its error norm (inf: singular).
 
@@ -767,12 +431,16 @@ def _rodas_attempt(mid, prm, eff, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, reu
     holds the six stages and ``xn`` the new state.
     """
     n = x.size
+    nj = G.shape[0]  # 5 (padded with the identity) or the state count where larger
     fac = 1.0 / (h * _GAM)
-    for i in range(5):
-        for j in range(5):
+    for i in range(nj):
+        for j in range(nj):
             G[i, j] = -J[i, j]
         G[i, i] += fac
-    if not _lu5(G, piv, dinv):
+    if nj == 5:
+        if not _lu5(G, piv, dinv):
+            return np.inf
+    elif not _lu(G, piv):
         return np.inf
     y, v = y0, v0
     for st_i in range(6):
@@ -789,7 +457,7 @@ def _rodas_attempt(mid, prm, eff, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, reu
                 y, v = y0, v0
             elif st_i != 5:  # stages 5 and 6 share the time t + h
                 y, v, a = stroke_eval(kind, t + _RC[st_i] * h, sp, st, sy, sv, sa)
-            rhs(mid, ys, y, v, prm, eff, ft)
+            model_rhs(spec, ys, y, v, prm, ep, ft)
             if st_i == 0:
                 for i in range(n):
                     f0[i] = ft[i]
@@ -799,7 +467,10 @@ def _rodas_attempt(mid, prm, eff, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, reu
             for j in range(st_i):
                 cs += _RCC[st_i, j] * kk[j, i]
             ks[i] = acc + cs / h
-        _solve5(G, piv, dinv, ks)
+        if nj == 5:
+            _solve5(G, piv, dinv, ks)
+        else:
+            _solve(G, piv, ks)
         for i in range(n):
             kk[st_i, i] = ks[i]
     err = 0.0
@@ -825,10 +496,10 @@ def _rodas_dense(x, xn, kk, pc):
         pc[4, i] = 0.0
 
 
-def _integrate_source(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, atol,
+def _integrate_source(spec, prm, ep, kind, sp, st, sy, sv, sa, x0, t0, t1, teval, rtol, atol,
                       hmax, h0, fi1, fi2, pfloor, max_steps, steady_tol, min_cycles, max_cycles,
                       meth, out, info):
-    """Integrate model ``mid``, dense output at ``teval``; or march periods.
+    """Integrate the composed model ``spec``, dense output at ``teval``; or march periods.
 
     The source of the two compiled entry points of the device integrator,
     :data:`integrate` (both methods) and :data:`integrate_explicit` (the
@@ -880,16 +551,20 @@ def _integrate_source(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval
     ys = np.empty(n)
     y6 = np.empty(n)
     sc = np.empty(n)
-    # the linear algebra is 5 x 5 for every model (N_STATES <= 5): a smaller
-    # system is padded with the identity (J is zero there), so that one
-    # specialised factorisation serves all and no generic one is compiled
-    J = np.zeros((5, 5))
-    G = np.empty((5, 5))
-    piv = np.empty(5, np.int64)
-    dinv = np.empty(5)
+    # the linear algebra is 5 x 5 for every base model (at most 5 states): a
+    # smaller system is padded with the identity (J is zero there), so that one
+    # specialised factorisation serves them; a composition with more states
+    # (effect states) uses the general LU
+    nj = max(5, n)
+    J = np.zeros((nj, nj))
+    G = np.empty((nj, nj))
+    piv = np.empty(nj, np.int64)
+    dinv = np.empty(nj)
     kk = np.empty((7, n))
     pc = np.empty((5, n))
-    ks = np.zeros(5)
+    ks = np.zeros(nj)
+    full_fused = spec[S_MID] == M_FULL and spec[S_N] == 5 and spec[S_ANALYTIC] != 0
+    kL = ep[E_LEAK] if spec[S_LEAK] != 0 else 0.0
     nf = max(ne - 1, 1)
     force_now = np.empty(nf)
     force_prev = np.empty(nf)
@@ -969,22 +644,22 @@ def _integrate_source(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval
                         yd, vd = v0, a0
                     else:
                         yd, vd = stroke_rate(kind, t, sp, st, sy, sv, sa)
-                    if mid == M_FULL:  # sharing the fluid laws
-                        _full_all(x, y0, v0, yd, vd, prm, eff, f0, J, fdt)
+                    if full_fused:  # sharing the fluid laws
+                        full_all(x, y0, v0, yd, vd, prm, kL, f0, J, fdt)
                         reuse_f0 = True
                     else:
-                        jac(mid, x, y0, v0, prm, eff, J)
-                        rhs_t(mid, x, y0, v0, yd, vd, prm, eff, fdt)
+                        model_jac(spec, x, y0, v0, prm, ep, J)
+                        model_rhs_t(spec, x, y0, v0, yd, vd, prm, ep, fdt)
                         reuse_f0 = False
             while True:  # attempts until one is accepted
                 steps += 1
                 if expl:
                     explicit_steps += 1.0
-                    err = _dp5_attempt(mid, prm, eff, kind, sp, st, sy, sv, sa, x, t, h, y0, v0,
+                    err = _dp5_attempt(spec, prm, ep, kind, sp, st, sy, sv, sa, x, t, h, y0, v0,
                                        fsal == 1, atol, rtol, kk, ys, y6, xn, sc, ft)
                     fsal = 1
                 elif _WITH_RODAS:
-                    err = _rodas_attempt(mid, prm, eff, kind, sp, st, sy, sv, sa, x, t, h, y0,
+                    err = _rodas_attempt(spec, prm, ep, kind, sp, st, sy, sv, sa, x, t, h, y0,
                                          v0, reuse_f0, f0, J, fdt, atol, rtol, G, piv, dinv, kk,
                                          ys, ks, ft, xn)
                     reuse_f0 = True
@@ -1095,10 +770,8 @@ def _integrate_source(mid, prm, eff, kind, sp, st, sy, sv, sa, x0, t0, t1, teval
         for j in range(nf):
             for i in range(n):
                 ks[i] = out[i, j]
-            v = 0.0
-            if prm[P_FRIC] > 0.0:  # the velocity only sets the friction's sign
-                y, v, a = stroke_eval(kind, teval[j] + off, sp, st, sy, sv, sa)
-            fj = force(mid, ks, v, prm, eff)
+            y, v, a = stroke_eval(kind, teval[j] + off, sp, st, sy, sv, sa)
+            fj = model_force(spec, ks, y, v, a, prm, ep, True)
             force_now[j] = fj
             fmax = max(fmax, abs(fj))
         if cyc > 0:
@@ -1167,7 +840,7 @@ N_RP = 12
 
 
 @njit(cache=True, error_model="numpy")
-def rotor_rhs(t, X, rp, cb, dblade, dmid, doff, PRM, EFF, M, b, piv, Fk, out):
+def rotor_rhs(t, X, rp, cb, dblade, DSPEC, doff, PRM, DEP, M, b, piv, Fk, out):
     """Coupled rotor (rotating frame) + devices on the blade ports: dX/dt into ``out``.
 
     Host state ``[zeta_1..zeta_N, x, y, rates]`` (``GroundResonanceRotor``);
@@ -1186,8 +859,10 @@ def rotor_rhs(t, X, rp, cb, dblade, dmid, doff, PRM, EFF, M, b, piv, Fk, out):
         a1 = nh + doff[j + 1]
         v = arm * X[nb + k]
         z = X[a0:a1]
-        Fk[k] += force(dmid[j], z, v, PRM[j], EFF[j])
-        rhs(dmid[j], z, arm * X[k], v, PRM[j], EFF[j], out[a0:a1])
+        y = arm * X[k]
+        Fk[k] += model_force(DSPEC[j], z, y, v, 0.0, PRM[j], DEP[j], True)
+        if a1 > a0:
+            model_rhs(DSPEC[j], z, y, v, PRM[j], DEP[j], out[a0:a1])
     for i in range(nb):
         for j in range(nb):
             M[i, j] = 0.0
@@ -1220,7 +895,7 @@ def rotor_rhs(t, X, rp, cb, dblade, dmid, doff, PRM, EFF, M, b, piv, Fk, out):
 
 
 @njit(cache=True, error_model="numpy")
-def rotor_integrate(rp, cb, dblade, dmid, doff, PRM, EFF, fi, lim, pfloor, x0, t_end, teval,
+def rotor_integrate(rp, cb, dblade, DSPEC, doff, PRM, DEP, fi, lim, pfloor, x0, t_end, teval,
                     rtol, atol, hmax, max_steps, RA, RB, RC, E3, E5, RAX, RCX, RD, out, info):
     """DOP853 (Dormand-Prince 8(5,3), scipy's coefficients and step control) of :func:`rotor_rhs`.
 
@@ -1247,7 +922,7 @@ def rotor_integrate(rp, cb, dblade, dmid, doff, PRM, EFF, fi, lim, pfloor, x0, t
     f = np.empty(n)
     fnew = np.empty(n)
     t = 0.0
-    rotor_rhs(t, y, rp, cb, dblade, dmid, doff, PRM, EFF, M, b, piv, Fk, f)
+    rotor_rhs(t, y, rp, cb, dblade, DSPEC, doff, PRM, DEP, M, b, piv, Fk, f)
     nfev = 1
     # initial step (Hairer, Norsett & Wanner I, II.4; as scipy)
     d0 = 0.0
@@ -1262,7 +937,7 @@ def rotor_integrate(rp, cb, dblade, dmid, doff, PRM, EFF, fi, lim, pfloor, x0, t
     h0 = min(h0, t_end, hmax)
     for i in range(n):
         ytmp[i] = y[i] + h0 * f[i]
-    rotor_rhs(h0, ytmp, rp, cb, dblade, dmid, doff, PRM, EFF, M, b, piv, Fk, K[1])
+    rotor_rhs(h0, ytmp, rp, cb, dblade, DSPEC, doff, PRM, DEP, M, b, piv, Fk, K[1])
     nfev += 1
     d2 = 0.0
     for i in range(n):
@@ -1306,14 +981,14 @@ def rotor_integrate(rp, cb, dblade, dmid, doff, PRM, EFF, fi, lim, pfloor, x0, t
                 for r in range(s):
                     acc += RA[s, r] * K[r, i]
                 ytmp[i] = y[i] + h * acc
-            rotor_rhs(t + RC[s] * h, ytmp, rp, cb, dblade, dmid, doff, PRM, EFF, M, b, piv,
+            rotor_rhs(t + RC[s] * h, ytmp, rp, cb, dblade, DSPEC, doff, PRM, DEP, M, b, piv,
                       Fk, K[s])
         for i in range(n):
             acc = 0.0
             for r in range(ns):
                 acc += RB[r] * K[r, i]
             ynew[i] = y[i] + h * acc
-        rotor_rhs(tn, ynew, rp, cb, dblade, dmid, doff, PRM, EFF, M, b, piv, Fk, fnew)
+        rotor_rhs(tn, ynew, rp, cb, dblade, DSPEC, doff, PRM, DEP, M, b, piv, Fk, fnew)
         for i in range(n):
             K[ns, i] = fnew[i]
         nfev += ns
@@ -1347,8 +1022,8 @@ def rotor_integrate(rp, cb, dblade, dmid, doff, PRM, EFF, fi, lim, pfloor, x0, t
                         for r in range(s):
                             acc += RAX[s - ns - 1, r] * K[r, i]
                         ytmp[i] = y[i] + h * acc
-                    rotor_rhs(t + RCX[s - ns - 1] * h, ytmp, rp, cb, dblade, dmid, doff, PRM,
-                              EFF, M, b, piv, Fk, K[s])
+                    rotor_rhs(t + RCX[s - ns - 1] * h, ytmp, rp, cb, dblade, DSPEC, doff, PRM,
+                              DEP, M, b, piv, Fk, K[s])
                 nfev += 3
                 for i in range(n):
                     dy = ynew[i] - y[i]

@@ -64,13 +64,12 @@ import control
 import numpy as np
 from scipy.integrate import cumulative_simpson, solve_ivp
 
-from liquidamp.device.models import DeviceModel, get_model
+from liquidamp.device.models import VISCOUS, DeviceModel, ViscousParams, get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import (
     ConvergenceError,
     ParameterError,
     PressureError,
-    check_nonnegative,
     check_positive,
 )
 from liquidamp.options import DEFAULT_OPTIONS, SolverOptions
@@ -95,51 +94,6 @@ __all__ = [
 
 # ---------------------------------------------------------------------------
 # devices
-
-
-@dataclass(frozen=True)
-class ViscousParams:
-    """Parameters of the linear viscous damper F = c v.
-
-    Parameters
-    ----------
-    c : float
-        Damping coefficient >= 0 [N s/m].
-
-    Examples
-    --------
-    >>> ViscousParams(65080.0).c
-    65080.0
-    """
-
-    c: float
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "c", check_nonnegative("viscous damping c", self.c, "N s/m"))
-
-    @property
-    def friction_N(self) -> float:
-        """No friction [N] (the DeviceModel interface asks for it)."""
-        return 0.0
-
-
-def _no_rhs(t, x, u, p):
-    return np.zeros(0)
-
-
-#: The viscous damper F = c v [N] as a stateless device model.
-VISCOUS = DeviceModel(
-    name="viscous",
-    equation="-",
-    description="linear viscous damper F = c v (the host's own lag damper as a device)",
-    state_names=(),
-    state_units=(),
-    limits="linear ideal element",
-    rhs=_no_rhs,
-    fluid_force=lambda t, x, u, p: p.c * u[1],
-    initial_state=lambda p, y0=0.0: np.zeros(0),
-    state_scales=lambda p: np.zeros(0),
-)
 
 
 @dataclass(frozen=True)

@@ -78,17 +78,18 @@ from dataclasses import dataclass
 import numpy as np
 
 from liquidamp.coupled import _kernels as K
-from liquidamp.device.models import REGISTRY, DeviceModel
+from liquidamp.device import kernels as DK
+from liquidamp.device.models import BASES, DeviceModel
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, ParameterError, PressureError
 from liquidamp.structure.testmachine import HarmonicStroke, RecordedStroke
 
-__all__ = ["COMPILED_MODELS", "check_compiled", "pack_params", "pack_effects", "march",
-           "RotorRun", "simulate_rotor",
-           "steady_loop", "warm_up"]
+__all__ = ["COMPILED_MODELS", "supports", "check_compiled", "march", "RotorRun",
+           "simulate_rotor", "steady_loop", "warm_up"]
 
-#: Registry names of the models the compiled engine integrates.
-COMPILED_MODELS = tuple(K.MODEL_IDS)
+#: Registry names of the base models the compiled engine runs: all of them, with any
+#: add-on effects (the physics is :mod:`liquidamp.device.kernels`, shared with scipy).
+COMPILED_MODELS = tuple(BASES)
 
 #: Largest number of integration steps (accepted and rejected) in one call.
 MAX_STEPS = 5_000_000
@@ -98,78 +99,42 @@ N_INFO = 10
 
 _METHOD_CODES = {"auto": K.METH_AUTO, "rodas4": K.METH_RODAS4, "dopri5": K.METH_DOPRI5}
 
-_EFFECT_SLOTS = {"leakage": K.E_LEAK, "force_offset": K.E_FORCE_OFFSET}
 _DUMMY = np.zeros(2)
 
 
-def check_compiled(model: DeviceModel) -> int:
-    """Return the compiled id of ``model`` or raise ParameterError if unsupported.
+def supports(model) -> str | None:
+    """Why the compiled engine cannot integrate ``model`` on the test machine, or None.
+
+    Every model of the family with any add-on effects is supported; a
+    model whose base equation is not compiled (a hand-built DeviceModel)
+    is not.
 
     Examples
     --------
     >>> from liquidamp.device.models import get_model
-    >>> check_compiled(get_model("full"))
-    0
-    >>> check_compiled(get_model("inerter"))
-    Traceback (most recent call last):
-    ...
-    liquidamp.errors.ParameterError: engine 'compiled' does not integrate model 'inerter'; \
-supported: full, no_inertia, constant_bulk, volumetric, single_state, inertial, \
-inertial_2state, maxwell; use engine='python'
+    >>> supports(get_model("inerter")) is None
+    True
     """
-    mid = K.MODEL_IDS.get(model.name)
-    if mid is None or REGISTRY.get(model.name) is not model:
-        raise ParameterError(
-            f"engine 'compiled' does not integrate model {model.name!r}; supported: "
-            f"{', '.join(COMPILED_MODELS)}; use engine='python'"
-        )
-    return mid
+    if not isinstance(model, DeviceModel):
+        return f"not a DeviceModel: {type(model).__name__}"
+    if model.base not in BASES:
+        return f"model {model.name!r} has no compiled base equation"
+    return None
 
 
-def pack_params(params: DeviceParams) -> np.ndarray:
-    """Packed parameter vector of the compiled kernels (``_kernels.P_*`` order).
+def check_compiled(model: DeviceModel) -> DeviceModel:
+    """Return ``model`` or raise ParameterError naming why the compiled engine cannot run it.
 
     Examples
     --------
-    >>> from liquidamp.device import preset
-    >>> v = pack_params(preset("reference"))
-    >>> v.shape, bool(v[0] == preset("reference").A_p)
-    ((21,), True)
+    >>> from liquidamp.device.models import get_model
+    >>> check_compiled(get_model("full")).name
+    'full'
     """
-    p = params
-    v = np.zeros(K.N_PRM)
-    v[K.P_AP], v[K.P_V01], v[K.P_V02], v[K.P_BL] = p.A_p, p.V01, p.V02, p.B_l
-    v[K.P_X01], v[K.P_X02], v[K.P_P0], v[K.P_N] = p.X01, p.X02, p.p0, p.n
-    v[K.P_RHO0], v[K.P_G1], v[K.P_G2] = p.rho0, p.g1, p.g2
-    v[K.P_C1], v[K.P_C2], v[K.P_ST], v[K.P_LT] = p.c1, p.c2, p.S_t, p.L_t
-    v[K.P_B01], v[K.P_B02], v[K.P_KD] = p.B01, p.B02, p.k_D
-    v[K.P_TD] = p.T_D if p.c1 > 0.0 else np.inf
-    v[K.P_CONSTB] = 1.0 if p.bulk_law == "constant" else 0.0
-    v[K.P_FRIC] = p.friction_N
-    return v
-
-
-def pack_effects(effects: dict | None = None) -> np.ndarray:
-    """Effect vector of the compiled kernels; zeros mean absent.
-
-    Parameters
-    ----------
-    effects : dict, optional
-        ``{"leakage": k [m^3/(s Pa)], "force_offset": F [N]}``; unknown keys raise.
-
-    Examples
-    --------
-    >>> pack_effects({"force_offset": 5.0})[:2].tolist()
-    [0.0, 5.0]
-    """
-    v = np.zeros(K.N_EFF)
-    for key, value in (effects or {}).items():
-        if key not in _EFFECT_SLOTS:
-            raise ParameterError(
-                f"unknown compiled effect {key!r}; valid: {', '.join(_EFFECT_SLOTS)}"
-            )
-        v[_EFFECT_SLOTS[key]] = float(value)
-    return v
+    reason = supports(model)
+    if reason is not None:
+        raise ParameterError(f"engine 'compiled' cannot run this model: {reason}")
+    return model
 
 
 def _stroke_arrays(stroke):
@@ -188,7 +153,8 @@ def _stroke_arrays(stroke):
 def _floor_indices(model: DeviceModel, params: DeviceParams) -> tuple[int, int]:
     """Indices of the chamber pressures watched against the floor (as the Python path)."""
     if model.uses_bulk_law and params.bulk_law == "gholizadeh" and model.pressures is not None:
-        return 0, 2
+        names = model.state_names
+        return names.index("p1"), names.index("p2")
     return -1, -1
 
 
@@ -256,8 +222,8 @@ def _raise_status(model, options, info, t0, t1) -> None:
 
 
 def march(model: DeviceModel, params: DeviceParams, stroke, x0, t0: float, t1: float, t_eval,
-          options, max_step: float, *, effects: np.ndarray | None = None,
-          h0: float = 0.0, stats: dict | None = None) -> tuple[np.ndarray, np.ndarray, float]:
+          options, max_step: float, *, h0: float = 0.0,
+          stats: dict | None = None) -> tuple[np.ndarray, np.ndarray, float]:
     """Integrate one span with the compiled engine.
 
     Parameters
@@ -274,8 +240,6 @@ def march(model: DeviceModel, params: DeviceParams, stroke, x0, t0: float, t1: f
         ``rtol``, ``atol_scale``, ``pressure_floor``.
     max_step : float
         Largest step [s].
-    effects : array, optional
-        Effect vector (:func:`pack_effects`).
     h0 : float
         First step [s]; 0 picks one from the right-hand side.
     stats : dict, optional
@@ -299,7 +263,7 @@ def march(model: DeviceModel, params: DeviceParams, stroke, x0, t0: float, t1: f
     PressureError, ConvergenceError
         As the Python path.
     """
-    mid = check_compiled(model)
+    spec, prm, ep = check_compiled(model).packed(params)
     kind, sp, st, sy, sv, sa = _stroke_arrays(stroke)
     t_eval = np.ascontiguousarray(t_eval, dtype=float)
     if t_eval.size and (t_eval[0] < t0 or t_eval[-1] > t1 or np.any(np.diff(t_eval) < 0)):
@@ -309,11 +273,10 @@ def march(model: DeviceModel, params: DeviceParams, stroke, x0, t0: float, t1: f
     if x0.shape != (n,):
         raise ParameterError(f"x0 must have {n} entries for model {model.name!r}, got "
                              f"shape {x0.shape}")
-    eff = pack_effects() if effects is None else effects
     fi1, fi2 = _floor_indices(model, params)
     out = np.empty((n, t_eval.size))
     info = np.zeros(N_INFO)
-    x_end, rerun = _run(options, (mid, pack_params(params), eff, kind, sp, st, sy, sv, sa, x0,
+    x_end, rerun = _run(options, (spec, prm, ep, kind, sp, st, sy, sv, sa, x0,
                                   float(t0), float(t1), t_eval, float(options.rtol),
                                   _atol(model, params, options), float(max_step), float(h0), fi1,
                                   fi2, float(options.pressure_floor), MAX_STEPS, 0.0, 0, 0),
@@ -326,7 +289,7 @@ def march(model: DeviceModel, params: DeviceParams, stroke, x0, t0: float, t1: f
 
 
 def steady_loop(model: DeviceModel, params: DeviceParams, stroke: HarmonicStroke, x0, options,
-                *, effects: np.ndarray | None = None, stats: dict | None = None):
+                *, stats: dict | None = None):
     """Periodic steady state by marching cycles in compiled code.
 
     ``stats`` (optional dict) is filled in place as by :func:`march`, over
@@ -349,7 +312,7 @@ def steady_loop(model: DeviceModel, params: DeviceParams, stroke: HarmonicStroke
     PressureError
         As the Python path.
     """
-    mid = check_compiled(model)
+    spec, prm, ep = check_compiled(model).packed(params)
     T = stroke.period
     N = options.samples_per_period
     n = model.n_states
@@ -357,10 +320,9 @@ def steady_loop(model: DeviceModel, params: DeviceParams, stroke: HarmonicStroke
     info = np.zeros(N_INFO)
     kind, sp, st, sy, sv, sa = _stroke_arrays(stroke)
     fi1, fi2 = _floor_indices(model, params)
-    eff = pack_effects() if effects is None else effects
     grid = np.arange(N + 1) * (T / N)
     # the same compiled entry points as march, in their periodic mode
-    _, rerun = _run(options, (mid, pack_params(params), eff, kind, sp, st, sy, sv, sa,
+    _, rerun = _run(options, (spec, prm, ep, kind, sp, st, sy, sv, sa,
                               np.ascontiguousarray(x0, dtype=float), 0.0, float(T), grid,
                               float(options.rtol), _atol(model, params, options),
                               float(options.max_step_fraction * T), 0.0, fi1, fi2,
@@ -525,25 +487,26 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
     rp[K.R_CX], rp[K.R_CY] = rotor.hub_damping_x, rotor.hub_damping_y
     rp[K.R_KZ], rp[K.R_W], rp[K.R_ARM] = b.lag_stiffness(W), W, b.damper_arm
     nd = len(system.devices)
-    dmid = np.empty(nd, np.int64)
     doff = np.zeros(nd + 1, np.int64)
-    PRM = np.zeros((nd, K.N_PRM))
-    EFF = np.zeros((nd, K.N_EFF))
+    DSPEC = np.zeros((nd, DK.N_SPEC), np.int64)
+    PRM = np.zeros((nd, DK.N_PRM))
+    DEP = np.zeros((nd, DK.N_EP + max([d.n_states for d in system.devices] + [0])))
     fi = np.full((nd, 2), -1, np.int64)
     lim = np.empty(nd)
     atol = [np.full(nh, opts.atol_scale * max(float(np.max(np.abs(X0[:nh]))), 1e-12))]
     for j, d in enumerate(system.devices):
-        if not isinstance(d.params, DeviceParams) or d.model.uses_acceleration:
+        if d.model.uses_acceleration:
             raise ParameterError(
-                f"simulate_rotor: device {d.label!r} needs the Python route "
-                "(simulate_coupled): viscous and acceleration-driven devices are not compiled")
-        dmid[j] = check_compiled(d.model)
+                f"simulate_rotor: device {d.label!r} ({d.model.name}) uses the stroke "
+                "acceleration, which the compiled rotor kernel does not couple; use the scipy "
+                "engine (simulate_coupled)")
+        spec, prm, ep = check_compiled(d.model).packed(d.params)
+        DSPEC[j], PRM[j], DEP[j, :ep.size] = spec, prm, ep
         doff[j + 1] = doff[j] + d.n_states
-        PRM[j] = pack_params(d.params)
         lim[j] = d.stroke_limit
         names = d.model.state_names
         if d.model.pressures is not None and d.model.uses_bulk_law and "p1" in names \
-                and "p2" in names:
+                and "p2" in names and d.params.bulk_law == "gholizadeh":
             fi[j] = names.index("p1"), names.index("p2")
         atol.append(opts.atol_scale * np.asarray(d.model.state_scales(d.params), float))
     atol = np.ascontiguousarray(np.concatenate(atol))
@@ -556,8 +519,8 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
     out = np.zeros((X0.size, t_eval.size))
     info = np.zeros(5)
     tables = _dop853_tables()
-    K.rotor_integrate(rp, np.asarray(c, float), np.asarray(blades, np.int64) - 1, dmid, doff,
-                      PRM, EFF, fi, lim, float(opts.pressure_floor), X0, T_end, t_eval,
+    K.rotor_integrate(rp, np.asarray(c, float), np.asarray(blades, np.int64) - 1, DSPEC, doff,
+                      PRM, DEP, fi, lim, float(opts.pressure_floor), X0, T_end, t_eval,
                       float(opts.rtol), atol, hmax, int(max_steps), *tables, out, info)
     status = int(info[0])
     if status in (K.ST_STEP_TOO_SMALL, K.ST_TOO_MANY_STEPS):

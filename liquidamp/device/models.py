@@ -1,11 +1,15 @@
 """The device model family: eq. (10) of Titurus (2018) and every reduction (11)-(20).
 
-Every variant is a :class:`DeviceModel`: data (name, equation, state names
-and units, limits of validity) plus pure functions of ``(t, x, u, params)``,
+Every variant is a :class:`DeviceModel`: data (base equation, family, state
+names and units, limits of validity, effects) whose right-hand side,
+Jacobian and force are the compiled functions of
+:mod:`liquidamp.device.kernels` -- the one copy of the physics that both
+engines run -- as pure functions of ``(t, x, u, params)``,
 where ``x`` is the state vector, ``u = (y, v, a)`` the piston stroke [m],
 stroke rate [m/s] and stroke acceleration [m/s^2], and ``params`` a
-:class:`~liquidamp.device.params.DeviceParams`.  Nothing is cached between
-calls.  :data:`REGISTRY` maps each name to its model so that one contract
+:class:`~liquidamp.device.params.DeviceParams`.  Nothing about a call is
+kept on the object (the packed arrays of a model and a parameter set are
+memoized read-only).  :data:`REGISTRY` maps each name to its model so that one contract
 test runs over all of them.
 
 Sign conventions: V1 = V01 - A_p y, V2 = V02 + A_p y; m12 > 0 flows from
@@ -37,67 +41,77 @@ References
 
 from __future__ import annotations
 
+import functools
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from liquidamp.device.fluid import (
-    bulk_modulus_gholizadeh,
-    bulk_modulus_gholizadeh_dp,
-    loss_flow,
-    loss_flow_dp,
-)
+from liquidamp.device import kernels as K
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ParameterError, check_choice
 
-__all__ = ["DeviceModel", "REGISTRY", "get_model", "model_names"]
+__all__ = ["DeviceModel", "FAMILIES", "REGISTRY", "BASES", "VISCOUS", "ViscousParams",
+           "get_model", "model_names"]
 
-Rhs = Callable[[float, np.ndarray, tuple, DeviceParams], np.ndarray]
+#: Model families: what a model's states are, which decides which effects apply.
+FAMILIES = {
+    "chamber": "chamber pressures and densities as states (eqs. 10, 11)",
+    "pressure": "chamber pressures as states, densities explicit (eqs. 13, 14, 17)",
+    "differential": "differential pressure (and channel flow) only (eqs. 15, 18)",
+    "linear": "linear Maxwell unit (eq. 16)",
+    "ideal": "stateless ideal element (eqs. 16, 19, 20)",
+}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class DeviceModel:
-    """One variant of the device model family.
+    """One variant of the device model family, possibly with add-on effects.
+
+    A model is data: its base equation (``base``), its family, its states
+    and its effects.  Its right-hand side, Jacobian and force are the
+    compiled functions of :mod:`liquidamp.device.kernels`, evaluated on the
+    packed arrays of :meth:`packed`; both engines use them, so there is one
+    copy of the physics.  Models compare by identity.
 
     Attributes
     ----------
     name : str
-        Registry name.
+        Registry name; for a composed model the base name and the effect
+        names joined by ``+`` (a label only: nothing parses it).
+    base : str
+        Registry name of the base equation (a key of
+        :data:`liquidamp.device.kernels.MODEL_IDS`).
+    family : str
+        One of :data:`FAMILIES`.
     equation : str
         Equation number(s) in Titurus (2018).
     description : str
         One line on what the variant keeps and drops.
     state_names : tuple of str
-        Names of the states, in order.
+        Names of the states, in order (base states, then effect states).
     state_units : tuple of str
         Unit of each state.
     limits : str
         Limits of validity.
-    rhs : callable
-        ``rhs(t, x, u, params) -> dx/dt`` (array of len(state_names)).
-    fluid_force : callable
-        ``fluid_force(t, x, u, params) -> F`` without friction [N]; accepts
-        ``x`` of shape (n_states, N) and ``u`` of arrays for vectorized use.
     initial_state : callable
         ``initial_state(params, y0) -> x0`` at rest with stroke ``y0`` [m].
     state_scales : callable
         ``state_scales(params) -> array`` of magnitudes used for absolute
         tolerances and finite-difference steps.
-    jacobian : callable or None
-        Analytic ``d rhs / d x``; None means finite differences.
     pressures : callable or None
         ``pressures(x, u, params) -> (p1, p2)`` [Pa] where chamber pressures
-        are states.
+        are states (vectorized; a diagnostic).
     mass : callable or None
-        ``mass(x, u, params) -> total fluid mass`` [kg] where defined.
+        ``mass(x, u, params) -> total fluid mass`` [kg] where defined
+        (vectorized; a diagnostic).
     conserves_mass : bool
         True where the total mass is an exact invariant.
     uses_acceleration : bool
         True where the force depends on the stroke acceleration.
     requires : tuple of str
-        Parameters that must be > 0 for this variant (checked by
-        :meth:`check_params`).
+        Parameters that must be > 0 for this variant (:meth:`check_params`).
     uses_bulk_law : bool
         True where the chamber bulk modulus follows ``params.bulk_law``
         (eq. 2 is singular at p = 0, so the run stops at the pressure floor);
@@ -107,19 +121,26 @@ class DeviceModel:
         Add-on effects composed into this model by
         :func:`liquidamp.device.effects.with_effects`, in composition order
         (empty for a registered model).
+
+    Examples
+    --------
+    >>> from liquidamp.device import preset
+    >>> m, p = get_model("maxwell"), preset("reference")
+    >>> x = np.array([10.0])
+    >>> bool(np.isclose(m.rhs(0.0, x, (0.0, 0.01, 0.0), p)[0], p.k_D * 0.01 - 10.0 / p.T_D))
+    True
     """
 
     name: str
+    base: str
+    family: str
     equation: str
     description: str
     state_names: tuple[str, ...]
     state_units: tuple[str, ...]
     limits: str
-    rhs: Rhs
-    fluid_force: Callable
     initial_state: Callable[[DeviceParams, float], np.ndarray]
     state_scales: Callable[[DeviceParams], np.ndarray]
-    jacobian: Rhs | None = None
     pressures: Callable | None = None
     mass: Callable | None = None
     conserves_mass: bool = False
@@ -128,17 +149,121 @@ class DeviceModel:
     uses_bulk_law: bool = False
     effects: tuple = field(default=())
 
+    def __post_init__(self) -> None:
+        check_choice("model base", self.base, K.MODEL_IDS)
+        check_choice("model family", self.family, FAMILIES)
+        object.__setattr__(self, "_spec", self._build_spec())
+
+    # -------------------------------------------------------- packing
     @property
     def n_states(self) -> int:
         """Number of states."""
         return len(self.state_names)
 
-    def force(self, t, x, u, params: DeviceParams):
-        """Load-cell force F = fluid force + |F_f| sign(v) [N] (vectorized)."""
-        f = self.fluid_force(t, x, u, params)
-        if params.friction_N > 0.0:
-            f = f + params.friction_N * np.sign(u[1])
-        return f
+    @property
+    def n_base_states(self) -> int:
+        """Number of states of the base equation (the effect states follow)."""
+        return K.BASE_STATES[K.MODEL_IDS[self.base]]
+
+    @property
+    def analytic_jacobian(self) -> bool:
+        """True where the Jacobian is analytic (otherwise central differences)."""
+        return bool(self._spec[K.S_ANALYTIC])
+
+    def effect(self, name: str):
+        """The composed effect called ``name``, or None."""
+        for e in self.effects:
+            if e.name == name:
+                return e
+        return None
+
+    def _build_spec(self) -> np.ndarray:
+        spec = np.full(K.N_SPEC, -1, dtype=np.int64)
+        spec[K.S_MID] = K.MODEL_IDS[self.base]
+        spec[K.S_N] = self.n_states
+        spec[K.S_NB] = self.n_base_states
+        for slot in (K.S_LEAK, K.S_COUL, K.S_MASS, K.S_OFF):
+            spec[slot] = 0
+        i = self.n_base_states
+        for e in self.effects:
+            if e.state_names:
+                spec[e.slot] = i
+                i += len(e.state_names)
+            else:
+                spec[e.slot] = 1
+        if i != self.n_states:
+            raise ParameterError(
+                f"model {self.name!r}: {self.n_states} state names for {i} states")
+        names = self.state_names
+        if "p1" in names[:self.n_base_states]:
+            spec[K.S_I1], spec[K.S_I2] = names.index("p1"), names.index("p2")
+        fd = spec[K.S_ICAV] >= 0 or spec[K.S_IC] >= 0 or spec[K.S_IFP] >= 0 or (
+            spec[K.S_LEAK] and self.base not in ("full", "no_inertia"))
+        spec[K.S_ANALYTIC] = 0 if fd else 1
+        return spec
+
+    def packed(self, params) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The arrays the compiled physics runs on: ``(spec, prm, ep)``.
+
+        ``spec`` describes the composition, ``prm`` the parameters
+        (:func:`liquidamp.device.kernels.pack_params`), ``ep`` the effect
+        parameters and the state scales (see :mod:`liquidamp.device.kernels`).
+        Treat them as read-only (they are shared between calls).
+        """
+        return _packed(self, params)
+
+    # -------------------------------------------------------- physics
+    def rhs(self, t, x, u, params) -> np.ndarray:
+        """dx/dt at state ``x`` under the rod stroke ``u = (y, v, a)`` [state units / s]."""
+        spec, prm, ep = self.packed(params)
+        out = np.empty(self.n_states)
+        if out.size:
+            K.model_rhs(spec, np.array(x, dtype=float), float(u[0]), float(u[1]), prm, ep, out)
+        return out
+
+    def jacobian(self, t, x, u, params) -> np.ndarray:
+        """d rhs / dx, shape (n, n): analytic or central differences (:attr:`analytic_jacobian`)."""
+        spec, prm, ep = self.packed(params)
+        J = np.zeros((self.n_states, self.n_states))
+        if J.size:
+            K.model_jac(spec, np.array(x, dtype=float), float(u[0]), float(u[1]), prm, ep, J)
+        return J
+
+    def rhs_t(self, t, x, u, rates, params) -> np.ndarray:
+        """d rhs / dt at fixed x through the stroke, ``rates = (dy/dt, dv/dt)``."""
+        spec, prm, ep = self.packed(params)
+        out = np.zeros(self.n_states)
+        if out.size:
+            K.model_rhs_t(spec, np.array(x, dtype=float), float(u[0]), float(u[1]),
+                          float(rates[0]), float(rates[1]), prm, ep, out)
+        return out
+
+    def _force(self, x, u, params, with_friction: bool):
+        spec, prm, ep = self.packed(params)
+        X = np.asarray(x, dtype=float)
+        y, v = np.asarray(u[0], float), np.asarray(u[1], float)
+        a = np.asarray(u[2], float) if len(u) > 2 else np.zeros(())
+        n = self.n_states
+        shape = np.broadcast_shapes(y.shape, v.shape, a.shape, X.shape[1:])
+        N = math.prod(shape)
+        X2 = X.reshape(n, -1) if X.size else np.zeros((n, 1))
+        X2 = np.ascontiguousarray(np.broadcast_to(X2, (n, N)))
+        Y, V, A = (np.ascontiguousarray(np.broadcast_to(q, shape).reshape(-1)) for q in (y, v, a))
+        out = np.empty(N)
+        K.force_series(spec, X2, Y, V, A, prm, ep, with_friction, out)
+        return np.float64(out[0]) if shape == () else out.reshape(shape)
+
+    def fluid_force(self, t, x, u, params):
+        """Load-cell force without the parameter set's friction ``friction_N`` [N] (vectorized).
+
+        The fluid force at the piston stroke plus every effect force; ``x``
+        of shape (n,) or (n, N) with ``u`` of scalars or arrays of length N.
+        """
+        return self._force(x, u, params, False)
+
+    def force(self, t, x, u, params):
+        """Load-cell force F = :meth:`fluid_force` + ``friction_N`` sign(v) [N] (vectorized)."""
+        return self._force(x, u, params, True)
 
     def check_params(self, params: DeviceParams) -> None:
         """Raise ParameterError if ``params`` lies outside this variant's domain.
@@ -164,29 +289,26 @@ use 'no_inertia' (eq. 11) for a channel without inertance
                 )
 
 
+@functools.lru_cache(maxsize=256)
+def _packed(model: DeviceModel, params) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    prm = K.pack_params(params)
+    ep = np.zeros(K.N_EP + model.n_states)
+    for e in model.effects:
+        e.pack(ep)
+    if model.n_states:
+        ep[K.N_EP:] = np.asarray(model.state_scales(params), float)
+    spec = model._spec
+    for a in (spec, prm, ep):
+        a.flags.writeable = False
+    return spec, prm, ep
+
+
 # ---------------------------------------------------------------------------
-# shared pieces
+# diagnostics (vectorized): volumes, pressures, mass
 
 
 def _volumes(y, p: DeviceParams):
     return p.V01 - p.A_p * y, p.V02 + p.A_p * y
-
-
-def _bulk(pr: float, X0: float, p: DeviceParams) -> float:
-    """Chamber bulk modulus under the parameter set's law; floors p at 1 Pa.
-
-    The floor only keeps trial states of an implicit solver finite: the
-    simulation stops with PressureError long before a pressure gets there.
-    """
-    if p.bulk_law == "constant":
-        pr = p.p0
-    return bulk_modulus_gholizadeh(max(pr, 1.0), p.B_l, X0, p.p0, p.n)
-
-
-def _bulk_dp(pr: float, X0: float, p: DeviceParams) -> float:
-    if p.bulk_law == "constant" or pr < 1.0:
-        return 0.0
-    return bulk_modulus_gholizadeh_dp(pr, p.B_l, X0, p.p0, p.n)
 
 
 def _r(pr, B0: float, p: DeviceParams):
@@ -194,54 +316,8 @@ def _r(pr, B0: float, p: DeviceParams):
     return p.rho0 * np.exp((pr - p.p0) / B0)
 
 
-def _dp_force(t, x, u, p):
-    return p.A_p * (x[0] - x[2])
-
-
 def _scales_full(p):
     return np.array([p.p0, p.rho0, p.p0, p.rho0, p.rho0 * p.A_p * 0.01])
-
-
-# ---------------------------------------------------------------------------
-# eq. (10): full 5-state model
-
-
-def _full_rhs(t, x, u, p):
-    p1, r1, p2, r2, m = x
-    y, v = u[0], u[1]
-    V1, V2 = _volumes(y, p)
-    B1, B2 = _bulk(p1, p.X01, p), _bulk(p2, p.X02, p)
-    w1 = p.A_p * v - m / r1
-    w2 = -p.A_p * v + m / r2
-    return np.array([
-        B1 / V1 * w1,
-        (r1 * p.A_p * v - m) / V1,
-        B2 / V2 * w2,
-        (-r2 * p.A_p * v + m) / V2,
-        (p1 - p2 - p.g1 * m - p.g2 * m * abs(m)) / p.S_t,
-    ])
-
-
-def _full_jac(t, x, u, p):
-    p1, r1, p2, r2, m = x
-    y, v = u[0], u[1]
-    V1, V2 = _volumes(y, p)
-    B1, B2 = _bulk(p1, p.X01, p), _bulk(p2, p.X02, p)
-    J = np.zeros((5, 5))
-    J[0, 0] = _bulk_dp(p1, p.X01, p) / V1 * (p.A_p * v - m / r1)
-    J[0, 1] = B1 / V1 * m / r1**2
-    J[0, 4] = -B1 / (V1 * r1)
-    J[1, 1] = p.A_p * v / V1
-    J[1, 4] = -1.0 / V1
-    J[2, 2] = _bulk_dp(p2, p.X02, p) / V2 * (-p.A_p * v + m / r2)
-    J[2, 3] = -B2 / V2 * m / r2**2
-    J[2, 4] = B2 / (V2 * r2)
-    J[3, 3] = -p.A_p * v / V2
-    J[3, 4] = 1.0 / V2
-    J[4, 0] = 1.0 / p.S_t
-    J[4, 2] = -1.0 / p.S_t
-    J[4, 4] = -(p.g1 + 2.0 * p.g2 * abs(m)) / p.S_t
-    return J
 
 
 def _mass_states(x, u, p):
@@ -253,74 +329,6 @@ def _pressures_02(x, u, p):
     return x[0], x[2]
 
 
-# ---------------------------------------------------------------------------
-# eq. (11): no channel inertia, m12 from the analytic inverse of eq. (5)
-
-
-def _noi_rhs(t, x, u, p):
-    p1, r1, p2, r2 = x
-    y, v = u[0], u[1]
-    V1, V2 = _volumes(y, p)
-    m = loss_flow(p1 - p2, p.g1, p.g2)
-    B1, B2 = _bulk(p1, p.X01, p), _bulk(p2, p.X02, p)
-    return np.array([
-        B1 / V1 * (p.A_p * v - m / r1),
-        (r1 * p.A_p * v - m) / V1,
-        B2 / V2 * (-p.A_p * v + m / r2),
-        (-r2 * p.A_p * v + m) / V2,
-    ])
-
-
-def _noi_jac(t, x, u, p):
-    p1, r1, p2, r2 = x
-    y, v = u[0], u[1]
-    V1, V2 = _volumes(y, p)
-    m = loss_flow(p1 - p2, p.g1, p.g2)
-    dm = loss_flow_dp(p1 - p2, p.g1, p.g2)  # dm/dp1 = dm, dm/dp2 = -dm
-    B1, B2 = _bulk(p1, p.X01, p), _bulk(p2, p.X02, p)
-    J = np.zeros((4, 4))
-    J[0, 0] = _bulk_dp(p1, p.X01, p) / V1 * (p.A_p * v - m / r1) - B1 / (V1 * r1) * dm
-    J[0, 1] = B1 / V1 * m / r1**2
-    J[0, 2] = B1 / (V1 * r1) * dm
-    J[1, 0] = -dm / V1
-    J[1, 1] = p.A_p * v / V1
-    J[1, 2] = dm / V1
-    J[2, 0] = B2 / (V2 * r2) * dm
-    J[2, 2] = _bulk_dp(p2, p.X02, p) / V2 * (-p.A_p * v + m / r2) - B2 / (V2 * r2) * dm
-    J[2, 3] = -B2 / V2 * m / r2**2
-    J[3, 0] = dm / V2
-    J[3, 2] = -dm / V2
-    J[3, 3] = -p.A_p * v / V2
-    return J
-
-
-# ---------------------------------------------------------------------------
-# eq. (13) and (14): constant bulk modulus, pressures only
-
-
-def _cb_rhs(t, x, u, p):
-    p1, p2 = x
-    y, v = u[0], u[1]
-    V1, V2 = _volumes(y, p)
-    m = loss_flow(p1 - p2, p.g1, p.g2)
-    B1, B2 = p.B01, p.B02
-    return np.array([
-        B1 / V1 * (p.A_p * v - m / _r(p1, B1, p)),
-        B2 / V2 * (-p.A_p * v + m / _r(p2, B2, p)),
-    ])
-
-
-def _vol_rhs(t, x, u, p):
-    p1, p2 = x
-    y, v = u[0], u[1]
-    V1, V2 = _volumes(y, p)
-    q = loss_flow(p1 - p2, p.c1, p.c2)
-    return np.array([
-        p.B01 / V1 * (p.A_p * v - q),
-        p.B02 / V2 * (-p.A_p * v + q),
-    ])
-
-
 def _mass_cb(x, u, p):
     V1, V2 = _volumes(u[0], p)
     return _r(x[0], p.B01, p) * V1 + _r(x[1], p.B02, p) * V2
@@ -328,99 +336,6 @@ def _mass_cb(x, u, p):
 
 def _pressures_01(x, u, p):
     return x[0], x[1]
-
-
-def _force_01(t, x, u, p):
-    return p.A_p * (x[0] - x[1])
-
-
-# ---------------------------------------------------------------------------
-# eq. (15): single differential-pressure state; eq. (16) linear = Maxwell
-
-
-def _ss_rhs(t, x, u, p):
-    y, v = u[0], u[1]
-    V1, V2 = _volumes(y, p)
-    q = loss_flow(x[0], p.c1, p.c2)
-    return np.array([(p.B01 / V1 + p.B02 / V2) * (p.A_p * v - q)])
-
-
-def _force_dp0(t, x, u, p):
-    return p.A_p * x[0]
-
-
-def _maxwell_rhs(t, x, u, p):
-    return np.array([p.k_D * u[1] - x[0] / p.T_D])
-
-
-def _maxwell_jac(t, x, u, p):
-    return np.array([[-1.0 / p.T_D]])
-
-
-def _force_state0(t, x, u, p):
-    return x[0]
-
-
-# ---------------------------------------------------------------------------
-# eq. (17) and (18): inertial models with constant bulk modulus
-
-
-def _in_rhs(t, x, u, p):
-    p1, p2, m = x
-    y, v = u[0], u[1]
-    V1, V2 = _volumes(y, p)
-    B1, B2 = p.B01, p.B02
-    return np.array([
-        B1 / V1 * (p.A_p * v - m / _r(p1, B1, p)),
-        B2 / V2 * (-p.A_p * v + m / _r(p2, B2, p)),
-        (p1 - p2 - p.g1 * m - p.g2 * m * abs(m)) / p.S_t,
-    ])
-
-
-def _in_mass(x, u, p):
-    return _mass_cb(x, u, p)
-
-
-def _i2_rhs(t, x, u, p):
-    dp, q = x
-    y, v = u[0], u[1]
-    V1, V2 = _volumes(y, p)
-    B = p.B01 / V1 + p.B02 / V2
-    return np.array([
-        B * (p.A_p * v - q),
-        (dp - p.c1 * q - p.c2 * q * abs(q)) / p.L_t,
-    ])
-
-
-def _i2_jac(t, x, u, p):
-    y = u[0]
-    V1, V2 = _volumes(y, p)
-    B = p.B01 / V1 + p.B02 / V2
-    return np.array([[0.0, -B], [1.0 / p.L_t, -(p.c1 + 2.0 * p.c2 * abs(x[1])) / p.L_t]])
-
-
-# ---------------------------------------------------------------------------
-# ideal elements (no states)
-
-
-def _no_rhs(t, x, u, p):
-    return np.zeros(0)
-
-
-def _dashpot_force(t, x, u, p):
-    return p.c_L * u[1]
-
-
-def _spring_force(t, x, u, p):
-    return p.k_D * u[0]
-
-
-def _di_force(t, x, u, p):
-    return p.c_L * u[1] + p.b_L * u[2]
-
-
-def _inerter_force(t, x, u, p):
-    return p.b_L * u[2]
 
 
 def _x0(*values):
@@ -458,6 +373,8 @@ REGISTRY: dict[str, DeviceModel] = {
     for m in (
         DeviceModel(
             name="full",
+            base="full",
+            family="chamber",
             equation="(10)",
             description="5-state nonlinear model: pressure-dependent bulk modulus, densities, "
             "channel inertance and linear-quadratic losses",
@@ -465,9 +382,6 @@ REGISTRY: dict[str, DeviceModel] = {
             state_units=("Pa", "kg/m^3", "Pa", "kg/m^3", "kg/s"),
             limits="lumped channel flow (frequencies well below the line's first acoustic mode); "
             "chamber pressures > 0 (no cavitation unless the effect is added); |y| < V0/A_p",
-            rhs=_full_rhs,
-            jacobian=_full_jac,
-            fluid_force=_dp_force,
             initial_state=_x0("p0", "rho0", "p0", "rho0", 0.0),
             state_scales=_scales_full,
             pressures=_pressures_02,
@@ -478,14 +392,13 @@ REGISTRY: dict[str, DeviceModel] = {
         ),
         DeviceModel(
             name="no_inertia",
+            base="no_inertia",
+            family="chamber",
             equation="(11)",
             description="eq. (10) with S_t = 0: m12 from the analytic inverse of eq. (5)",
             state_names=("p1", "rho1", "p2", "rho2"),
             state_units=("Pa", "kg/m^3", "Pa", "kg/m^3"),
             limits="channel inertance negligible: b_L omega << c_eq A_p^2; pressures > 0",
-            rhs=_noi_rhs,
-            jacobian=_noi_jac,
-            fluid_force=_dp_force,
             initial_state=_x0("p0", "rho0", "p0", "rho0"),
             state_scales=_scales("p0", "rho0", "p0", "rho0"),
             pressures=_pressures_02,
@@ -495,6 +408,8 @@ REGISTRY: dict[str, DeviceModel] = {
         ),
         DeviceModel(
             name="constant_bulk",
+            base="constant_bulk",
+            family="pressure",
             equation="(13)",
             description="eq. (11) with constant bulk moduli B_i = B_i(p0); explicit densities "
             "r_i(p) keep the mass conserved",
@@ -502,8 +417,6 @@ REGISTRY: dict[str, DeviceModel] = {
             state_units=("Pa", "Pa"),
             limits="pressure swings small against the scale on which B(p) changes (air-rich "
             "chambers stiffen strongly with pressure); no channel inertia",
-            rhs=_cb_rhs,
-            fluid_force=_force_01,
             initial_state=_x0("p0", "p0"),
             state_scales=_scales("p0", "p0"),
             pressures=_pressures_01,
@@ -512,6 +425,8 @@ REGISTRY: dict[str, DeviceModel] = {
         ),
         DeviceModel(
             name="volumetric",
+            base="volumetric",
+            family="pressure",
             equation="(14)",
             description="volumetric flow balance of each chamber; kept to show its "
             "non-physical drift (mass is not conserved)",
@@ -519,8 +434,6 @@ REGISTRY: dict[str, DeviceModel] = {
             state_units=("Pa", "Pa"),
             limits="not physical: total mass drifts by (r2 - r1) q12 per unit time, so mean "
             "pressures drift; use constant_bulk (eq. 13) instead",
-            rhs=_vol_rhs,
-            fluid_force=_force_01,
             initial_state=_x0("p0", "p0"),
             state_scales=_scales("p0", "p0"),
             pressures=_pressures_01,
@@ -529,6 +442,8 @@ REGISTRY: dict[str, DeviceModel] = {
         ),
         DeviceModel(
             name="single_state",
+            base="single_state",
+            family="differential",
             equation="(15)",
             description="differential pressure only: d(dp)/dt = (B1/V1 + B2/V2)(A_p v - q12); "
             "eq. (16) is its small-stroke form",
@@ -536,29 +451,29 @@ REGISTRY: dict[str, DeviceModel] = {
             state_units=("Pa",),
             limits="constant bulk moduli; mean pressure not tracked (no cavitation check); "
             "no channel inertia",
-            rhs=_ss_rhs,
-            fluid_force=_force_dp0,
             initial_state=_x0(0.0),
             state_scales=_scales(_dp_scale),
         ),
         DeviceModel(
             name="inertial",
+            base="inertial",
+            family="pressure",
             equation="(17)",
             description="constant bulk moduli with channel inertance: p1, p2, m12",
             state_names=("p1", "p2", "m12"),
             state_units=("Pa", "Pa", "kg/s"),
             limits="constant bulk moduli (small pressure swings); pressures > 0",
-            rhs=_in_rhs,
-            fluid_force=_force_01,
             initial_state=_x0("p0", "p0", 0.0),
             state_scales=_scales("p0", "p0", lambda p: p.rho0 * _flow_scale(p)),
             pressures=_pressures_01,
-            mass=_in_mass,
+            mass=_mass_cb,
             conserves_mass=True,
             requires=("S_t",),
         ),
         DeviceModel(
             name="inertial_2state",
+            base="inertial_2state",
+            family="differential",
             equation="(18)",
             description="differential pressure and volumetric channel flow: "
             "B^-1 d(dp)/dt = A_p v - q, L_t dq/dt = dp - c1 q - c2 q|q|",
@@ -566,81 +481,123 @@ REGISTRY: dict[str, DeviceModel] = {
             state_units=("Pa", "m^3/s"),
             limits="constant bulk moduli, r1 = r2 (differential view only); mean pressure "
             "not tracked",
-            rhs=_i2_rhs,
-            jacobian=_i2_jac,
-            fluid_force=_force_dp0,
             initial_state=_x0(0.0, 0.0),
             state_scales=_scales(_dp_scale, _flow_scale),
             requires=("S_t",),
         ),
         DeviceModel(
             name="maxwell",
+            base="maxwell",
+            family="linear",
             equation="(16), linear laminar",
             description="Maxwell unit dF/dt + F/T_D = k_D v, k_D = A_p^2 (B1/V01 + B2/V02), "
             "T_D = c1/(B1/V01 + B2/V02)",
             state_names=("F",),
             state_units=("N",),
             limits="small strokes, laminar loss only (c2 ignored), no inertia",
-            rhs=_maxwell_rhs,
-            jacobian=_maxwell_jac,
-            fluid_force=_force_state0,
             initial_state=_x0(0.0),
             state_scales=_scales(lambda p: p.k_D * 1e-3),
             requires=("c1",),
         ),
         DeviceModel(
             name="dashpot",
+            base="dashpot",
+            family="ideal",
             equation="(16) with B -> inf",
             description="viscous dashpot F = c_L v, c_L = c1 A_p^2",
             state_names=(),
             state_units=(),
             limits=_IDEAL_LIMITS,
-            rhs=_no_rhs,
-            fluid_force=_dashpot_force,
             initial_state=_x0(),
             state_scales=_scales(),
             requires=("c1",),
         ),
         DeviceModel(
             name="spring",
+            base="spring",
+            family="ideal",
             equation="(16) with c1 -> inf (closed channel)",
             description="linear spring F = k_D y",
             state_names=(),
             state_units=(),
             limits=_IDEAL_LIMITS,
-            rhs=_no_rhs,
-            fluid_force=_spring_force,
             initial_state=_x0(),
             state_scales=_scales(),
         ),
         DeviceModel(
             name="dashpot_inerter",
+            base="dashpot_inerter",
+            family="ideal",
             equation="(19)",
             description="dashpot and inerter in parallel, F = c_L v + b_L a",
             state_names=(),
             state_units=(),
             limits=_IDEAL_LIMITS,
-            rhs=_no_rhs,
-            fluid_force=_di_force,
             initial_state=_x0(),
             state_scales=_scales(),
             uses_acceleration=True,
         ),
         DeviceModel(
             name="inerter",
+            base="inerter",
+            family="ideal",
             equation="(20)",
             description="ideal inerter F = b_L a, b_L = rho_l S_t A_p^2",
             state_names=(),
             state_units=(),
             limits=_IDEAL_LIMITS,
-            rhs=_no_rhs,
-            fluid_force=_inerter_force,
             initial_state=_x0(),
             state_scales=_scales(),
             uses_acceleration=True,
         ),
     )
 }
+
+
+@dataclass(frozen=True)
+class ViscousParams:
+    """Parameters of the linear viscous damper F = c v.
+
+    Parameters
+    ----------
+    c : float
+        Damping coefficient >= 0 [N s/m].
+
+    Examples
+    --------
+    >>> ViscousParams(65080.0).c
+    65080.0
+    """
+
+    c: float
+
+    def __post_init__(self) -> None:
+        from liquidamp.errors import check_nonnegative
+
+        object.__setattr__(self, "c", check_nonnegative("viscous damping c", self.c, "N s/m"))
+
+    @property
+    def friction_N(self) -> float:
+        """No friction [N] (the DeviceModel interface asks for it)."""
+        return 0.0
+
+
+#: The viscous damper F = c v [N] as a stateless device model (parameters: ViscousParams).
+VISCOUS = DeviceModel(
+    name="viscous",
+    base="viscous",
+    family="ideal",
+    equation="-",
+    description="linear viscous damper F = c v (the host's own lag damper as a device)",
+    state_names=(),
+    state_units=(),
+    limits="linear ideal element",
+    initial_state=lambda p, y0=0.0: np.zeros(0),
+    state_scales=lambda p: np.zeros(0),
+)
+
+#: Every base equation by name: the paper's family (:data:`REGISTRY`) and the viscous damper.
+BASES: dict[str, DeviceModel] = {**REGISTRY, "viscous": VISCOUS}
 
 
 def model_names() -> tuple[str, ...]:

@@ -56,7 +56,7 @@ def test_contract_mass_conservation(responses, name):
     assert responses[name].mass_error < 1e-9
 
 
-@pytest.mark.parametrize("name", [n for n in ALL if REGISTRY[n].jacobian is not None])
+@pytest.mark.parametrize("name", [n for n in ALL if REGISTRY[n].n_states])
 @pytest.mark.parametrize("preset_name", ["reference", "inerter"])
 def test_contract_jacobian_matches_finite_differences(name, preset_name):
     params = preset(preset_name).replace(bulk_law="gholizadeh")
