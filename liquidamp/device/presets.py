@@ -1,10 +1,18 @@
 """The paper's parameter sets (Tables 1-3) and device files.
 
 The published numbers live in ``data/presets.toml`` beside this module; this
-module only reads them.  A user's own device comes from a TOML or JSON file
-with the same keys as :class:`~liquidamp.device.params.DeviceParams`
-(``A_p`` directly, or ``bore_m`` and ``rod_m``), optionally with
-``preset = "NAME"`` to start from a preset and ``multipliers = {...}``.
+module only reads them.  A preset's multipliers of ``c1``, ``c2``, ``S_t``
+become the factors ``c1_factor``, ``c2_factor``, ``S_t_factor`` on the
+geometric estimates (see :mod:`liquidamp.device.params`), so changing ``mu``,
+``l_t`` or ``A_t`` of a preset changes its loss coefficients and inertance.
+
+A user's own device comes from a TOML or JSON *device file*
+(:func:`load_device_file`, format in its docstring): the keys of
+:class:`~liquidamp.device.params.DeviceParams` in SI (``A_p`` directly, or
+``bore_m`` and ``rod_m``), optionally ``preset = "NAME"`` to start from a
+preset, ``multipliers = {...}`` applied last and ``[effects.NAME]`` tables of
+add-on effects.  :func:`device_file_dict` / :func:`write_device_file` write
+the same format, so a written file reads back to equal parameters.
 
 References
 ----------
@@ -249,6 +257,7 @@ def _check_derived(where: str, table, params: DeviceParams) -> None:
     if not isinstance(table, dict):
         raise _type_error(where, "derived", table, "a table of 'name [unit]' = number")
     ours = params.derived()
+    differ = []
     for key, value in table.items():
         if key not in ours:
             raise DataFileError(f"{where}: derived: unknown quantity {key!r}; "
@@ -260,11 +269,13 @@ def _check_derived(where: str, table, params: DeviceParams) -> None:
             continue
         _number(where, f"derived.{key}", value, "a number (output only)")
         if not math.isclose(value, ours[key], rel_tol=1e-9, abs_tol=0.0):
-            raise DataFileError(
-                f"{where}: derived.{key} = {value!r} differs from {ours[key]!r} computed from "
-                f"the file's inputs; the derived table is output only: change the inputs "
-                f"(or set c1, c2, S_t explicitly) and delete or regenerate the derived table"
-            )
+            differ.append(f"{key} = {value!r} (inputs give {ours[key]!r})")
+    if differ:
+        raise DataFileError(
+            f"{where}: the derived table is output only and disagrees with the file's inputs: "
+            f"{'; '.join(differ)}; change the inputs (or set c1, c2, S_t explicitly) and "
+            f"delete or regenerate the derived table"
+        )
 
 
 def load_device_file(path: str | Path) -> DeviceFile:
@@ -486,7 +497,7 @@ def device_file_text(params: DeviceParams, effects=(), *, fmt: str = "toml",
     check_choice("device file format", fmt, ("toml", "json"))
     data = device_file_dict(params, effects, derived=derived)
     if fmt == "json":
-        return json.dumps(data, indent=2, allow_nan=False) + "\n"
+        return json.dumps(data, indent=2) + "\n"  # inf (e.g. a rigid compliance) as Infinity
     lines: list = []
     _toml_lines(data, "", lines)
     return "\n".join(lines) + "\n"
