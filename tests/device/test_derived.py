@@ -284,3 +284,31 @@ def test_device_file_derived_table_is_checked(tmp_path):
     j = _write(tmp_path, "edited2.json", json.dumps(d))
     with pytest.raises(DataFileError, match=r"inputs: b_L \[kg\] = 100.0 \(inputs give 89.405"):
         load_device_file(j)
+
+
+# ---------------------------------------------------------------------------
+# calibration may only vary what the parameter set uses (issue #11)
+
+
+def test_calibration_refuses_to_fit_an_unused_input(tmp_path):
+    import numpy as np
+
+    from liquidamp.analysis.calibration import FitSpec, build, calibrate
+    from liquidamp.analysis.records import read_record, write_record
+
+    t = np.arange(0.0, 2.0, 1 / 200)
+    y = 1e-3 * np.sin(2 * np.pi * 3.0 * t)
+    f = write_record(tmp_path / "r.csv", time=t, displacement=y,
+                     force=2e3 * np.cos(2 * np.pi * 3.0 * t))
+    rec = read_record(f)
+    explicit = preset("reference").replace(c1=1e9, c2=1e14)
+    with pytest.raises(ParameterError, match=r"cannot fit 'mu': the starting parameters do not "
+                                             r"use it \(c1 is given explicitly"):
+        calibrate([rec], params=explicit, spec=FitSpec.default(vary=("mu", "c2")))
+    # a derived c1 follows a fitted mu: the multiplier reaches the model
+    base = preset("reference")
+    p, _ = build(base, (), FitSpec.default(vary=("mu",)), {"mu": 2.0})
+    assert p.c1 == pytest.approx(2.0 * base.c1, rel=1e-14) and p.mu == 2.0 * base.mu
+    # a c1 multiplier scales the explicit value when c1 is explicit
+    p, _ = build(explicit, (), FitSpec.default(vary=("c1",)), {"c1": 3.0})
+    assert p.c1 == 3e9
