@@ -475,19 +475,22 @@ class DeviceParams:
     def derived(self) -> dict:
         """All parameters and derived quantities as ``{"name [unit]": value}``.
 
-        Besides the floats, key ``"unused"`` holds :meth:`unused` (name ->
-        reason; empty when every input is used).
+        Every value is a float, except that when an input is unused (an
+        explicit c1, c2 or S_t displaces it) key ``"unused"`` holds
+        :meth:`unused` (name -> reason); it is absent when every input is used,
+        so the float-only table of a fully derived set is unchanged.
 
         Examples
         --------
         >>> from liquidamp.device import preset
         >>> d = preset("paper_initial").derived()
-        >>> f"{d['c1 [kg m^-4 s^-1]']:.4e}", round(d["b_L [kg]"], 1), d["unused"]
-        ('1.0485e+09', 89.4, {})
+        >>> f"{d['c1 [kg m^-4 s^-1]']:.4e}", round(d["b_L [kg]"], 1), "unused" in d
+        ('1.0485e+09', 89.4, False)
         >>> list(preset("reference").replace(c1=1e9).derived()["unused"])
         ['mu', 'c1_factor']
         """
-        return {
+        unused = self.unused()
+        out = {
             "mu [Pa s]": self.mu,
             "rho_l [kg/m^3]": self.rho_l,
             "B_l [Pa]": self.B_l,
@@ -519,8 +522,10 @@ class DeviceParams:
             "T_D [s]": self.T_D,
             "friction_N [N]": self.friction_N,
             "stroke_limit [m]": self.stroke_limit,
-            "unused": self.unused(),
         }
+        if unused:
+            out["unused"] = unused
+        return out
 
 
 #: Inputs :meth:`DeviceParams.scaled` may multiply (and calibration may vary).
