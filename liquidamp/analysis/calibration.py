@@ -264,9 +264,42 @@ class FitSpec:
         return tuple(seen)
 
 
+def check_spec_uses(base_params: DeviceParams, spec: FitSpec) -> None:
+    """Raise ParameterError if ``spec`` varies (or scales) a field ``base_params`` does not use.
+
+    A field listed by :meth:`DeviceParams.unused` (e.g. ``mu`` once ``c1`` is
+    given explicitly) enters no answer: "fitting" it would return its start
+    with standard error 0.
+
+    Examples
+    --------
+    >>> from liquidamp.device import preset
+    >>> check_spec_uses(preset("reference"), FitSpec.default(vary=("mu",)))
+    >>> check_spec_uses(preset("reference").replace(c1=1e9), FitSpec.default(vary=("mu",)))
+    Traceback (most recent call last):
+    ...
+    liquidamp.errors.ParameterError: cannot fit 'mu': the starting parameters do not use it ...
+    """
+    unused = base_params.unused()
+    for p in spec.parameters:
+        if p.kind == "multiplier" and p.name in unused and (p.vary or p.value != 1.0):
+            derived = [k for k in ("c1", "c2", "S_t") if k in base_params.explicit]
+            instead = " or ".join(derived) or "another parameter"
+            raise ParameterError(
+                f"cannot fit {p.name!r}: the starting parameters do not use it "
+                f"({unused[p.name]}); vary {instead} instead, or start from parameters "
+                f"that derive {instead} from {p.name}")
+
+
 def build(base_params: DeviceParams, effects: tuple[Effect, ...], spec: FitSpec,
           values: dict) -> tuple[DeviceParams, tuple[Effect, ...]]:
-    """Parameters and effects for fit ``values`` (name -> value); inputs untouched."""
+    """Parameters and effects for fit ``values`` (name -> value); inputs untouched.
+
+    Multipliers apply through :meth:`DeviceParams.scaled`: on ``c1``, ``c2``,
+    ``S_t`` they scale the loss/inertance factor (or the explicit value), on
+    ``mu``, ``l_t``, ``A_t`` the geometry the derived coefficients follow.
+    """
+    check_spec_uses(base_params, spec)
     mult = {p.name: values.get(p.name, p.value) for p in spec.parameters
             if p.kind == "multiplier"}
     params = base_params.scaled(**mult) if mult else base_params
@@ -620,6 +653,7 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
     effects = tuple(effects)
     if spec is None:
         spec = FitSpec.default(effects=effects)
+    check_spec_uses(base, spec)
     check_choice("start", start, ("physics", "spec"))
     options = FIT_OPTIONS if options is None else options
     obj = _Objective(model, base, effects, spec, records, options, preroll)

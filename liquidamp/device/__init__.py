@@ -9,6 +9,16 @@ Where each equation of Titurus (2018) lives:
 """
 
 from liquidamp.device.params import DeviceParams
-from liquidamp.device.presets import load_device, preset, preset_description, preset_names
+from liquidamp.device.presets import (
+    DeviceFile,
+    device_file_dict,
+    load_device,
+    load_device_file,
+    preset,
+    preset_description,
+    preset_names,
+    write_device_file,
+)
 
-__all__ = ["DeviceParams", "preset", "preset_names", "preset_description", "load_device"]
+__all__ = ["DeviceParams", "preset", "preset_names", "preset_description", "load_device",
+           "load_device_file", "DeviceFile", "device_file_dict", "write_device_file"]

@@ -1,12 +1,40 @@
-"""Device parameters (Table 1-2 of Titurus 2018) and derived quantities.
+"""Device parameters (Tables 1-3 of Titurus 2018) and derived quantities.
 
 :class:`DeviceParams` is a frozen, validated dataclass in SI.  Change it with
-:func:`dataclasses.replace`; every replacement is validated again.  The loss
-coefficients ``c1``, ``c2`` and the inertance factor ``S_t`` default to the
-paper's geometric estimates (``c1 = 8 pi mu l_t / A_t^2``,
-``c2 = rho_l / (2 C_De^2 A_t^2)``, ``S_t = l_t / A_t``) when they are not
-given; the estimates are filled in at construction, so after changing the
-channel geometry with ``replace`` pass ``c1=None`` (etc.) to re-derive them.
+:func:`dataclasses.replace` (or :meth:`DeviceParams.replace`); every
+replacement is validated again.
+
+Derived quantities are derived
+------------------------------
+The channel's loss coefficients and inertance factor are *not* stored beside
+the geometry they come from.  They are computed on access from the channel
+geometry, the viscosity and an explicit calibration factor (issue #11):
+
+- ``c1 = c1_factor * 8 pi mu l_t / A_t^2``   (Hagen-Poiseuille, eq. 5) [kg m^-4 s^-1]
+- ``c2 = c2_factor * rho_l / (2 C_De^2 A_t^2)``   (entry/exit loss) [kg m^-7]
+- ``S_t = S_t_factor * l_t / A_t``   (inertance factor l_te/A_te) [1/m]
+
+The factors default to 1 (the paper's initial, geometric estimates).  Why
+factors rather than stored values: Table 3 defines every published design
+as final = alpha2 * alpha1 * initial value, i.e. a correction *of the
+geometric estimate* (the real channel has bends, fittings and entry/exit
+losses the estimate does not see).  Keeping the correction as a factor makes
+"change ``mu``, ``l_t`` or ``A_t`` and ``c1``, ``c2``, ``S_t`` follow" true
+for every preset, while each preset's numbers are the same products as
+before (the presets' c1 = 3.56 x ... become ``c1_factor = 3.56``).
+
+A user who *knows* a coefficient (a measured channel resistance, a sizing
+rule) gives it as an absolute value: ``DeviceParams(..., c1=...)``,
+``p.replace(c1=...)`` or ``c1 = ...`` in a device file.  An explicit value
+wins over the geometric estimate and its factor; the inputs it makes
+irrelevant (``mu`` once c1 is explicit, ``l_t`` once c1 and S_t are,
+``A_t`` once all three are, a factor other than 1 beside an explicit value)
+are listed by :meth:`DeviceParams.unused` and in :meth:`DeviceParams.derived`,
+never dropped silently.  ``p.replace(c1=None)`` returns to the derived value.
+
+:meth:`DeviceParams.scaled` multiplies a derived coefficient's factor, or
+an explicit coefficient's value, so ``scaled(c1=3.56)`` means the same in
+both cases; scaling an unused input by anything but 1 raises.
 
 References
 ----------
@@ -28,12 +56,23 @@ from liquidamp.errors import (
     check_positive,
 )
 
-__all__ = ["DeviceParams", "C_DE", "BULK_LAWS", "initial_c1", "initial_c2"]
+__all__ = ["DeviceParams", "C_DE", "BULK_LAWS", "DERIVABLE", "INPUT_NAMES", "SCALABLE",
+           "initial_c1", "initial_c2", "initial_S_t"]
 
 #: Combined entry/exit discharge coefficient used for the initial c2 (paper, Sec. IV.C).
 C_DE = 0.48
 #: Bulk-modulus laws a parameter set may select.
 BULK_LAWS = ("gholizadeh", "constant")
+#: Channel quantities derived from the geometry unless given explicitly, with their units.
+DERIVABLE = {"c1": "kg m^-4 s^-1", "c2": "kg m^-7", "S_t": "1/m"}
+#: The geometry inputs each derivable quantity comes from (rho_l is used elsewhere too).
+_SOURCES = {"c1": ("mu", "l_t", "A_t"), "c2": ("A_t",), "S_t": ("l_t", "A_t")}
+_FORMULA = {
+    "c1": "c1 = c1_factor 8 pi mu l_t / A_t^2",
+    "c2": "c2 = c2_factor rho_l / (2 C_De^2 A_t^2)",
+    "S_t": "S_t = S_t_factor l_t / A_t",
+}
+_UNSET = object()  # keyword not given (None means "derive")
 
 
 def initial_c1(mu: float, l_t: float, A_t: float) -> float:
@@ -58,7 +97,18 @@ def initial_c2(rho_l: float, A_t: float, C_De: float = C_DE) -> float:
     return rho_l / (2.0 * C_De**2 * A_t**2)
 
 
-@dataclass(frozen=True)
+def initial_S_t(l_t: float, A_t: float) -> float:
+    """Inertance factor of a straight channel S_t = l_t / A_t [1/m].
+
+    Examples
+    --------
+    >>> initial_S_t(0.75, 4.0e-6)
+    187500.0
+    """
+    return l_t / A_t
+
+
+@dataclass(frozen=True, init=False)
 class DeviceParams:
     """Parameters of the two-chamber liquid device, SI units.
 
@@ -86,13 +136,16 @@ class DeviceParams:
     inv_gamma1, inv_gamma2 : float
         Gas-to-liquid volume ratio 1/gamma of each chamber at ``p0``
         (Table 2 lists this; eq. 2 uses X0 = 1/(1 + gamma)) [-].
-    c1 : float, optional
-        Linear loss coefficient of eq. (5) in volumetric form,
-        dp = c1 q + c2 q|q| [kg m^-4 s^-1].  Default ``8 pi mu l_t / A_t^2``.
-    c2 : float, optional
-        Quadratic loss coefficient [kg m^-7].  Default ``rho_l/(2 C_De^2 A_t^2)``.
-    S_t : float, optional
-        Channel inertance factor l_te/A_te [1/m].  Default ``l_t / A_t``.
+    c1 : float or None, optional
+        Explicit linear loss coefficient of eq. (5) in volumetric form,
+        dp = c1 q + c2 q|q| [kg m^-4 s^-1].  None (default): derived,
+        ``c1_factor * 8 pi mu l_t / A_t^2``.
+    c2 : float or None, optional
+        Explicit quadratic loss coefficient [kg m^-7].  None (default):
+        derived, ``c2_factor * rho_l / (2 C_De^2 A_t^2)``.
+    S_t : float or None, optional
+        Explicit channel inertance factor l_te/A_te [1/m].  None (default):
+        derived, ``S_t_factor * l_t / A_t``.
     friction_N : float
         Coulomb friction |F_f| added to the load-cell force as
         |F_f| sign(dy/dt) [N].  0 for none.
@@ -101,11 +154,22 @@ class DeviceParams:
         at ``p0`` (the assumption of eqs. 12-18).
     name : str
         Label used in reports (does not change any answer).
+    c1_factor, c2_factor, S_t_factor : float, keyword-only
+        Calibration factors on the geometric estimates, >= 0 [-] (default 1;
+        the paper's alpha2 * alpha1 of Tables 2-3).  Ignored, and reported by
+        :meth:`unused` when not 1, while the quantity is given explicitly.
+    c1_explicit, c2_explicit, S_t_explicit : float or None, keyword-only
+        The stored form of an explicit ``c1``, ``c2``, ``S_t`` (what
+        :func:`dataclasses.replace` passes on).  ``c1=`` etc. take precedence
+        over them, so ``replace(c1=...)`` and ``replace(c1=None)`` work.
 
     Notes
     -----
-    Validity: the stroke must keep both chambers open, |y| < V0i / A_p
-    (checked by the simulation before it starts); pressures must stay > 0.
+    Read ``c1``, ``c2``, ``S_t`` (and ``g1``, ``g2``, ``L_t``, ``b_L``, ``c_L``,
+    ``k_D``, ``T_D``) as attributes; they are floats computed from the
+    stored inputs (module notes).  Validity: the stroke must keep both
+    chambers open, |y| < V0i / A_p (checked by the simulation before it
+    starts); pressures must stay > 0.
 
     Examples
     --------
@@ -115,6 +179,14 @@ class DeviceParams:
     89.4
     >>> round(p.A_p * 1e6, 2)
     691.15
+    >>> ref = preset("reference")              # c1 = 3.56 x the Poiseuille estimate
+    >>> ref.c1_factor, round(ref.replace(mu=2 * ref.mu).c1 / ref.c1, 12)
+    (3.56, 2.0)
+    >>> q = ref.replace(c1=2.0e9)              # explicit: mu no longer enters
+    >>> q.c1, sorted(q.unused())
+    (2000000000.0, ['c1_factor', 'mu'])
+    >>> q.replace(c1=None).c1 == ref.c1        # back to the derived value
+    True
     """
 
     mu: float
@@ -129,51 +201,136 @@ class DeviceParams:
     n: float
     inv_gamma1: float
     inv_gamma2: float
-    c1: float | None = None
-    c2: float | None = None
-    S_t: float | None = None
+    c1_factor: float = 1.0
+    c2_factor: float = 1.0
+    S_t_factor: float = 1.0
+    c1_explicit: float | None = None
+    c2_explicit: float | None = None
+    S_t_explicit: float | None = None
     friction_N: float = 0.0
     bulk_law: str = "gholizadeh"
     name: str = field(default="", compare=False)
 
-    def __post_init__(self) -> None:
-        for fname, unit in (
-            ("mu", "Pa s"),
-            ("rho_l", "kg/m^3"),
-            ("B_l", "Pa"),
-            ("V01", "m^3"),
-            ("V02", "m^3"),
-            ("A_p", "m^2"),
-            ("A_t", "m^2"),
-            ("l_t", "m"),
-            ("p0", "Pa"),
+    def __init__(self, mu: float, rho_l: float, B_l: float, V01: float, V02: float,
+                 A_p: float, A_t: float, l_t: float, p0: float, n: float,
+                 inv_gamma1: float, inv_gamma2: float, c1=_UNSET, c2=_UNSET, S_t=_UNSET,
+                 friction_N: float = 0.0, bulk_law: str = "gholizadeh", name: str = "", *,
+                 c1_factor: float = 1.0, c2_factor: float = 1.0, S_t_factor: float = 1.0,
+                 c1_explicit: float | None = None, c2_explicit: float | None = None,
+                 S_t_explicit: float | None = None) -> None:
+        def put(key, value):
+            object.__setattr__(self, key, value)
+
+        for fname, value, unit in (
+            ("mu", mu, "Pa s"),
+            ("rho_l", rho_l, "kg/m^3"),
+            ("B_l", B_l, "Pa"),
+            ("V01", V01, "m^3"),
+            ("V02", V02, "m^3"),
+            ("A_p", A_p, "m^2"),
+            ("A_t", A_t, "m^2"),
+            ("l_t", l_t, "m"),
+            ("p0", p0, "Pa"),
         ):
-            object.__setattr__(self, fname, check_positive(fname, getattr(self, fname), unit))
-        object.__setattr__(self, "n", check_in_range("n", self.n, 1.0, 1.67, "-"))
-        for fname in ("inv_gamma1", "inv_gamma2"):
-            object.__setattr__(self, fname, check_nonnegative(fname, getattr(self, fname), "-"))
-        if self.c1 is None:
-            object.__setattr__(self, "c1", initial_c1(self.mu, self.l_t, self.A_t))
-        if self.c2 is None:
-            object.__setattr__(self, "c2", initial_c2(self.rho_l, self.A_t))
-        if self.S_t is None:
-            object.__setattr__(self, "S_t", self.l_t / self.A_t)
-        object.__setattr__(self, "c1", check_nonnegative("c1", self.c1, "kg m^-4 s^-1"))
-        object.__setattr__(self, "c2", check_nonnegative("c2", self.c2, "kg m^-7"))
-        object.__setattr__(self, "S_t", check_nonnegative("S_t", self.S_t, "1/m"))
+            put(fname, check_positive(fname, value, unit))
+        put("n", check_in_range("n", n, 1.0, 1.67, "-"))
+        put("inv_gamma1", check_nonnegative("inv_gamma1", inv_gamma1, "-"))
+        put("inv_gamma2", check_nonnegative("inv_gamma2", inv_gamma2, "-"))
+        factors = {"c1": c1_factor, "c2": c2_factor, "S_t": S_t_factor}
+        stored = {"c1": c1_explicit, "c2": c2_explicit, "S_t": S_t_explicit}
+        given = {"c1": c1, "c2": c2, "S_t": S_t}
+        for key, unit in DERIVABLE.items():
+            put(f"{key}_factor", check_nonnegative(f"{key}_factor", factors[key], "-"))
+            value = stored[key] if given[key] is _UNSET else given[key]
+            put(f"{key}_explicit", None if value is None else check_nonnegative(key, value, unit))
         if self.c1 == 0.0 and self.c2 == 0.0:
             raise ParameterError(
                 "c1 and c2 are both 0: the channel has no resistance; "
                 "at least one must be > 0 [kg m^-4 s^-1], [kg m^-7]"
             )
-        object.__setattr__(
-            self, "friction_N", check_nonnegative("friction_N", self.friction_N, "N")
-        )
-        check_choice("bulk_law", self.bulk_law, BULK_LAWS)
+        put("friction_N", check_nonnegative("friction_N", friction_N, "N"))
+        put("bulk_law", check_choice("bulk_law", bulk_law, BULK_LAWS))
+        if not isinstance(name, str):
+            raise ParameterError(f"name must be a str, got {type(name).__name__} {name!r}")
+        put("name", name)
+
+    # ----- channel coefficients: derived unless explicit ---------------
+    @property
+    def c1(self) -> float:
+        """Linear loss coefficient c1 [kg m^-4 s^-1]: explicit, or c1_factor 8 pi mu l_t / A_t^2."""
+        if self.c1_explicit is not None:
+            return self.c1_explicit
+        return self.c1_factor * initial_c1(self.mu, self.l_t, self.A_t)
+
+    @property
+    def c2(self) -> float:
+        """Quadratic loss coefficient c2 [kg m^-7]: explicit, or c2_factor rho_l/(2 C_De^2 A_t^2).
+        """
+        if self.c2_explicit is not None:
+            return self.c2_explicit
+        return self.c2_factor * initial_c2(self.rho_l, self.A_t)
+
+    @property
+    def S_t(self) -> float:
+        """Channel inertance factor S_t [1/m]: explicit, or S_t_factor l_t / A_t."""
+        if self.S_t_explicit is not None:
+            return self.S_t_explicit
+        return self.S_t_factor * initial_S_t(self.l_t, self.A_t)
+
+    @property
+    def explicit(self) -> tuple[str, ...]:
+        """Names of the channel quantities given as absolute values (``c1``, ``c2``, ``S_t``).
+
+        Examples
+        --------
+        >>> from liquidamp.device import preset
+        >>> preset("reference").explicit, preset("reference").replace(S_t=1e5).explicit
+        ((), ('S_t',))
+        """
+        return tuple(k for k in DERIVABLE if getattr(self, f"{k}_explicit") is not None)
+
+    def unused(self) -> dict[str, str]:
+        """Inputs that enter no answer because a derived quantity is given explicitly.
+
+        Returns
+        -------
+        dict
+            ``{name: reason}`` in field order; empty when every input is used.
+            A geometry input (``mu``, ``l_t``, ``A_t``) is listed when every
+            quantity it derives is explicit; a factor when it is not 1 beside
+            an explicit value.
+
+        Examples
+        --------
+        >>> from liquidamp.device import preset
+        >>> preset("reference").unused()
+        {}
+        >>> p = preset("paper_initial").replace(c1=1e9, c2=1e14, S_t=2e5)
+        >>> list(p.unused())
+        ['mu', 'A_t', 'l_t']
+        >>> p.unused()["mu"]
+        'c1 is given explicitly; mu enters only c1 = c1_factor 8 pi mu l_t / A_t^2'
+        """
+        explicit = self.explicit
+        out = {}
+        for source in ("mu", "A_t", "l_t"):
+            uses = [k for k, srcs in _SOURCES.items() if source in srcs]
+            if all(k in explicit for k in uses):
+                given = ", ".join(uses[:-1]) + (" and " if len(uses) > 1 else "") + uses[-1]
+                verb = "is" if len(uses) == 1 else "are"
+                formulas = " and ".join(_FORMULA[k] for k in uses)
+                out[source] = f"{given} {verb} given explicitly; {source} enters only {formulas}"
+        for k in explicit:
+            if getattr(self, f"{k}_factor") != 1.0:
+                out[f"{k}_factor"] = (f"{k} is given explicitly; {k}_factor multiplies only "
+                                      f"the geometric estimate ({_FORMULA[k]})")
+        return out
 
     # ----- convenience -------------------------------------------------
     def replace(self, **changes) -> DeviceParams:
         """Return a validated copy with ``changes`` applied (see dataclasses.replace).
+
+        ``c1=``, ``c2=``, ``S_t=`` set explicit values (None: derive again).
 
         Examples
         --------
@@ -184,7 +341,17 @@ class DeviceParams:
         return dataclasses.replace(self, **changes)
 
     def scaled(self, **multipliers: float) -> DeviceParams:
-        """Return a copy with named fields multiplied, e.g. ``scaled(c1=3.56)``.
+        """Return a copy with named inputs multiplied, e.g. ``scaled(c1=3.56)``.
+
+        ``c1``, ``c2``, ``S_t`` multiply their factor when derived and their
+        value when explicit; ``mu``, ``l_t``, ``A_t`` change the derived
+        coefficients they enter.
+
+        Raises
+        ------
+        ParameterError
+            For a name outside :data:`SCALABLE`, a negative multiplier, or a
+            multiplier other than 1 on an input :meth:`unused` lists.
 
         Examples
         --------
@@ -192,14 +359,31 @@ class DeviceParams:
         >>> p = preset("paper_initial")
         >>> p.scaled(c1=2.0).c1 / p.c1
         2.0
+        >>> q = p.scaled(l_t=2.0)                  # longer channel: c1 and S_t double
+        >>> round(q.c1 / p.c1, 12), round(q.S_t / p.S_t, 12), q.c2 == p.c2
+        (2.0, 2.0, True)
         """
         changes = {}
+        unused = self.unused()
         for key, factor in multipliers.items():
             if key not in SCALABLE:
                 raise ParameterError(
                     f"cannot scale {key!r}; scalable parameters: {', '.join(SCALABLE)}"
                 )
-            changes[key] = getattr(self, key) * check_nonnegative(f"multiplier of {key}", factor)
+            factor = check_nonnegative(f"multiplier of {key}", factor)
+            if key in DERIVABLE:
+                explicit = getattr(self, f"{key}_explicit")
+                if explicit is None:
+                    changes[f"{key}_factor"] = getattr(self, f"{key}_factor") * factor
+                else:
+                    changes[key] = explicit * factor
+                continue
+            if key in unused and factor != 1.0:
+                raise ParameterError(
+                    f"cannot scale {key} by {factor:g}: it is unused ({unused[key]}); "
+                    f"scale the explicit value or set it to None to derive it"
+                )
+            changes[key] = getattr(self, key) * factor
         return dataclasses.replace(self, **changes)
 
     # ----- derived quantities -----------------------------------------
@@ -288,17 +472,25 @@ class DeviceParams:
         """Largest admissible stroke magnitude min(V01, V02) / A_p [m]."""
         return min(self.V01, self.V02) / self.A_p
 
-    def derived(self) -> dict[str, float]:
+    def derived(self) -> dict:
         """All parameters and derived quantities as ``{"name [unit]": value}``.
+
+        Every value is a float, except that when an input is unused (an
+        explicit c1, c2 or S_t displaces it) key ``"unused"`` holds
+        :meth:`unused` (name -> reason); it is absent when every input is used,
+        so the float-only table of a fully derived set is unchanged.
 
         Examples
         --------
         >>> from liquidamp.device import preset
         >>> d = preset("paper_initial").derived()
-        >>> f"{d['c1 [kg m^-4 s^-1]']:.4e}", round(d["b_L [kg]"], 1)
-        ('1.0485e+09', 89.4)
+        >>> f"{d['c1 [kg m^-4 s^-1]']:.4e}", round(d["b_L [kg]"], 1), "unused" in d
+        ('1.0485e+09', 89.4, False)
+        >>> list(preset("reference").replace(c1=1e9).derived()["unused"])
+        ['mu', 'c1_factor']
         """
-        return {
+        unused = self.unused()
+        out = {
             "mu [Pa s]": self.mu,
             "rho_l [kg/m^3]": self.rho_l,
             "B_l [Pa]": self.B_l,
@@ -313,6 +505,9 @@ class DeviceParams:
             "inv_gamma2 [-]": self.inv_gamma2,
             "X01 [-]": self.X01,
             "X02 [-]": self.X02,
+            "c1_factor [-]": self.c1_factor,
+            "c2_factor [-]": self.c2_factor,
+            "S_t_factor [-]": self.S_t_factor,
             "c1 [kg m^-4 s^-1]": self.c1,
             "c2 [kg m^-7]": self.c2,
             "S_t [1/m]": self.S_t,
@@ -328,8 +523,17 @@ class DeviceParams:
             "friction_N [N]": self.friction_N,
             "stroke_limit [m]": self.stroke_limit,
         }
+        if unused:
+            out["unused"] = unused
+        return out
 
 
-#: Fields that :meth:`DeviceParams.scaled` may multiply.
+#: Inputs :meth:`DeviceParams.scaled` may multiply (and calibration may vary).
 SCALABLE = ("mu", "rho_l", "B_l", "V01", "V02", "A_p", "A_t", "l_t", "inv_gamma1", "inv_gamma2",
             "c1", "c2", "S_t", "friction_N")
+
+#: Keyword inputs of :class:`DeviceParams` in their public form (device-file keys):
+#: every field except the stored ``*_explicit`` forms, which are given as ``c1``, ``c2``, ``S_t``.
+INPUT_NAMES = ("mu", "rho_l", "B_l", "V01", "V02", "A_p", "A_t", "l_t", "p0", "n",
+               "inv_gamma1", "inv_gamma2", "c1", "c2", "S_t", "c1_factor", "c2_factor",
+               "S_t_factor", "friction_N", "bulk_law", "name")
