@@ -1,7 +1,9 @@
 """Measured test-machine records: read, check, differentiate, and drive a model with them.
 
 A record is a CSV file with one header row naming each column with its unit
-(DESIGN.md, "Measured data"):
+(the measured-data format of liquidamp; columns in any order, extra spaces
+allowed; ``;``- or tab-separated files may use a decimal comma, a UTF-8
+byte-order mark is ignored):
 
 =====================  =====================================
 column                 units accepted
@@ -316,8 +318,58 @@ def _parse_header(row, where):
     return cols
 
 
+_DECIMAL_COMMA = re.compile(r"^[+-]?(\d+,\d*|,\d+)([eE][+-]?\d+)?$")
+
+
+def _decode(raw: bytes, where: str) -> str:
+    """Text of a record file: UTF-8 (a byte-order mark is dropped), UTF-16 with its BOM, or
+    Latin-1 for a text file that is not UTF-8; a binary file raises naming the file."""
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        try:
+            return raw.decode("utf-16")
+        except UnicodeDecodeError:
+            pass
+    head = raw[:4096]
+    nul = head.find(b"\x00")
+    control = sum(1 for c in head if c < 32 and c not in (9, 10, 13))
+    if nul >= 0 or (head and control > 0.05 * len(head)):
+        at = f"NUL byte at offset {nul}" if nul >= 0 else f"{control} control bytes"
+        raise DataFileError(
+            f"{where} is not a text CSV file (binary content: {at} in its first "
+            f"{len(head)} bytes); a record is a CSV text file whose header row names "
+            "time [s], displacement [mm] or [m], force [N] or [kN]")
+    try:
+        return raw.decode("utf-8-sig")  # a UTF-8 byte-order mark (Excel) is dropped
+    except UnicodeDecodeError:
+        return raw.decode("latin-1")
+
+
+def _delimiter(header: str) -> str:
+    """Column separator: ',' unless the header is separated by ';' or tabs instead."""
+    outside = re.sub(r"\[[^\]]*\]", "", header)  # units may hold anything
+    counts = {d: outside.count(d) for d in (",", ";", "\t")}
+    if counts[","] == 0 and (counts[";"] or counts["\t"]):
+        return ";" if counts[";"] >= counts["\t"] else "\t"
+    return ","
+
+
+def _number(cell: str, decimal_comma: bool):
+    """float of ``cell`` (a decimal comma allowed when the columns are not comma-separated)."""
+    try:
+        return float(cell)
+    except ValueError:
+        if decimal_comma and _DECIMAL_COMMA.match(cell):
+            return float(cell.replace(",", "."))
+        raise
+
+
 def read_record(path, window: int = 21, order: int = 4) -> Record:
     """Read a record CSV (see module docstring) into a :class:`Record` (SI).
+
+    Accepted beside plain comma-separated UTF-8: a UTF-8 byte-order mark (as
+    Excel writes it) or UTF-16 with its mark; columns separated by ``;`` or
+    tabs (detected from the header row), in which case numbers may use a
+    decimal comma (``0,005``).  A thousands separator is not accepted.
 
     Parameters
     ----------
@@ -329,34 +381,62 @@ def read_record(path, window: int = 21, order: int = 4) -> Record:
     Raises
     ------
     DataFileError
-        Naming the line (1 = header) or column at fault.
+        Naming the file and the line (1 = header) or column at fault; a
+        binary file, a decimal comma in a comma-separated file and a value
+        with both ``.`` and ``,`` are named as such.
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> t = np.arange(0, 1.0, 0.005)
+    >>> rows = [f"{a:.3f};{3 * np.sin(6 * np.pi * a):.4f};{np.cos(6 * np.pi * a):.4f}"
+    ...         for a in t]
+    >>> text = "time [s];displacement [mm];force [kN]\\n" + "\\n".join(rows)
+    >>> path = os.path.join(tempfile.mkdtemp(), "semicolon.csv")
+    >>> _ = open(path, "w", encoding="utf-8-sig").write(text.replace(".", ","))
+    >>> r = read_record(path)
+    >>> round(r.frequency, 3), round(r.amplitude * 1e3, 3)
+    (3.0, 3.0)
     """
     path = Path(path)
     where = str(path)
     try:
-        text = path.read_text()
+        raw = path.read_bytes()
     except OSError as exc:
         raise DataFileError(f"cannot read record {where}: {exc.strerror or exc}") from None
-    reader = csv.reader(text.splitlines())
-    rows = list(reader)
-    if not rows:
+    text = _decode(raw, where)
+    lines = text.splitlines()
+    if not lines or not any(line.strip() for line in lines):
         raise DataFileError(f"{where} is empty: expected a header row")
-    cols = _parse_header(rows[0], where)
+    delim = _delimiter(lines[0])
+    decimal_comma = delim != ","
+    rows = list(csv.reader(lines, delimiter=delim))
+    cols = _parse_header([c.strip() for c in rows[0]], where)
     ncol = len(rows[0])
     data = {name: [] for name in cols}
+    sep = {",": "','", ";": "';'", "\t": "tab"}[delim]
     for i, row in enumerate(rows[1:], start=2):
         if not row or all(not c.strip() for c in row):
             continue
         if len(row) != ncol:
-            raise DataFileError(f"{where}, line {i}: {len(row)} fields, the header has {ncol}")
+            hint = ""
+            if delim == "," and len(row) == 2 * ncol and all(
+                    re.fullmatch(r"[+-]?\d*([eE][+-]?\d+)?", c.strip()) for c in row):
+                hint = ("; the values seem to use a decimal comma, which needs the columns "
+                        "separated by ';' (or tabs), as in the header")
+            raise DataFileError(f"{where}, line {i}: {len(row)} fields separated by {sep}, "
+                                f"the header has {ncol}{hint}")
         for name, (j, factor) in cols.items():
             cell = row[j].strip()
             try:
-                value = float(cell)
+                value = _number(cell, decimal_comma)
             except ValueError:
+                why = "is not a number"
+                if "," in cell and "." in cell:
+                    why = ("is not a number (it holds both '.' and ','; write numbers without "
+                           "a thousands separator)")
                 raise DataFileError(
-                    f"{where}, line {i}, column {j + 1} ({name}): {cell!r} is not a number"
-                ) from None
+                    f"{where}, line {i}, column {j + 1} ({name}): {cell!r} {why}") from None
             if not math.isfinite(value):
                 raise DataFileError(
                     f"{where}, line {i}, column {j + 1} ({name}): {cell!r} is not finite")
@@ -673,13 +753,24 @@ def nrmse(model_force, measured_force) -> float:
     Give arrays or equal-length sequences of arrays (one per record of a
     set); the means are pooled over the whole set.
 
+    Raises
+    ------
+    ParameterError
+        If either argument holds NaN or inf (the argument, the first bad index
+        of the pooled samples and the count are named), if they differ in
+        length, or if the measured force is constant.
+
     Examples
     --------
     >>> nrmse(np.array([1.0, -1.0]), np.array([2.0, -2.0]))
     0.5
     """
+    from liquidamp.analysis.harmonics import check_samples
+
     m = np.concatenate([np.ravel(a) for a in _as_list(model_force)])
     d = np.concatenate([np.ravel(a) for a in _as_list(measured_force)])
+    m = check_samples("model_force", m, "N", where="nrmse")
+    d = check_samples("measured_force", d, "N", where="nrmse")
     if m.shape != d.shape:
         raise ParameterError(f"nrmse: model has {m.size} samples, measurement {d.size}")
     den = float(np.sqrt(np.mean((d - d.mean()) ** 2)))
