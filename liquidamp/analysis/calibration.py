@@ -621,6 +621,7 @@ def check_records(records, params: DeviceParams | None = None, *, outliers: str 
         spike; the record, the line and the values are named.
     """
     check_choice("outliers", outliers, ("raise", "drop"))
+    records = tuple(records)
     qs = tuple(check_record(r, params) for r in records)
     problems = [p for q in qs for p in q.problems]
     if problems:
@@ -632,11 +633,13 @@ def check_records(records, params: DeviceParams | None = None, *, outliers: str 
             + "; ".join(f"{q.source}, {o.describe()}" for q, o in disp)
             + "; the recorded stroke drives the model, so these samples cannot be dropped: "
             "correct or remove them in the file")
-    force = [(q.source, o) for q in qs for o in q.outliers if o.column == "force"]
+    force = [(r.label, o) for r, q in zip(records, qs, strict=True) for o in q.outliers
+             if o.column == "force"]
     if force and outliers == "raise":
         raise DataFileError(
             f"{what}: {len(force)} force outlier(s) (Hampel filter, check_record): "
-            + "; ".join(f"{lab}, {o.describe()}" for lab, o in force)
+            + "; ".join(f"{q.source}, {o.describe()}" for q in qs for o in q.outliers
+                        if o.column == "force")
             + "; correct the file, or pass outliers='drop' to leave these samples out of the "
             "fit and the error measures (the result lists them)")
     return qs, tuple(force)
