@@ -392,6 +392,14 @@ class EquivalentSweep(_KMixin):
         return out
 
 
+def _summary(messages, n: int = 2) -> str:
+    """The first ``n`` messages and how many more (the result holds them all)."""
+    head = "; ".join(messages[:n])
+    more = len(messages) - n
+    return head + (f"; ... and {more} more (all in the result's warnings/failures)"
+                   if more > 0 else "")
+
+
 def _clean(values) -> list:
     """Floats with NaN/inf as None (JSON null)."""
     return [float(v) if math.isfinite(v) else None for v in np.asarray(values, float).ravel()]
@@ -625,11 +633,11 @@ def nonlinear_stiffness(params: DeviceParams, frequencies_hz, amplitudes_m,
             warns += [f"{fj:g} Hz, {Y:g} m: {w}" for w in r.warnings]
     if fails:
         warnings.warn(f"nonlinear_stiffness: {len(fails)} of {value.size} point(s) failed "
-                      f"(NaN, status 'failed'): " + "; ".join(fails), LiquidampWarning,
+                      f"(NaN, status 'failed'): " + _summary(fails), LiquidampWarning,
                       stacklevel=2)
     if warns:
-        warnings.warn("nonlinear_stiffness: " + "; ".join(warns), LiquidampWarning,
-                      stacklevel=2)
+        warnings.warn(f"nonlinear_stiffness: {len(warns)} warning(s): " + _summary(warns),
+                      LiquidampWarning, stacklevel=2)
     return NonlinearStiffness(model=m.name, params=params, frequency=f, amplitude=a,
                               value=value, min_pressure=pmin, residual=res, cycles=cyc,
                               warnings=tuple(warns), failures=tuple(fails), status=status)
@@ -666,7 +674,8 @@ def equivalent_sweep(params: DeviceParams, frequencies_hz, amplitudes_m,
                 status[i, j] = "invalid: " + ("; ".join(e.warnings) or "outside validity")
             warns += [f"{fj:g} Hz, {Y:g} m: {w}" for w in e.warnings]
     if warns:
-        warnings.warn("equivalent_sweep: " + "; ".join(warns), LiquidampWarning, stacklevel=2)
+        warnings.warn(f"equivalent_sweep: {len(warns)} warning(s): " + _summary(warns),
+                      LiquidampWarning, stacklevel=2)
     return EquivalentSweep(model=name, frequency=f, amplitude=a, value=value, valid=valid,
                            min_pressure=pmin, warnings=tuple(warns), status=status)
 
