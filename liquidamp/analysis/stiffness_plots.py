@@ -80,7 +80,7 @@ def plot_dynamic_stiffness(linear: Sequence = (), nonlinear=None, equivalent=Non
     ax_p.set_xlabel("frequency [Hz]")
     ax_p.set_yticks([-90, 0, 45, 90, 135, 180])
     if failed:
-        ax_p.legend(fontsize=7, loc="lower right")
+        ax_p.legend(fontsize=7, loc="lower left")
     for ax in (ax_m, ax_p):
         ax.grid(True, which="both", alpha=0.3)
     ax_m.legend(fontsize=7, loc="best")
