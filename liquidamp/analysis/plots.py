@@ -73,9 +73,9 @@ def plot_loops(responses: Sequence, labels: Sequence[str] | None = None, *,
         per response).
     vapour_pressure : float, optional
         Stretches where a chamber pressure lies below it [Pa] are marked by a
-        wide translucent purple band under the loop on every panel ("cavitation": the liquid would boil
-        there, which a model without the cavitation effect does not
-        represent); default ``SolverOptions().vapour_pressure`` (water at
+        wide translucent purple band under the loop on every panel
+        ("cavitation": the liquid would boil there, which a model without the
+        cavitation effect does not represent); default ``SolverOptions().vapour_pressure`` (water at
         20 C, about 2.3 kPa).
 
     Returns
