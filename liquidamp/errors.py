@@ -15,6 +15,7 @@ __all__ = [
     "ConvergenceError",
     "PressureError",
     "DataFileError",
+    "LiquidampWarning",
     "check_positive",
     "check_nonnegative",
     "check_finite",
@@ -41,6 +42,14 @@ class PressureError(LiquidampError, RuntimeError):
 
 class DataFileError(LiquidampError):
     """A measured-data file cannot be read honestly (row or column named)."""
+
+
+class LiquidampWarning(UserWarning):
+    """A result liquidamp returns carries a warning (also listed in the result and its JSON).
+
+    Filter it with ``warnings.simplefilter("ignore", LiquidampWarning)`` or
+    turn it into an error with ``"error"``.
+    """
 
 
 def _fmt(value) -> str:

@@ -38,6 +38,12 @@ Cases (keys of ``"cases"``):
 ``diagnosis``
     One :func:`~liquidamp.analysis.diagnosis.diagnose` of the bundled record
     (first 3 cycles, as the demo loop).
+``stiffness_sweep``
+    :func:`~liquidamp.analysis.stiffness.nonlinear_stiffness` of the reference
+    design, full model, 30 log-spaced frequencies 0.5-20 Hz x 2 amplitudes
+    (1 and 3 mm), as ``liquidamp stiffness`` runs it (default options: the
+    compiled engine); the baseline is the same sweep on the Python engine
+    (scipy Radau), measured only without ``quick`` (about a minute).
 """
 
 from __future__ import annotations
@@ -55,7 +61,8 @@ import numpy as np
 
 __all__ = ["run_bench", "GOALS", "CASES"]
 
-CASES = ("steady_state_loop", "calibration", "floquet_sweep", "coupled_rotor", "diagnosis")
+CASES = ("steady_state_loop", "calibration", "floquet_sweep", "coupled_rotor", "diagnosis",
+         "stiffness_sweep")
 
 #: The issue's goals: case -> (quantity, comparison, target).
 GOALS = {
@@ -63,6 +70,7 @@ GOALS = {
     "calibration": [("seconds", "<", 2.0)],
     "floquet_sweep": [("seconds", "<", 2.0)],
     "coupled_rotor": [("real_time_factor", ">=", 50.0)],
+    "stiffness_sweep": [("seconds", "<", 5.0)],
     "first_call": [("cold_cache_seconds", "<", 10.0)],
 }
 
@@ -520,9 +528,49 @@ def _case_diagnosis(quick: bool, repeats: int) -> dict:
     }
 
 
+def _case_stiffness(quick: bool, repeats: int) -> dict:
+    import warnings
+
+    from liquidamp.analysis.stiffness import STIFFNESS_OPTIONS, nonlinear_stiffness
+    from liquidamp.device import preset
+    from liquidamp.errors import LiquidampWarning
+    from liquidamp.options import SolverOptions
+
+    p = preset("reference")
+    f = np.geomspace(0.5, 20.0, 30)
+    a = [1e-3, 3e-3]
+
+    def run(options=None):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", LiquidampWarning)
+            return nonlinear_stiffness(p, f, a, options=options, on_error="skip")
+
+    run()  # compile or load the cached kernels
+    seconds, r = _median_time(run, repeats)
+    out = {
+        "description": "nonlinear_stiffness, reference design, full model, 30 frequencies "
+                       "0.5-20 Hz x amplitudes 1 and 3 mm (as `liquidamp stiffness`), engine "
+                       f"{STIFFNESS_OPTIONS.engine!r}",
+        "seconds": seconds,
+        "repeats": repeats,
+        "points": int(r.value.size),
+        "failed_points": len(r.failures),
+        "baseline_seconds": None,
+    }
+    if not quick:
+        t0 = time.perf_counter()
+        b = run(SolverOptions(engine="python"))
+        out["baseline_seconds"] = time.perf_counter() - t0
+        out["speedup"] = out["baseline_seconds"] / seconds
+        ok = np.isfinite(b.value) & np.isfinite(r.value)
+        out["max_K_rel_difference_vs_python"] = float(
+            np.max(np.abs(b.value[ok] - r.value[ok]) / np.abs(b.value[ok])))
+    return out
+
+
 _RUNNERS = {"steady_state_loop": _case_steady, "calibration": _case_calibration,
             "floquet_sweep": _case_floquet, "coupled_rotor": _case_coupled,
-            "diagnosis": _case_diagnosis}
+            "diagnosis": _case_diagnosis, "stiffness_sweep": _case_stiffness}
 
 # ------------------------------------------------------------ first calls
 _FIRST_CALL_CODE = {

@@ -18,7 +18,9 @@ the pooled calibration set, so the cost is NRMSE^2 / 2 with
 pooled over all records of a set.  Every model run is driven by the
 recorded stroke (:func:`liquidamp.analysis.records.simulate_record`).
 
-Local minima (DESIGN.md): the default start is taken from physics.  The
+Local minima (least squares on the air ratios and loss coefficients has
+them: a start away from the paper's multipliers can stall at ten times the
+noise floor): the default start is taken from physics.  The
 record's first harmonic gives the dynamic stiffness K*; the linear model of
 the device, a spring k_D in series with the channel (dashpot c and inertance
 b_L, eq. 16 with inertia), is solved for k_D and c given b_L; k_D is mapped
@@ -33,6 +35,14 @@ scaled by the residual variance, s^2 (J^T J)^-1 with s^2 = RSS / (N - p).
 They assume independent residuals; model error is correlated in time, so
 read them as lower bounds.
 
+Data quality comes first: every record is checked by
+:func:`liquidamp.analysis.records.check_record` before any model run.  A
+record whose force shows no first harmonic above the noise, or whose stroke
+reaches the chamber end, is refused; isolated spikes (a Hampel filter) in the
+displacement are refused (the stroke drives the model), and in the force
+either refused (default) or, with ``outliers="drop"``, left out of the
+residual and of every error measure and listed in ``CalibrationResult.dropped``.
+
 References
 ----------
 .. [1] B. Titurus, AIAA J. 56(10), 2018, Sec. IV.C and Table 2.
@@ -44,17 +54,20 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from liquidamp.analysis.records import Record, nrmse, simulate_record
+from liquidamp.analysis.records import DataQuality, Record, check_record, nrmse, simulate_record
 from liquidamp.device.effects import EFFECTS, Effect, with_effects
 from liquidamp.device.models import DeviceModel, get_model
 from liquidamp.device.params import SCALABLE, DeviceParams
 from liquidamp.errors import (
     ConvergenceError,
+    DataFileError,
     LiquidampError,
+    LiquidampWarning,
     ParameterError,
     PressureError,
     check_choice,
@@ -62,7 +75,7 @@ from liquidamp.errors import (
 from liquidamp.options import SolverOptions
 
 __all__ = ["Parameter", "FitSpec", "CalibrationResult", "RecordError", "calibrate",
-           "predict", "physics_start", "FIT_OPTIONS", "PAPER_FOUR"]
+           "predict", "physics_start", "check_records", "FIT_OPTIONS", "PAPER_FOUR"]
 
 
 def _fit_engine() -> str:
@@ -384,6 +397,17 @@ class CalibrationResult:
         Model force on each record [N].
     jacobian : ndarray
         Jacobian of the scaled residual in the fit coordinates at the optimum.
+    data_quality : tuple of DataQuality
+        The check of every record (calibration, then validation).
+    dropped : tuple of (str, Outlier)
+        Force samples left out of the fit and the error measures
+        (``outliers="drop"``), with their record's label.
+    warnings : tuple of str
+        Not converged, failed trial points, dropped samples, noisy records;
+        also issued as :class:`~liquidamp.errors.LiquidampWarning`.
+
+    Printing the result gives a short summary; :meth:`fit_report` the
+    parameters with their errors and correlations; :meth:`plot` a figure.
     """
 
     model: str
@@ -412,6 +436,9 @@ class CalibrationResult:
     predictions_calibration: tuple
     predictions_validation: tuple
     jacobian: np.ndarray = field(repr=False)
+    data_quality: tuple = ()
+    dropped: tuple = ()
+    warnings: tuple = ()
 
     @property
     def device_model(self) -> DeviceModel:
@@ -419,11 +446,141 @@ class CalibrationResult:
         return with_effects(get_model(self.model), *self.effects)
 
     def residuals(self, role: str = "calibration") -> list[np.ndarray]:
-        """Model minus measured force on each record of a set [N]."""
+        """Model minus measured force on each record of a set [N] (0 at dropped samples)."""
         recs = self.calibration if role == "calibration" else self.validation
         preds = (self.predictions_calibration if role == "calibration"
                  else self.predictions_validation)
-        return [p - r.force for p, r in zip(preds, recs, strict=True)]
+        out = []
+        for p, r in zip(preds, recs, strict=True):
+            res = p - r.force
+            idx = [o.index for lab, o in self.dropped if lab == r.label]
+            res[idx] = 0.0
+            out.append(res)
+        return out
+
+    def __repr__(self) -> str:
+        nv = ("" if self.nrmse_validation is None
+              else f", validation {self.nrmse_validation:.4g}")
+        vals = ", ".join(f"{k}={v:.4g}" for k, v in self.values.items())
+        extra = f", {len(self.warnings)} warning(s)" if self.warnings else ""
+        return (f"<CalibrationResult {self.model}: {self.status}, NRMSE calibration "
+                f"{self.nrmse_calibration:.4g}{nv}; {vals}{extra}>")
+
+    def __str__(self) -> str:
+        lines = [f"CalibrationResult: model {self.model!r} from "
+                 f"{self.start_params.name or 'custom'} parameters",
+                 f"  fit: {self.status} after {self.nfev} evaluations (cost {self.cost:.4g})",
+                 f"  records: {len(self.calibration)} calibration, {len(self.validation)} "
+                 f"validation, {self.n_samples} samples fitted",
+                 f"  NRMSE: calibration {self.nrmse_calibration:.4g}"
+                 + ("" if self.nrmse_validation is None
+                    else f", validation {self.nrmse_validation:.4g}")]
+        for k, v in self.values.items():
+            lines.append(f"  {k:<34s} {v:12.5g} +/- {self.stderr.get(k, math.nan):.2g}")
+        if self.effects:
+            lines.append("  effects: " + ", ".join(e.name for e in self.effects))
+        for w in self.warnings[:5]:
+            lines.append("  warning: " + (w if len(w) < 200 else w[:197] + "..."))
+        if len(self.warnings) > 5:
+            lines.append(f"  ... {len(self.warnings) - 5} more warning(s)")
+        lines.append("  (fit_report() for errors and correlations, plot() for a figure)")
+        return "\n".join(lines)
+
+    def fit_report(self, min_correl: float = 0.5) -> str:
+        """lmfit-style text report of the fit.
+
+        Values with units, standard errors and relative errors, the
+        correlations whose magnitude exceeds ``min_correl``, and a flag on
+        every parameter within 0.1 % (of its range in the fit coordinate) of
+        a bound: its standard error is then not meaningful.  Multipliers are
+        dimensionless factors on the starting parameters (Table 2's alpha_j);
+        effect parameters are in SI with the unit in their key.
+
+        Parameters
+        ----------
+        min_correl : float
+            Smallest |correlation| listed [-] (default 0.5, as lmfit's 0.1
+            would list nearly every pair of this model family).
+
+        Returns
+        -------
+        str
+        """
+        out = ["[[Fit Statistics]]",
+               f"    model              = {self.model}"
+               + (f" + {', '.join(e.name for e in self.effects)}" if self.effects else ""),
+               f"    status             = {self.status} ({self.message})",
+               f"    function evals     = {self.nfev}",
+               f"    data points        = {self.n_samples}",
+               f"    variables          = {len(self.varying)}",
+               f"    NRMSE calibration  = {self.nrmse_calibration:.6g}"]
+        if self.nrmse_validation is not None:
+            out.append(f"    NRMSE validation   = {self.nrmse_validation:.6g}")
+        out += [f"    Akaike info crit   = {self.aic:.6g}",
+                f"    Bayesian info crit = {self.bic:.6g}"]
+        if self.dropped:
+            out.append(f"    dropped samples    = {len(self.dropped)} (force outliers)")
+        out.append("[[Variables]]")
+        at_bound = self.at_bounds()
+        for p in self.spec.parameters:
+            v = self.values.get(p.name, p.value)
+            unit = "[-] multiplier" if p.kind == "multiplier" else _effect_unit(p.name)
+            if not p.vary:
+                out.append(f"    {p.name + ':':<36s} {v:.6g} {unit} (fixed)")
+                continue
+            se = self.stderr.get(p.name, math.nan)
+            rel = f"({abs(se / v):.2%})" if v != 0 and math.isfinite(se) else "(n/a)"
+            flag = f"  AT {at_bound[p.name].upper()} BOUND" if p.name in at_bound else ""
+            out.append(f"    {p.name + ':':<36s} {v:.6g} +/- {se:.3g} {rel} {unit} "
+                       f"(bounds [{p.min:g}, {p.max:g}]){flag}")
+        pairs = []
+        names = list(self.varying)
+        for i in range(len(names)):
+            for j in range(i + 1, len(names)):
+                c = float(self.correlation[i, j])
+                if abs(c) > min_correl:
+                    pairs.append((abs(c), names[i], names[j], c))
+        out.append(f"[[Correlations]] (unreported correlations are < {min_correl:.3f})")
+        for _, a, b, c in sorted(pairs, reverse=True):
+            out.append(f"    C({a}, {b}) = {c:+.4f}")
+        if not pairs:
+            out.append("    none")
+        if self.warnings:
+            out.append("[[Warnings]]")
+            out += [f"    {w}" for w in self.warnings]
+        return "\n".join(out)
+
+    def at_bounds(self, tol: float = 1e-3) -> dict:
+        """Varied parameters within ``tol`` of a bound (fraction of the range in the fit
+        coordinate): name -> 'lower' or 'upper'."""
+        out = {}
+        for name in self.varying:
+            p = self.spec[name]
+            lo, hi = p.x_bounds()
+            x = p.to_x(self.values[name])
+            if x - lo <= tol * (hi - lo):
+                out[name] = "lower"
+            elif hi - x <= tol * (hi - lo):
+                out[name] = "upper"
+        return out
+
+    def plot(self, role: str = "calibration"):
+        """Measured and fitted force over time and force-displacement loops of every record.
+
+        Parameters
+        ----------
+        role : {'calibration', 'validation'}
+            Which set of records.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            One row per record: force [N] against time [s] (measured, model,
+            dropped samples marked) and force against displacement [mm].
+        """
+        from liquidamp.analysis.report_calibration import plot_fit
+
+        return plot_fit(self, role)
 
     def parameters_dict(self) -> dict:
         """JSON-ready parameters: multipliers, DeviceParams values, effects."""
@@ -440,8 +597,12 @@ class CalibrationResult:
         }
 
     def as_dict(self) -> dict:
-        """JSON-ready summary."""
+        """JSON-ready summary (with ``data_quality``, ``dropped`` and ``warnings``)."""
         return {
+            "data_quality": [q.as_dict() for q in self.data_quality],
+            "dropped": [{"record": lab, **o.__dict__} for lab, o in self.dropped],
+            "warnings": list(self.warnings),
+            "at_bounds": self.at_bounds(),
             "parameters": self.parameters_dict(),
             "nrmse": {"calibration": self.nrmse_calibration,
                       "validation": self.nrmse_validation},
@@ -453,6 +614,68 @@ class CalibrationResult:
                     "n_samples": self.n_samples, "aic": self.aic, "bic": self.bic,
                     "starts": [{"start": s, "nrmse": v} for s, v in self.starts]},
         }
+
+
+def _effect_unit(name: str) -> str:
+    key = name.split(".", 1)[1]
+    for suffix, unit in (("_N_per_m", "[N/m]"), ("_m3_per_s_Pa", "[m^3/(s Pa)]"),
+                         ("_Pa", "[Pa]"), ("_N", "[N]"), ("_kg", "[kg]"), ("_m", "[m]"),
+                         ("_s", "[s]")):
+        if key.endswith(suffix):
+            return unit
+    return "[SI]"
+
+
+def check_records(records, params: DeviceParams | None = None, *, outliers: str = "raise",
+                  what: str = "calibrate") -> tuple[tuple[DataQuality, ...], tuple]:
+    """Check records before a fit; raise on what cannot be fitted honestly.
+
+    Parameters
+    ----------
+    records : sequence of Record
+        Every record of the fit (calibration and validation).
+    params : DeviceParams, optional
+        Device whose chamber end bounds the stroke.
+    outliers : {'raise', 'drop'}
+        Force spikes: refuse (default) or return them to be left out.
+    what : str
+        Name of the caller in the messages.
+
+    Returns
+    -------
+    (tuple of DataQuality, tuple of (label, Outlier))
+        The checks and the force samples to drop (empty unless ``'drop'``).
+
+    Raises
+    ------
+    DataFileError
+        A record holds no force response above its noise, a stroke past the
+        chamber end, a displacement spike, or (``outliers='raise'``) a force
+        spike; the record, the line and the values are named.
+    """
+    check_choice("outliers", outliers, ("raise", "drop"))
+    records = tuple(records)
+    qs = tuple(check_record(r, params) for r in records)
+    problems = [p for q in qs for p in q.problems]
+    if problems:
+        raise DataFileError(f"{what}: " + "; ".join(problems))
+    disp = [(q, o) for q in qs for o in q.outliers if o.column == "displacement"]
+    if disp:
+        raise DataFileError(
+            f"{what}: {len(disp)} displacement spike(s) (Hampel filter, check_record): "
+            + "; ".join(f"{q.source}, {o.describe()}" for q, o in disp)
+            + "; the recorded stroke drives the model, so these samples cannot be dropped: "
+            "correct or remove them in the file")
+    force = [(r.label, o) for r, q in zip(records, qs, strict=True) for o in q.outliers
+             if o.column == "force"]
+    if force and outliers == "raise":
+        raise DataFileError(
+            f"{what}: {len(force)} force outlier(s) (Hampel filter, check_record): "
+            + "; ".join(f"{q.source}, {o.describe()}" for q in qs for o in q.outliers
+                        if o.column == "force")
+            + "; correct the file, or pass outliers='drop' to leave these samples out of the "
+            "fit and the error measures (the result lists them)")
+    return qs, tuple(force)
 
 
 # ---------------------------------------------------------------------------
@@ -550,8 +773,24 @@ def _pair_groups(var):
     return groups
 
 
+def _keep_masks(records, dropped) -> list[np.ndarray]:
+    """Per record: True where the sample is fitted (False at dropped outliers)."""
+    masks = []
+    for r in records:
+        k = np.ones(r.time.size, bool)
+        k[[o.index for lab, o in dropped if lab == r.label]] = False
+        masks.append(k)
+    return masks
+
+
+def _nrmse_kept(preds, records, masks) -> float:
+    return nrmse([p[k] for p, k in zip(preds, masks, strict=True)],
+                 [r.force[k] for r, k in zip(records, masks, strict=True)])
+
+
 class _Objective:
-    def __init__(self, model, base_params, effects, spec, records, options, preroll):
+    def __init__(self, model, base_params, effects, spec, records, options, preroll,
+                 keep=None):
         self.model = get_model(model)
         self.base, self.effects, self.spec = base_params, tuple(effects), spec
         self.records, self.options, self.preroll = tuple(records), options, preroll
@@ -559,10 +798,13 @@ class _Objective:
         self.fixed = {p.name: p.value for p in spec.parameters}
         meas = np.concatenate([r.force for r in self.records])
         self.meas = meas
-        self.den = float(np.sqrt(np.mean((meas - meas.mean()) ** 2)))
+        self.keep = (np.ones(meas.size, bool) if keep is None
+                     else np.concatenate(keep).astype(bool))
+        kept = meas[self.keep]
+        self.den = float(np.sqrt(np.mean((kept - kept.mean()) ** 2)))
         if self.den == 0:
             raise ParameterError("calibration records hold a constant force")
-        self.scale = self.den * math.sqrt(meas.size)
+        self.scale = self.den * math.sqrt(kept.size)
         self.nfev = 0
         self.failures = 0
         self.last_error = ""
@@ -585,14 +827,15 @@ class _Objective:
         except (PressureError, ConvergenceError, ParameterError) as exc:
             self.failures += 1
             self.last_error = str(exc)
-            return np.full(self.meas.size, 3.0 / math.sqrt(self.meas.size))
-        return (np.concatenate(F) - self.meas) / self.scale
+            return np.where(self.keep, 3.0 / math.sqrt(self.keep.sum()), 0.0)
+        return np.where(self.keep, np.concatenate(F) - self.meas, 0.0) / self.scale
 
 
 def calibrate(records, *, model="full", params: DeviceParams | None = None, effects=(),
               spec: FitSpec | None = None, validate=(), options: SolverOptions | None = None,
               start: str = "physics", max_nfev: int = 80, preroll: int = 1,
-              tol: float = 1e-6, strict: bool = False) -> CalibrationResult:
+              tol: float = 1e-6, strict: bool = False,
+              outliers: str = "raise", warn: bool = True) -> CalibrationResult:
     """Fit ``spec`` to the calibration ``records``; report errors on ``validate`` too.
 
     Parameters
@@ -626,6 +869,14 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
     strict : bool
         Raise ConvergenceError instead of returning a result with
         ``converged = False``.
+    outliers : {'raise', 'drop'}
+        Isolated force spikes found by :func:`~liquidamp.analysis.records.check_record`:
+        refuse the records (default) or leave those samples out of the
+        residual and of every NRMSE, listed in ``CalibrationResult.dropped``
+        and in a warning.
+    warn : bool
+        Issue ``CalibrationResult.warnings`` as :class:`LiquidampWarning` (default;
+        :func:`~liquidamp.analysis.diagnosis.diagnose` reports its own).
 
     Returns
     -------
@@ -634,9 +885,20 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
 
     Raises
     ------
+    DataFileError
+        Before any model run (:func:`check_records`): a record whose force's
+        first harmonic is not distinguishable from its noise, a stroke past
+        the chamber end (``params.stroke_limit``), a displacement spike, or a
+        force spike with ``outliers='raise'``; the record and line are named.
     ConvergenceError
         If the model cannot be run at the start, or (``strict``) if the fit
         does not converge.
+
+    Warns
+    -----
+    LiquidampWarning
+        With the text of ``CalibrationResult.warnings`` (not converged,
+        trial points that failed, dropped samples, noisy records).
     """
     from scipy.optimize import least_squares
 
@@ -655,8 +917,15 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
         spec = FitSpec.default(effects=effects)
     check_spec_uses(base, spec)
     check_choice("start", start, ("physics", "spec"))
+    quality, dropped = check_records(records + validate, base, outliers=outliers)
+    for r in records + validate:
+        if sum(1 for q in records + validate if q.label == r.label) > 1 and dropped:
+            raise ParameterError(f"calibrate: two records share the label {r.label!r}; "
+                                 "outliers='drop' needs distinct labels")
+    keep_c = _keep_masks(records, dropped)
+    keep_v = _keep_masks(validate, dropped)
     options = FIT_OPTIONS if options is None else options
-    obj = _Objective(model, base, effects, spec, records, options, preroll)
+    obj = _Objective(model, base, effects, spec, records, options, preroll, keep=keep_c)
     if not obj.var:
         raise ParameterError("the fit specification varies nothing")
 
@@ -705,10 +974,10 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
     pc = predict(model, params_fit, effects_fit, records, options=options, preroll=preroll)
     pv = predict(model, params_fit, effects_fit, validate, options=options,
                  preroll=preroll) if validate else []
-    n = obj.meas.size
+    n = int(obj.keep.sum())
     k = len(obj.var)
     J = np.asarray(sol.jac, float)
-    res = (np.concatenate(pc) - obj.meas) / obj.scale
+    res = np.where(obj.keep, np.concatenate(pc) - obj.meas, 0.0) / obj.scale
     rss_scaled = float(res @ res)
     s2 = rss_scaled * n / max(n - k, 1)  # residual variance in units of 1/sqrt(N) scaling
     try:
@@ -733,11 +1002,32 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
         message += f"; {obj.failures} trial point(s) could not be run ({obj.last_error})"
     if strict and not converged:
         raise ConvergenceError(f"calibration did not converge: {message}")
-    errs = [RecordError(r.label, "calibration", nrmse(f, r.force), r.frequency, r.amplitude)
-            for f, r in zip(pc, records, strict=True)]
-    errs += [RecordError(r.label, "validation", nrmse(f, r.force), r.frequency, r.amplitude)
-             for f, r in zip(pv, validate, strict=True)]
-    rss = float(np.sum((np.concatenate(pc) - obj.meas) ** 2))
+    errs = [RecordError(r.label, "calibration", nrmse(f[m], r.force[m]), r.frequency,
+                        r.amplitude) for f, r, m in zip(pc, records, keep_c, strict=True)]
+    errs += [RecordError(r.label, "validation", nrmse(f[m], r.force[m]), r.frequency,
+                         r.amplitude) for f, r, m in zip(pv, validate, keep_v, strict=True)]
+    rss = float(np.sum(np.where(obj.keep, np.concatenate(pc) - obj.meas, 0.0) ** 2))
+    warns = []
+    if not converged:
+        warns.append(f"NOT CONVERGED ({status}): {message}")
+    elif obj.failures:
+        warns.append(f"{obj.failures} trial point(s) could not be run ({obj.last_error})")
+    if dropped:
+        warns.append(f"{len(dropped)} force outlier(s) dropped from the fit and the error "
+                     "measures: " + "; ".join(f"{lab}, {o.describe()}" for lab, o in dropped))
+    warns += [n for q in quality for n in q.notes]
+    at = {}
+    for p in obj.var:
+        lo_i, hi_i = p.x_bounds()
+        x = p.to_x(values[p.name])
+        if x - lo_i <= 1e-3 * (hi_i - lo_i) or hi_i - x <= 1e-3 * (hi_i - lo_i):
+            at[p.name] = (values[p.name], p.min if x - lo_i <= 1e-3 * (hi_i - lo_i)
+                          else p.max)
+    if at:
+        warns.append("parameter(s) at a bound (their standard errors are not meaningful): "
+                     + ", ".join(f"{nm} = {v:.4g} (bound {b:g})" for nm, (v, b) in at.items()))
+    for w in warns if warn else ():
+        warnings.warn(f"calibrate: {w}", LiquidampWarning, stacklevel=2)
     aic = n * math.log(rss / n) + 2 * k
     bic = n * math.log(rss / n) + k * math.log(n)
     return CalibrationResult(
@@ -745,10 +1035,11 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
         effects=effects_fit, spec=spec.with_values(values), values={p.name: values[p.name]
                                                                     for p in obj.var},
         stderr=stderr, correlation=corr, varying=tuple(p.name for p in obj.var),
-        nrmse_calibration=nrmse(pc, [r.force for r in records]),
-        nrmse_validation=nrmse(pv, [r.force for r in validate]) if validate else None,
+        nrmse_calibration=_nrmse_kept(pc, records, keep_c),
+        nrmse_validation=_nrmse_kept(pv, validate, keep_v) if validate else None,
         record_errors=tuple(errs), converged=bool(converged), status=status,
         message=message, nfev=obj.nfev, cost=float(sol.cost), n_samples=n, aic=aic, bic=bic,
         starts=tuple((lab, v) for lab, v, _ in evaluated), calibration=records,
         validation=validate, predictions_calibration=tuple(pc),
-        predictions_validation=tuple(pv), jacobian=J)
+        predictions_validation=tuple(pv), jacobian=J, data_quality=quality, dropped=dropped,
+        warnings=tuple(warns))

@@ -151,6 +151,7 @@ def write_case_study(study: CaseStudy, out_dir: str | Path, figures=FIGURES,
         Path of ``index.html``.
     """
     from liquidamp.analysis.plots import plot_loops
+    from liquidamp.analysis.report_calibration import CSS, DPI
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -161,13 +162,13 @@ def write_case_study(study: CaseStudy, out_dir: str | Path, figures=FIGURES,
                      if (c.response.frequency, c.response.amplitude) in spec.cases]
         fig = plot_loops([c.response for c in cases], reference=reference, ideal=spec.ideal,
                          title=f"{spec.title} (preset {spec.preset})")
-        fig.savefig(out / f"{spec.key}.png", dpi=110)
+        fig.savefig(out / f"{spec.key}.png", dpi=DPI)
         blocks.append(f'<h2>{html.escape(spec.title)}</h2>\n'
-                      f'<img src="{spec.key}.png" alt="{html.escape(spec.title)}" width="100%">')
+                      f'<img src="{spec.key}.png" alt="{html.escape(spec.title)}">')
     rows = []
     for c in list(study.cases) + list(study.reference):
         r, K = c.response, c.stiffness
-        warn = "; ".join(r.warnings)
+        warn = "; ".join(r.warnings) or "none"
         rows.append(
             f"<tr><td>{c.figure}</td><td>{c.preset}</td><td>{r.frequency:g}</td>"
             f"<td>{r.amplitude * 1e3:g}</td><td>{K.magnitude:.4g}</td>"
@@ -176,7 +177,7 @@ def write_case_study(study: CaseStudy, out_dir: str | Path, figures=FIGURES,
             f"<td>{html.escape(warn)}</td></tr>"
         )
     table = (
-        "<table border=1 cellpadding=4 style='border-collapse:collapse'>\n"
+        "<table>\n"
         "<tr><th>figure</th><th>preset</th><th>f [Hz]</th><th>Y [mm]</th>"
         "<th>|K*| [N/m]</th><th>phase [deg]</th><th>peak force [N]</th>"
         "<th>lowest pressure [kPa]</th><th>cycles to steady state</th><th>warnings</th></tr>\n"
@@ -184,12 +185,16 @@ def write_case_study(study: CaseStudy, out_dir: str | Path, figures=FIGURES,
     )
     page = f"""<!DOCTYPE html>
 <html><head><meta charset="utf-8"><title>liquidamp case study</title>
-<style>body{{font-family:sans-serif;max-width:1300px;margin:auto}}</style></head><body>
+<style>{CSS}</style></head><body>
 <h1>liquidamp: case study of Titurus (2018), Figs. 7-11</h1>
 <p>Full 5-state model (eq. 10), periodic steady state under y = Y sin(2&pi;ft).
-Dynamic stiffness K* = F<sub>1</sub>/Y (first harmonic): phase 0&deg; spring, 90&deg; damper,
-180&deg; inerter. Red dashes: ideal spring (closed channel), damper (incompressible,
-eq. 5) and inerter (eq. 20); grey: reference design.</p>
+Dynamic stiffness K* = F<sub>1</sub>/Y (first harmonic, sine convention), phase in
+(&minus;180&deg;, 180&deg;]: 0&deg; spring, 90&deg; damper, 180&deg; inerter
+(python-control's <code>FrequencyResponseData</code> unwraps the phase instead; see
+<code>StiffnessCurve.to_frd</code>). Red dashes: ideal spring (closed channel), damper
+(incompressible, eq. 5) and inerter (eq. 20); grey: reference design; wide purple band: stretches
+where a chamber pressure is below the vapour pressure (the liquid would cavitate, which the
+full model without the cavitation effect does not represent).</p>
 <h2>First-harmonic dynamic stiffness</h2>
 {table}
 {''.join(blocks)}

@@ -68,6 +68,7 @@ References
 from __future__ import annotations
 
 import math
+import warnings as _warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -77,11 +78,18 @@ from liquidamp.analysis.calibration import (
     CalibrationResult,
     FitSpec,
     calibrate,
+    check_records,
     predict,
 )
 from liquidamp.analysis.records import noise_floor, simulate_record
 from liquidamp.device.effects import EFFECTS, Effect, with_effects
-from liquidamp.errors import ConvergenceError, LiquidampError, ParameterError, check_choice
+from liquidamp.errors import (
+    ConvergenceError,
+    LiquidampError,
+    LiquidampWarning,
+    ParameterError,
+    check_choice,
+)
 
 __all__ = ["Candidate", "Step", "Diagnosis", "diagnose", "CONFOUNDED", "signatures", "demo_loop",
            "bundled_records"]
@@ -394,17 +402,19 @@ def _refit(cand, probe, current, validation, options, preroll, max_nfev, tol, re
     res = calibrate(current.calibration, model=current.model, params=current.start_params,
                     effects=current.effects + (effect,), spec=spec, validate=validation,
                     options=options, start="spec", max_nfev=max_nfev, preroll=preroll,
-                    tol=tol)
+                    tol=tol, warn=False)
     if restart is not None and res.nrmse_calibration > restart[1]:
         # residual still structured: the continuation from the previous optimum may sit in a
-        # local minimum of the loss coefficients (the c1/c2 trade-off, DESIGN.md); refit
+        # local minimum of the loss coefficients (the c1/c2 trade-off: least squares on the
+        # air ratios and loss coefficients has local minima); refit
         # from the physics start of the original multipliers too and keep the better fit
         spec2 = spec.with_values(restart[0])
         try:
             res2 = calibrate(current.calibration, model=current.model,
                              params=current.start_params, effects=current.effects + (effect,),
                              spec=spec2, validate=validation, options=options,
-                             start="physics", max_nfev=max_nfev, preroll=preroll, tol=tol)
+                             start="physics", max_nfev=max_nfev, preroll=preroll, tol=tol,
+                             warn=False)
         except ConvergenceError:
             return res
         if res2.cost < res.cost:
@@ -417,7 +427,7 @@ def _converge(result, validation, options, preroll, max_nfev, tol):
     return calibrate(result.calibration, model=result.model, params=result.start_params,
                      effects=result.effects, spec=result.spec, validate=validation,
                      options=options, start="spec", max_nfev=max_nfev, preroll=preroll,
-                     tol=tol)
+                     tol=tol, warn=False)
 
 
 _PARTNERS = {"inv_gamma": ("inv_gamma1", "inv_gamma2"), "c1": ("c1",), "S_t": ("S_t",)}
@@ -513,10 +523,35 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
     Returns
     -------
     Diagnosis
+
+    Raises
+    ------
+    DataFileError
+        Before any model run, as :func:`~liquidamp.analysis.calibration.check_records`:
+        a record with no force response above its noise, a stroke past the
+        chamber end (``params.stroke_limit``), or a spike in the force or the
+        displacement (record and line named).  Drop force spikes with
+        ``calibrate(..., outliers="drop")`` and pass that result as ``baseline``
+        only after correcting the file: the diagnosis scores effects on the
+        whole record.
+
+    Warns
+    -----
+    LiquidampWarning
+        With each of ``Diagnosis.warnings``.
     """
     calibration, validation = tuple(calibration), tuple(validation)
     if not validation:
         raise ParameterError("diagnose needs held-out validation records (--validate)")
+    if params is None:
+        from liquidamp.device import preset
+
+        check_params = preset("paper_initial")
+    else:
+        check_params = params
+    # before any model run: noise-only records, spikes (a 30 mm displacement spike made
+    # the integration crawl for minutes) and a stroke past the chamber end are refused
+    check_records(calibration + validation, check_params, what="diagnose")
     names = tuple(EFFECTS) if candidates is None else tuple(candidates)
     for n in names:
         check_choice("candidate effect", n, EFFECTS)
@@ -524,7 +559,7 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
     if baseline is None:
         baseline = calibrate(calibration, model=model, params=params, effects=effects,
                              spec=spec, validate=validation, options=options,
-                             max_nfev=max_nfev, preroll=preroll, tol=tol)
+                             max_nfev=max_nfev, preroll=preroll, tol=tol, warn=False)
     warnings = []
     if baseline.status == "max_nfev":
         # score candidates only against a converged model: a fit stopped on its budget
@@ -669,6 +704,8 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
                        f"{noise_nrmse:.3g}, more than {structure_factor:g} x): "
                        + (h or "no single harmonic of the excitation stands out (broadband "
                           "or non-periodic misfit)"))
+    for w in warnings:
+        _warnings.warn(f"diagnose: {w}", LiquidampWarning, stacklevel=2)
     return Diagnosis(baseline=baseline, steps=tuple(steps), final=current,
                      noise_nrmse=noise_nrmse, signatures=sig, stop_reason=stop,
                      unexplained=unexplained, warnings=tuple(warnings),

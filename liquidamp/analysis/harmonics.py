@@ -1,9 +1,21 @@
 """First harmonic and dynamic stiffness of a periodic response.
 
-Convention (DESIGN.md): for a stroke y = Y sin(omega t) the complex first
-harmonic of a signal s(t) = a sin(omega t) + b cos(omega t) + ... is
-S1 = a + i b, and the dynamic stiffness is K* = F1 / Y1.  Phase 0 deg is a
-spring, +90 deg a damper, 180 deg an inerter.
+Convention (sine convention, used throughout liquidamp): for a stroke
+y = Y sin(omega t) the complex first harmonic of a signal
+s(t) = a sin(omega t) + b cos(omega t) + ... is S1 = a + i b, and the dynamic
+stiffness is K* = F1 / Y1 [N/m].  Its phase is reported in (-180, 180] deg:
+0 deg is a spring, +90 deg a damper, 180 deg an inerter (a mass-like force in
+phase with the acceleration, -omega^2 b).  This is the phase of
+K(i omega) = F(i omega) / Y(i omega) of a linear stroke-to-force transfer
+function, so the two agree; python-control's ``bode_plot`` and
+``FrequencyResponseData.phase`` instead *unwrap* the phase along frequency
+(an inerter-dominated K* may then read +180 deg or -180 deg, or 540 deg after
+several turns), while liquidamp always wraps it into (-180, 180].
+
+References
+----------
+.. [1] B. Titurus, AIAA J. 56(10), 2018, Sec. IV (first-harmonic dynamic
+   stiffness of the device on the test machine).
 """
 
 from __future__ import annotations
@@ -13,9 +25,57 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from liquidamp.errors import ParameterError
+from liquidamp.errors import ParameterError, check_positive
 
-__all__ = ["first_harmonic", "DynamicStiffness", "dynamic_stiffness"]
+__all__ = ["first_harmonic", "DynamicStiffness", "dynamic_stiffness", "check_samples"]
+
+
+def check_samples(name: str, values, unit: str = "-", *, where: str = "") -> np.ndarray:
+    """Return ``values`` as a float array or raise if any sample is NaN or infinite.
+
+    Parameters
+    ----------
+    name : str
+        Name of the argument, as the user knows it.
+    values : array_like
+        Samples.
+    unit : str
+        Unit shown in the message.
+    where : str
+        Calling function, shown first in the message.
+
+    Returns
+    -------
+    ndarray
+        ``np.asarray(values, float)``.
+
+    Raises
+    ------
+    ParameterError
+        Naming the argument, the first bad index, its value and how many
+        samples are bad (NaN is never passed through).
+
+    Examples
+    --------
+    >>> check_samples("signal", [1.0, float("nan"), 2.0, float("inf")], "N")
+    Traceback (most recent call last):
+    ...
+    liquidamp.errors.ParameterError: signal holds 2 non-finite sample(s) of 4, the first at ...
+    """
+    try:
+        arr = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{where + ': ' if where else ''}{name} must be an array of real "
+                             f"numbers [{unit}], got {type(values).__name__}") from None
+    bad = np.flatnonzero(~np.isfinite(arr.ravel()))
+    if bad.size:
+        i = int(bad[0])
+        idx = np.unravel_index(i, arr.shape) if arr.ndim > 1 else i
+        raise ParameterError(
+            f"{where + ': ' if where else ''}{name} holds {bad.size} non-finite sample(s) of "
+            f"{arr.size}, the first at index {idx} ({float(arr.ravel()[i])!r}); every "
+            f"sample must be a finite number [{unit}]")
+    return arr
 
 
 def first_harmonic(t, signal, frequency: float) -> complex:
@@ -36,6 +96,13 @@ def first_harmonic(t, signal, frequency: float) -> complex:
     complex
         a + i b [unit of the signal].
 
+    Raises
+    ------
+    ParameterError
+        If ``t`` or ``signal`` holds NaN or inf (the argument, the first bad
+        index and the count are named), if the shapes differ, or if
+        ``frequency`` is not finite and > 0.
+
     Examples
     --------
     >>> t = np.arange(64) / 64.0
@@ -43,10 +110,12 @@ def first_harmonic(t, signal, frequency: float) -> complex:
     >>> round(h.real, 12), round(h.imag, 12)
     (2.0, 3.0)
     """
-    t = np.asarray(t, float)
-    s = np.asarray(signal, float)
+    t = check_samples("t", t, "s", where="first_harmonic")
+    s = check_samples("signal", signal, where="first_harmonic")
     if t.shape != s.shape or t.ndim != 1 or t.size < 4:
-        raise ParameterError("first_harmonic needs matching 1-D arrays of >= 4 samples")
+        raise ParameterError(f"first_harmonic needs matching 1-D arrays of >= 4 samples, got t "
+                             f"of shape {t.shape} and signal of shape {s.shape}")
+    frequency = check_positive("first_harmonic: frequency", frequency, "Hz")
     w = 2.0 * math.pi * frequency
     a = 2.0 * float(np.mean(s * np.sin(w * t)))
     b = 2.0 * float(np.mean(s * np.cos(w * t)))

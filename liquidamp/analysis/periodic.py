@@ -7,7 +7,7 @@ transient has died out (:func:`liquidamp.coupled.testrig.steady_state`).
 Slow transients (air-rich chambers, a large inertance) need tens of cycles
 to march out but only a few Newton steps to jump over.
 
-The sealed device has invariants (Titurus 2018, eq. 10; DESIGN.md): the
+The sealed device has invariants (Titurus 2018, eq. 10): the
 total fluid mass, and in each chamber the relation between density and
 pressure (``ln rho_i - integral dp / B_i(p)`` is constant, i.e.
 ``rho_i = r_i(p_i)`` from the rest state).  Each invariant puts a Floquet

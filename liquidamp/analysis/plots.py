@@ -15,10 +15,14 @@ import numpy as np
 
 from liquidamp.device.ideal import ideal_damper_force, ideal_inerter_force, ideal_spring_force
 
-__all__ = ["plot_loops", "IDEAL_EFFECTS"]
+__all__ = ["plot_loops", "IDEAL_EFFECTS", "PALETTE"]
 
 #: Ideal characteristics that :func:`plot_loops` can overlay, by panel.
 IDEAL_EFFECTS = ("spring", "damper", "inerter")
+
+#: Distinct line colours (Okabe-Ito, colour-blind safe; vermillion left out: the ideal
+#: characteristics are red dashes).
+PALETTE = ("#0072B2", "#E69F00", "#009E73", "#CC79A7", "#56B4E9", "#000000", "#F0E442")
 
 
 def _figure(ncols: int, width: float = 4.2, height: float = 3.6):
@@ -35,9 +39,18 @@ def _closed(a: np.ndarray) -> np.ndarray:
     return np.append(a, a[:1])
 
 
+def _cavitating(r, vapour_pressure: float) -> np.ndarray:
+    """Samples of a response where a chamber pressure is below the vapour pressure."""
+    p1, p2 = getattr(r, "p1", None), getattr(r, "p2", None)
+    if p1 is None or p2 is None:
+        return np.zeros(np.shape(r.force), bool)
+    return np.minimum(np.asarray(p1, float), np.asarray(p2, float)) < vapour_pressure
+
+
 def plot_loops(responses: Sequence, labels: Sequence[str] | None = None, *,
                reference: Sequence = (), ideal: Sequence[str] = (), ideal_params=None,
-               title: str = "", colors: Sequence | None = None):
+               title: str = "", colors: Sequence | None = None,
+               vapour_pressure: float | None = None):
     """Force against displacement, velocity and acceleration (paper's Figs. 7-11).
 
     Parameters
@@ -56,7 +69,14 @@ def plot_loops(responses: Sequence, labels: Sequence[str] | None = None, *,
     title : str
         Figure title.
     colors : sequence, optional
-        Colours of ``responses``.
+        Colours of ``responses`` (default :data:`PALETTE`: one distinct colour
+        per response).
+    vapour_pressure : float, optional
+        Stretches where a chamber pressure lies below it [Pa] are marked by a
+        wide translucent purple band under the loop on every panel
+        ("cavitation": the liquid would boil there, which a model without the
+        cavitation effect does not represent); default ``SolverOptions().vapour_pressure`` (water at
+        20 C, about 2.3 kPa).
 
     Returns
     -------
@@ -72,8 +92,6 @@ def plot_loops(responses: Sequence, labels: Sequence[str] | None = None, *,
     >>> len(fig.axes)
     3
     """
-    from matplotlib import colormaps
-
     responses = list(responses)
     if labels is None:
         labels = [
@@ -81,9 +99,11 @@ def plot_loops(responses: Sequence, labels: Sequence[str] | None = None, *,
             for r in responses
         ]
     if colors is None:
-        cmap = colormaps["Blues"]
-        n = max(len(responses), 1)
-        colors = [cmap(0.45 + 0.55 * i / max(n - 1, 1)) for i in range(n)]
+        colors = [PALETTE[i % len(PALETTE)] for i in range(len(responses))]
+    if vapour_pressure is None:
+        from liquidamp.options import DEFAULT_OPTIONS
+
+        vapour_pressure = DEFAULT_OPTIONS.vapour_pressure
     fig, axes = _figure(3)
     keys = (("stroke", 1e3, "displacement [mm]"),
             ("stroke_rate", 1e3, "velocity [mm/s]"),
@@ -93,9 +113,18 @@ def plot_loops(responses: Sequence, labels: Sequence[str] | None = None, *,
         for k, r in enumerate(reference):
             ax.plot(_closed(getattr(r, attr)) * scale, _closed(r.force), color="0.6", lw=1.2,
                     label="reference design" if k == 0 else None)
+        marked = False
         for r, lab, col in zip(responses, labels, colors, strict=True):
             ax.plot(_closed(getattr(r, attr)) * scale, _closed(r.force), color=col, lw=1.6,
                     label=lab)
+            low = _closed(_cavitating(r, vapour_pressure))
+            if low.any():
+                x = _closed(np.asarray(getattr(r, attr), float)) * scale
+                ax.plot(np.where(low, x, np.nan), np.where(low, _closed(r.force), np.nan),
+                        "-", color="#7a0177", lw=7, alpha=0.25, solid_capstyle="butt",
+                        zorder=1, label=None if marked else
+                        f"p < {vapour_pressure / 1e3:.2g} kPa (cavitation)")
+                marked = True
         ax.set_xlabel(xlabel)
         ax.grid(True, alpha=0.3)
     axes[0].set_ylabel("force [N]")

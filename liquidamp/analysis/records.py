@@ -1,7 +1,9 @@
 """Measured test-machine records: read, check, differentiate, and drive a model with them.
 
 A record is a CSV file with one header row naming each column with its unit
-(DESIGN.md, "Measured data"):
+(the measured-data format of liquidamp; columns in any order, extra spaces
+allowed; ``;``- or tab-separated files may use a decimal comma, a UTF-8
+byte-order mark is ignored):
 
 =====================  =====================================
 column                 units accepted
@@ -56,7 +58,7 @@ from liquidamp.options import DEFAULT_OPTIONS, SolverOptions
 from liquidamp.structure.testmachine import RecordedStroke, savgol_derivatives
 
 __all__ = ["Record", "NoiseFloor", "read_record", "write_record", "simulate_record",
-           "noise_floor", "nrmse", "COLUMN_UNITS"]
+           "noise_floor", "nrmse", "COLUMN_UNITS", "Outlier", "DataQuality", "check_record"]
 
 COLUMN_UNITS: dict[str, dict[str, float]] = {
     "time": {"s": 1.0, "ms": 1e-3},
@@ -145,6 +147,9 @@ class Record:
         File the record came from ('' for arrays).
     window, order : int
         Savitzky-Golay window [samples] and order used.
+    first_line : int
+        Line of the source file that holds ``time[0]`` (header = line 1);
+        :meth:`line` maps a sample index to its line.
     """
 
     time: np.ndarray
@@ -161,6 +166,12 @@ class Record:
     window: int = 21
     order: int = 4
     meta: dict = field(default_factory=dict, compare=False)
+    first_line: int = 2
+
+    def line(self, i: int) -> int:
+        """Line of the source file holding sample ``i`` (header = line 1; for arrays: the
+        array index + 2, as if written to a file)."""
+        return int(self.first_line + i)
 
     def __post_init__(self) -> None:
         for name in ("time", "displacement", "force", "velocity", "acceleration", "smoothed"):
@@ -170,7 +181,7 @@ class Record:
 
     @classmethod
     def from_arrays(cls, time, displacement, force, *, window: int = 21, order: int = 4,
-                    source: str = "", meta: dict | None = None) -> Record:
+                    source: str = "", meta: dict | None = None, first_line: int = 2) -> Record:
         """Check, differentiate and characterize arrays in SI (time [s], stroke [m], force [N]).
 
         Raises
@@ -234,7 +245,8 @@ class Record:
                 f"{f:.4g} Hz excitation ({1 / f:.4g} s)")
         return cls(time=t, displacement=y, force=F, velocity=v, acceleration=a, smoothed=ys,
                    frequency=f, amplitude=Y, phase=phase, offset=y_mean,
-                   source=str(source), window=window, order=order, meta=dict(meta or {}))
+                   source=str(source), window=window, order=order, meta=dict(meta or {}),
+                   first_line=int(first_line) + h)
 
     @property
     def period(self) -> float:
@@ -285,7 +297,7 @@ class Record:
         n = min(max(n, 2 * self.window), self.time.size)
         return Record.from_arrays(self.time[:n], self.displacement[:n], self.force[:n],
                                   window=self.window, order=self.order, source=self.source,
-                                  meta=self.meta)
+                                  meta=self.meta, first_line=self.first_line)
 
 
 def _parse_header(row, where):
@@ -316,8 +328,58 @@ def _parse_header(row, where):
     return cols
 
 
+_DECIMAL_COMMA = re.compile(r"^[+-]?(\d+,\d*|,\d+)([eE][+-]?\d+)?$")
+
+
+def _decode(raw: bytes, where: str) -> str:
+    """Text of a record file: UTF-8 (a byte-order mark is dropped), UTF-16 with its BOM, or
+    Latin-1 for a text file that is not UTF-8; a binary file raises naming the file."""
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        try:
+            return raw.decode("utf-16")
+        except UnicodeDecodeError:
+            pass
+    head = raw[:4096]
+    nul = head.find(b"\x00")
+    control = sum(1 for c in head if c < 32 and c not in (9, 10, 13))
+    if nul >= 0 or (head and control > 0.05 * len(head)):
+        at = f"NUL byte at offset {nul}" if nul >= 0 else f"{control} control bytes"
+        raise DataFileError(
+            f"{where} is not a text CSV file (binary content: {at} in its first "
+            f"{len(head)} bytes); a record is a CSV text file whose header row names "
+            "time [s], displacement [mm] or [m], force [N] or [kN]")
+    try:
+        return raw.decode("utf-8-sig")  # a UTF-8 byte-order mark (Excel) is dropped
+    except UnicodeDecodeError:
+        return raw.decode("latin-1")
+
+
+def _delimiter(header: str) -> str:
+    """Column separator: ',' unless the header is separated by ';' or tabs instead."""
+    outside = re.sub(r"\[[^\]]*\]", "", header)  # units may hold anything
+    counts = {d: outside.count(d) for d in (",", ";", "\t")}
+    if counts[","] == 0 and (counts[";"] or counts["\t"]):
+        return ";" if counts[";"] >= counts["\t"] else "\t"
+    return ","
+
+
+def _number(cell: str, decimal_comma: bool):
+    """float of ``cell`` (a decimal comma allowed when the columns are not comma-separated)."""
+    try:
+        return float(cell)
+    except ValueError:
+        if decimal_comma and _DECIMAL_COMMA.match(cell):
+            return float(cell.replace(",", "."))
+        raise
+
+
 def read_record(path, window: int = 21, order: int = 4) -> Record:
     """Read a record CSV (see module docstring) into a :class:`Record` (SI).
+
+    Accepted beside plain comma-separated UTF-8: a UTF-8 byte-order mark (as
+    Excel writes it) or UTF-16 with its mark; columns separated by ``;`` or
+    tabs (detected from the header row), in which case numbers may use a
+    decimal comma (``0,005``).  A thousands separator is not accepted.
 
     Parameters
     ----------
@@ -329,34 +391,62 @@ def read_record(path, window: int = 21, order: int = 4) -> Record:
     Raises
     ------
     DataFileError
-        Naming the line (1 = header) or column at fault.
+        Naming the file and the line (1 = header) or column at fault; a
+        binary file, a decimal comma in a comma-separated file and a value
+        with both ``.`` and ``,`` are named as such.
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> t = np.arange(0, 1.0, 0.005)
+    >>> rows = [f"{a:.3f};{3 * np.sin(6 * np.pi * a):.4f};{np.cos(6 * np.pi * a):.4f}"
+    ...         for a in t]
+    >>> text = "time [s];displacement [mm];force [kN]\\n" + "\\n".join(rows)
+    >>> path = os.path.join(tempfile.mkdtemp(), "semicolon.csv")
+    >>> _ = open(path, "w", encoding="utf-8-sig").write(text.replace(".", ","))
+    >>> r = read_record(path)
+    >>> round(r.frequency, 3), round(r.amplitude * 1e3, 3)
+    (3.0, 3.0)
     """
     path = Path(path)
     where = str(path)
     try:
-        text = path.read_text()
+        raw = path.read_bytes()
     except OSError as exc:
         raise DataFileError(f"cannot read record {where}: {exc.strerror or exc}") from None
-    reader = csv.reader(text.splitlines())
-    rows = list(reader)
-    if not rows:
+    text = _decode(raw, where)
+    lines = text.splitlines()
+    if not lines or not any(line.strip() for line in lines):
         raise DataFileError(f"{where} is empty: expected a header row")
-    cols = _parse_header(rows[0], where)
+    delim = _delimiter(lines[0])
+    decimal_comma = delim != ","
+    rows = list(csv.reader(lines, delimiter=delim))
+    cols = _parse_header([c.strip() for c in rows[0]], where)
     ncol = len(rows[0])
     data = {name: [] for name in cols}
+    sep = {",": "','", ";": "';'", "\t": "tab"}[delim]
     for i, row in enumerate(rows[1:], start=2):
         if not row or all(not c.strip() for c in row):
             continue
         if len(row) != ncol:
-            raise DataFileError(f"{where}, line {i}: {len(row)} fields, the header has {ncol}")
+            hint = ""
+            if delim == "," and len(row) == 2 * ncol and all(
+                    re.fullmatch(r"[+-]?\d*([eE][+-]?\d+)?", c.strip()) for c in row):
+                hint = ("; the values seem to use a decimal comma, which needs the columns "
+                        "separated by ';' (or tabs), as in the header")
+            raise DataFileError(f"{where}, line {i}: {len(row)} fields separated by {sep}, "
+                                f"the header has {ncol}{hint}")
         for name, (j, factor) in cols.items():
             cell = row[j].strip()
             try:
-                value = float(cell)
+                value = _number(cell, decimal_comma)
             except ValueError:
+                why = "is not a number"
+                if "," in cell and "." in cell:
+                    why = ("is not a number (it holds both '.' and ','; write numbers without "
+                           "a thousands separator)")
                 raise DataFileError(
-                    f"{where}, line {i}, column {j + 1} ({name}): {cell!r} is not a number"
-                ) from None
+                    f"{where}, line {i}, column {j + 1} ({name}): {cell!r} {why}") from None
             if not math.isfinite(value):
                 raise DataFileError(
                     f"{where}, line {i}, column {j + 1} ({name}): {cell!r} is not finite")
@@ -597,13 +687,24 @@ def nrmse(model_force, measured_force) -> float:
     Give arrays or equal-length sequences of arrays (one per record of a
     set); the means are pooled over the whole set.
 
+    Raises
+    ------
+    ParameterError
+        If either argument holds NaN or inf (the argument, the first bad index
+        of the pooled samples and the count are named), if they differ in
+        length, or if the measured force is constant.
+
     Examples
     --------
     >>> nrmse(np.array([1.0, -1.0]), np.array([2.0, -2.0]))
     0.5
     """
+    from liquidamp.analysis.harmonics import check_samples
+
     m = np.concatenate([np.ravel(a) for a in _as_list(model_force)])
     d = np.concatenate([np.ravel(a) for a in _as_list(measured_force)])
+    m = check_samples("model_force", m, "N", where="nrmse")
+    d = check_samples("measured_force", d, "N", where="nrmse")
     if m.shape != d.shape:
         raise ParameterError(f"nrmse: model has {m.size} samples, measurement {d.size}")
     den = float(np.sqrt(np.mean((d - d.mean()) ** 2)))
@@ -675,3 +776,257 @@ def noise_floor(record: Record) -> NoiseFloor:
     F = record.force
     return NoiseFloor(force_std=fs, displacement_std=ys,
                       nrmse=fs / float(np.sqrt(np.mean((F - F.mean()) ** 2))))
+
+
+# ---------------------------------------------------------------------------
+# data quality before a fit
+
+
+@dataclass(frozen=True)
+class Outlier:
+    """One sample that stands out of its neighbours (:func:`check_record`).
+
+    Attributes
+    ----------
+    column : str
+        ``"force"`` or ``"displacement"``.
+    index : int
+        Sample index in the record.
+    line : int
+        Line of the source file (header = line 1).
+    time : float
+        Sample time [s].
+    value : float
+        Recorded value [N] or [m].
+    expected : float
+        Median of its ``width`` neighbours that are not spikes themselves [N] or [m].
+    """
+
+    column: str
+    index: int
+    line: int
+    time: float
+    value: float
+    expected: float
+
+    def describe(self) -> str:
+        """'line L (t = ... s): force 5e+04 N, neighbours ~ 312 N'."""
+        unit, k = ("N", 1.0) if self.column == "force" else ("mm", 1e3)
+        return (f"line {self.line} (t = {self.time:.6g} s): {self.column} {self.value * k:.6g} "
+                f"{unit}, its neighbours' median {self.expected * k:.6g} {unit}")
+
+
+@dataclass(frozen=True)
+class DataQuality:
+    """What :func:`check_record` found in one record before any fit.
+
+    Attributes
+    ----------
+    source : str
+        The record's label.
+    force_first_harmonic : float
+        |F1|, first-harmonic force amplitude at the stroke frequency [N].
+    force_noise_std : float
+        Standard deviation of the force about its first ten harmonics [N].
+    force_snr : float
+        |F1| over its standard error sigma sqrt(2/N) [-]; pure noise gives
+        about 1 (Rayleigh distributed), a usable record hundreds.
+    periodic_fraction : float
+        Share of the force variance in the first ten harmonics of the
+        excitation [-] (pure noise: about 20/N).
+    max_stroke : float
+        Largest recorded |displacement - mean| [m].
+    stroke_limit : float or None
+        Chamber end V0/A_p of the device checked against [m].
+    outliers : tuple of Outlier
+        Isolated spikes in the force or the displacement.
+    problems : tuple of str
+        Reasons to refuse the record (noise only, stroke past the chamber end).
+    notes : tuple of str
+        Weaker flags (a force that is mostly not periodic).
+    """
+
+    source: str
+    force_first_harmonic: float
+    force_noise_std: float
+    force_snr: float
+    periodic_fraction: float
+    max_stroke: float
+    stroke_limit: float | None
+    outliers: tuple = ()
+    problems: tuple = ()
+    notes: tuple = ()
+
+    @property
+    def ok(self) -> bool:
+        """No problem and no outlier."""
+        return not self.problems and not self.outliers
+
+    def outlier_text(self, column: str | None = None) -> str:
+        """The outliers of ``column`` (or all), one per clause."""
+        return "; ".join(o.describe() for o in self.outliers
+                         if column is None or o.column == column)
+
+    def as_dict(self) -> dict:
+        """JSON-ready summary (SI)."""
+        return {"source": self.source, "force_first_harmonic [N]": self.force_first_harmonic,
+                "force_noise_std [N]": self.force_noise_std, "force_snr": self.force_snr,
+                "periodic_fraction": self.periodic_fraction, "max_stroke [m]": self.max_stroke,
+                "stroke_limit [m]": self.stroke_limit,
+                "outliers": [dict(o.__dict__) for o in self.outliers],
+                "problems": list(self.problems), "notes": list(self.notes)}
+
+
+def _spikes(x, A, width: int, k: float, frac: float):
+    """Isolated spikes of ``x``: (indices, expected values).
+
+    The smooth periodic part (least squares on the columns of ``A``, refitted
+    without the spikes found) is removed, then a Hampel filter runs on what is
+    left: a sample departing from the running median of ``width`` samples by
+    more than max(k * 1.4826 * MAD, frac * first-harmonic amplitude) is a spike;
+    the largest departures are replaced by their median and the filter is rerun
+    (a spike also shifts its neighbours' medians by one sample).
+    """
+    from scipy.ndimage import maximum_filter, median_filter
+
+    bad = np.zeros(x.size, bool)
+    for _ in range(2):  # fit, find the spikes, refit without them, find them again
+        c, *_ = np.linalg.lstsq(A[~bad], x[~bad], rcond=None)
+        r = x - A @ c
+        floor = frac * float(math.hypot(c[1], c[2]))
+        d = r - median_filter(r, size=width, mode="mirror")
+        sigma = 1.4826 * float(np.median(np.abs(d - np.median(d))))
+        thr = max(k * sigma, floor)
+        bad = np.zeros(x.size, bool)
+        rr = r.copy()
+        for _ in range(50):
+            med = median_filter(rr, size=width, mode="mirror")
+            d = np.abs(rr - med)
+            peak = d >= maximum_filter(d, size=width, mode="mirror")  # largest nearby
+            new = np.flatnonzero((d > thr) & peak & ~bad)
+            if not new.size:
+                break
+            bad[new] = True
+            rr[new] = med[new]
+    idx = np.flatnonzero(bad)
+    h = width // 2
+    expected = [float(np.median(np.delete(x[max(i - h, 0):i + h + 1],
+                                          np.flatnonzero(bad[max(i - h, 0):i + h + 1]))))
+                if (~bad[max(i - h, 0):i + h + 1]).any() else math.nan for i in idx]
+    return idx, np.array(expected)
+
+
+def check_record(record: Record, params: DeviceParams | None = None, *, k: float = 10.0,
+                 width: int = 7, min_snr: float = 8.0, min_periodic: float = 0.5) -> DataQuality:
+    """Check a record before fitting: signal against noise, spikes, stroke against the chambers.
+
+    * **Noise only.**  The force's first harmonic at the stroke frequency is
+      fitted by least squares with nine more harmonics and a constant; its
+      amplitude |F1| over its standard error sigma sqrt(2/N) (sigma the
+      standard deviation of what the harmonics leave) must reach ``min_snr``
+      (pure noise gives about 1; the bundled records several thousand).  A
+      periodic share of the force variance below ``min_periodic`` is a note.
+    * **Spikes** (a Hampel-type filter): a force or displacement sample that
+      departs from the median of its ``width`` neighbours by more than
+      ``k`` robust standard deviations (1.4826 x the median absolute
+      deviation of those departures over the record) and by more than 2 %
+      of the signal's first-harmonic amplitude is an outlier.  A running
+      median follows steps (friction reversals) and smooth curves exactly on
+      monotone stretches, so only isolated samples stand out; up to
+      ``width // 2`` adjacent ones are found.
+    * **Stroke past the chamber end.**  With ``params``, a recorded
+      |displacement - mean| at or beyond ``params.stroke_limit`` (V0/A_p) is
+      a problem naming the line.
+
+    Parameters
+    ----------
+    record : Record
+        The record.
+    params : DeviceParams, optional
+        Device whose chamber length bounds the stroke.
+    k : float
+        Outlier threshold in robust standard deviations [-].
+    width : int
+        Running-median window [samples], odd.
+    min_snr, min_periodic : float
+        Thresholds of the noise test [-].
+
+    Returns
+    -------
+    DataQuality
+        Nothing is raised here; :func:`liquidamp.analysis.calibration.calibrate`
+        refuses records with problems or outliers.
+
+    References
+    ----------
+    .. [1] F. R. Hampel, "The influence curve and its role in robust
+       estimation", JASA 69(346), 1974.
+    .. [2] R. K. Pearson, "Outliers in process modeling and identification",
+       IEEE Trans. Control Syst. Technol. 10(1), 2002 (Hampel filter).
+
+    Examples
+    --------
+    >>> t = np.arange(0, 2.0, 0.005)
+    >>> F = 500 * np.sin(2 * np.pi * 3 * t + 0.3)
+    >>> F[[100, 200, 300]] = 5e4
+    >>> q = check_record(Record.from_arrays(t, 0.003 * np.sin(2 * np.pi * 3 * t), F))
+    >>> [o.line for o in q.outliers], q.problems
+    ([102, 202, 302], ())
+    """
+    if width < 3 or width % 2 == 0:
+        raise ParameterError(f"check_record: width must be an odd number >= 3 [samples], got "
+                             f"{width!r}")
+    t, F, y = record.time, record.force, record.displacement
+    n = t.size
+    w = 2 * math.pi * record.frequency * (t - t[0])
+    nyq = 0.5 * record.sampling_rate
+    cols = [np.ones_like(t)]
+    for j in range(1, 11):
+        if j == 1 or j * record.frequency < 0.8 * nyq:
+            cols += [np.sin(j * w), np.cos(j * w)]
+    A = np.column_stack(cols)
+
+    outliers = []
+    for column, x in (("force", F), ("displacement", y)):
+        idx, expected = _spikes(x, A, width, k, 0.02)
+        outliers += [Outlier(column, int(i), record.line(int(i)), float(t[i]), float(x[i]),
+                             float(e)) for i, e in zip(idx, expected, strict=True)]
+    # the force's harmonics without its spikes, so that three spikes do not pass for signal
+    keep = np.ones(n, bool)
+    keep[[o.index for o in outliers if o.column == "force"]] = False
+    c, *_ = np.linalg.lstsq(A[keep], F[keep], rcond=None)
+    res = F[keep] - A[keep] @ c
+    m = int(keep.sum())
+    sigma = float(np.sqrt(res @ res / max(m - A.shape[1], 1)))
+    F1 = float(math.hypot(c[1], c[2]))
+    se = sigma * math.sqrt(2.0 / m)
+    snr = F1 / se if se > 0 else math.inf
+    var = float(np.var(F[keep]))
+    periodic = 1.0 - float(np.mean(res * res)) / var if var > 0 else 0.0
+    problems, notes = [], []
+    label = record.source or record.label
+    if snr < min_snr:
+        problems.append(
+            f"{label}: the force's first harmonic at the stroke frequency "
+            f"{record.frequency:.4g} Hz (|F1| = {F1:.4g} N) is not distinguishable from the "
+            f"noise (standard deviation {sigma:.4g} N, standard error of |F1| {se:.3g} N: "
+            f"|F1| is {snr:.3g} standard errors, at least {min_snr:g} needed); the record holds "
+            "no force response to fit")
+    elif periodic < min_periodic:
+        notes.append(f"{label}: only {periodic:.0%} of the force variance is periodic at the "
+                     f"stroke frequency and its harmonics (at least {min_periodic:.0%} "
+                     "expected): the noise dominates the fit")
+    dev = np.abs(y - float(np.median(y)))
+    i_max = int(np.argmax(dev))
+    limit = None if params is None else float(params.stroke_limit)
+    if limit is not None and dev[i_max] >= limit:
+        beyond = np.flatnonzero(dev >= limit)
+        problems.append(
+            f"{label}, line {record.line(i_max)} (t = {t[i_max]:.6g} s): displacement "
+            f"{(y[i_max] - np.median(y)) * 1e3:+.4g} mm from the mid-position, past the chamber "
+            f"end at {limit * 1e3:.4g} mm (V0/A_p; allowed |y| < {limit * 1e3:.4g} mm); "
+            f"{beyond.size} sample(s) beyond it, the first on line {record.line(int(beyond[0]))}")
+    return DataQuality(source=label, force_first_harmonic=F1, force_noise_std=sigma,
+                       force_snr=float(snr), periodic_fraction=float(periodic),
+                       max_stroke=float(dev[i_max]), stroke_limit=limit,
+                       outliers=tuple(outliers), problems=tuple(problems), notes=tuple(notes))

@@ -16,7 +16,33 @@ from __future__ import annotations
 import html
 from pathlib import Path
 
-__all__ = ["plot_records", "plot_loops_fit", "plot_residuals", "write_report"]
+import numpy as np
+
+__all__ = ["plot_records", "plot_loops_fit", "plot_residuals", "plot_fit", "write_report",
+           "CSS"]
+
+CSS = """
+body { font-family: system-ui, -apple-system, 'Segoe UI', Helvetica, Arial, sans-serif;
+       max-width: 1100px; margin: 2em auto; padding: 0 1em; color: #222; line-height: 1.45; }
+h1 { font-size: 1.6em; border-bottom: 2px solid #3b6ea5; padding-bottom: .2em; }
+h2 { font-size: 1.25em; margin-top: 1.6em; color: #1d3f66; }
+h3 { font-size: 1.05em; margin-top: 1.2em; }
+table { border-collapse: collapse; margin: .6em 0; font-size: .9em; }
+th, td { border: 1px solid #c8d0da; padding: .3em .6em; text-align: left; vertical-align: top; }
+th { background: #eef3f8; }
+tr:nth-child(even) td { background: #fafbfc; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; }
+img { max-width: 100%; height: auto; border: 1px solid #e3e7ec; margin: .4em 0; }
+pre { background: #f6f8fa; padding: .8em; overflow-x: auto; font-size: .85em; }
+.warn { background: #fff6e0; border-left: 4px solid #e0a800; padding: .4em .8em; }
+.bad { background: #fdecea; border-left: 4px solid #c62828; padding: .4em .8em; }
+.ok { background: #e8f5e9; border-left: 4px solid #2e7d32; padding: .4em .8em; }
+figcaption { font-size: .85em; color: #555; }
+"""
+"""Style sheet of the HTML reports (calibration, diagnosis, the demo page)."""
+
+#: Resolution of the report figures [dots per inch].
+DPI = 150
 
 
 def _plt():
@@ -136,11 +162,75 @@ def plot_residuals(results, labels, role="calibration"):
     return fig
 
 
+def plot_fit(result, role: str = "calibration"):
+    """Measured and fitted force over time, and the force-displacement loops.
+
+    Parameters
+    ----------
+    result : CalibrationResult
+        A calibration (:func:`liquidamp.analysis.calibration.calibrate`).
+    role : {"calibration", "validation"}
+        Which records (and predictions).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One row per record: force [N] against time [s] (measured dots,
+        model line, dropped outliers as red crosses) and force [N] against
+        displacement [mm] (offset removed); NRMSE in each title.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    from matplotlib.figure import Figure
+
+    from liquidamp.errors import ParameterError
+
+    if role not in ("calibration", "validation"):
+        raise ParameterError(f"role must be 'calibration' or 'validation', got {role!r}")
+    recs = result.calibration if role == "calibration" else result.validation
+    if not recs:
+        raise ParameterError(f"the result has no {role} records to plot")
+    preds = (result.predictions_calibration if role == "calibration"
+             else result.predictions_validation)
+    errs = {e.label: e.nrmse for e in result.record_errors if e.role == role}
+    fig = Figure(figsize=(11, 3.4 * len(recs)), layout="constrained")
+    axes = fig.subplots(len(recs), 2, squeeze=False, width_ratios=(1.7, 1))
+    for i, (r, f) in enumerate(zip(recs, preds, strict=True)):
+        ax, ax2 = axes[i]
+        ax.plot(r.time, r.force, ".", ms=2.5, color="0.45", label="measured")
+        ax.plot(r.time, f, "-", lw=1.2, color="C0", label=f"model ({result.model})")
+        drop = [o for lab, o in result.dropped if lab == r.label]
+        if drop:
+            ax.plot([o.time for o in drop], [o.value for o in drop], "x", color="C3", ms=7,
+                    label=f"dropped outliers ({len(drop)})")
+            lo, hi = np.percentile(r.force, [0.5, 99.5])
+            pad = 0.15 * (hi - lo)
+            ax.set_ylim(lo - pad, hi + pad)  # the spikes would flatten the record
+        ax.set_xlabel("time [s]")
+        ax.set_ylabel("force [N]")
+        ax.set_title(f"{role}: {r.label} ({r.frequency:.3g} Hz, {r.amplitude * 1e3:.3g} mm), "
+                     f"NRMSE {errs.get(r.label, float('nan')):.3g}", fontsize=9)
+        ax.legend(fontsize=7, loc="upper right")
+        y = (r.smoothed - r.offset) * 1e3
+        ax2.plot(y, r.force, ".", ms=2.5, color="0.45", label="measured")
+        ax2.plot(y, f, "-", lw=1.0, color="C0", label="model")
+        if drop:
+            ax2.set_ylim(ax.get_ylim())
+        ax2.set_xlabel("displacement [mm]")
+        ax2.set_ylabel("force [N]")
+        ax2.set_title("force-displacement loop", fontsize=9)
+    fig.suptitle(f"{result.model}: {result.status}, NRMSE calibration "
+                 f"{result.nrmse_calibration:.3g}", fontsize=10)
+    return fig
+
+
 def _table(rows, header):
-    out = ["<table border=1 cellpadding=3><tr>" + "".join(f"<th>{html.escape(h)}</th>"
-                                                         for h in header) + "</tr>"]
+    out = ["<table><tr>" + "".join(f"<th>{html.escape(h)}</th>" for h in header) + "</tr>"]
     for row in rows:
-        out.append("<tr>" + "".join(f"<td>{html.escape(_fmt(c))}</td>" for c in row) + "</tr>")
+        out.append("<tr>" + "".join(
+            f"<td class='num'>{html.escape(_fmt(c))}</td>" if isinstance(c, (int, float))
+            else f"<td>{html.escape(_fmt(c))}</td>" for c in row) + "</tr>")
     out.append("</table>")
     return "\n".join(out)
 
@@ -184,8 +274,22 @@ def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibrat
     else:
         results, labels = [result], ["calibrated"]
     first = results[0]
-    parts = [f"<html><head><meta charset='utf-8'><title>{html.escape(title)}</title></head>"
-             f"<body><h1>{html.escape(title)}</h1>"]
+    parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}"
+             f"</title><style>{CSS}</style></head><body><h1>{html.escape(title)}</h1>"]
+    warns = list(dict.fromkeys(w for res in results for w in res.warnings))
+    if diagnosis is not None:
+        warns += [w for w in diagnosis.warnings if w not in warns]
+    if warns:
+        parts.append("<div class='warn'><b>Warnings</b><ul>" + "".join(
+            f"<li>{html.escape(w)}</li>" for w in warns) + "</ul></div>")
+    if first.data_quality:
+        parts.append("<h2>Data quality (checked before the fit)</h2>")
+        parts.append(_table(
+            [[q.source, q.force_first_harmonic, q.force_noise_std, q.force_snr,
+              q.periodic_fraction, q.max_stroke * 1e3, len(q.outliers)]
+             for q in first.data_quality],
+            ["record", "|F1| [N]", "noise std [N]", "|F1| / std. error", "periodic share",
+             "max |stroke| [mm]", "outliers"]))
     figs = [("records.png", plot_records(list(first.calibration) + list(first.validation)),
              "Records")]
     for role in ("calibration", "validation"):
@@ -209,6 +313,8 @@ def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibrat
         for e, kv in d["effects"].items():
             prow += [[f"{e}.{k}", v, d["stderr"].get(f"{e}.{k}")] for k, v in kv.items()]
         parts.append(_table(prow, ["parameter", "value (multiplier or SI)", "std. error"]))
+        parts.append(f"<details><summary>fit report</summary><pre>"
+                     f"{html.escape(res.fit_report())}</pre></details>")
     if diagnosis is not None:
         parts.append("<h2>Diagnosis</h2>")
         parts.append(f"<p>Noise floor (NRMSE): {diagnosis.noise_nrmse:.4g}. Stop: "
@@ -240,9 +346,9 @@ def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibrat
                 ["effect", "score", "signature corr.", "linear estimate", "NRMSE val.",
                  "rel. reduction", "dBIC", "fitted", "accepted", "note"]))
     for fname, fig, caption in figs:
-        fig.savefig(out / fname, dpi=90)
+        fig.savefig(out / fname, dpi=DPI)
         plt.close(fig)
-        parts.append(f"<h2>{html.escape(caption)}</h2><img src='{fname}' width='100%'>")
+        parts.append(f"<h2>{html.escape(caption)}</h2><img src='{fname}' alt='{fname}'>")
     parts.append("</body></html>")
     path = out / "index.html"
     path.write_text("\n".join(parts))

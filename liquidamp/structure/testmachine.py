@@ -107,6 +107,12 @@ def savgol_derivatives(t, y, window: int = 21, order: int = 4):
     y, v, a : ndarray
         Smoothed displacement [m], velocity [m/s], acceleration [m/s^2].
 
+    Raises
+    ------
+    ParameterError
+        If ``t`` or ``y`` holds NaN or inf (named with the first bad index
+        and the count), if their shapes differ, or if the window is invalid.
+
     Examples
     --------
     >>> t = np.arange(400) / 200.0
@@ -119,6 +125,16 @@ def savgol_derivatives(t, y, window: int = 21, order: int = 4):
 
     t = np.asarray(t, dtype=float)
     y = np.asarray(y, dtype=float)
+    for name, arr, unit in (("t", t, "s"), ("y", y, "m")):
+        bad = np.flatnonzero(~np.isfinite(arr))
+        if bad.size:
+            raise ParameterError(
+                f"savgol_derivatives: {name} holds {bad.size} non-finite sample(s) of "
+                f"{arr.size}, the first at index {int(bad[0])} "
+                f"({float(arr.flat[bad[0]])!r}); every sample must be a finite number [{unit}]")
+    if t.shape != y.shape or t.ndim != 1:
+        raise ParameterError(f"savgol_derivatives: t and y must be 1-D arrays of one length, "
+                             f"got shapes {t.shape} and {y.shape}")
     if window % 2 == 0 or window <= order:
         raise ParameterError(
             f"Savitzky-Golay window must be odd and > order={order}, got window={window}"

@@ -53,3 +53,13 @@ def test_user_style_baseline_gives_the_paper_stiffness():
     K = dynamic_stiffness(steady_state("full", p, s, options=SolverOptions(engine="compiled")))
     assert abs(K_b - K.value) / abs(K.value) < 1e-6
     assert cycles >= 3
+
+
+def test_stiffness_sweep_bench_case_is_within_its_goal():
+    from liquidamp.analysis.bench import run_bench
+
+    data = run_bench(quick=True, repeats=1, cases=["stiffness_sweep"])
+    case = data["cases"]["stiffness_sweep"]
+    assert case["points"] == 60 and case["failed_points"] == 0
+    assert case["seconds"] < 5.0
+    assert data["goals"]["stiffness_sweep.seconds < 5"]["reached"] is True
