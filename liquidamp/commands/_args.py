@@ -164,8 +164,8 @@ def count_type(name: str, low: int, high: int, meaning: str):
     >>> count_type("--top", 1, 50, "candidates refitted per step")("0")
     Traceback (most recent call last):
     ...
-    argparse.ArgumentTypeError: --top (candidates refitted per step) must be an integer in \
-[1, 50], got '0'
+    argparse.ArgumentTypeError: must be an integer in [1, 50] (candidates refitted per step), \
+got '0'
     """
 
     def convert(text: str) -> int:
@@ -175,7 +175,7 @@ def count_type(name: str, low: int, high: int, meaning: str):
             value = None
         if value is None or not low <= value <= high:
             raise argparse.ArgumentTypeError(
-                f"{name} ({meaning}) must be an integer in [{low}, {high}], got {text!r}")
+                f"must be an integer in [{low}, {high}] ({meaning}), got {text!r}")
         return value
 
     convert.__name__ = name
@@ -183,8 +183,10 @@ def count_type(name: str, low: int, high: int, meaning: str):
 
 
 def float_type(name: str, unit: str, *, low: float = 0.0, high: float = math.inf,
-               low_open: bool = True):
+               low_open: bool = True, why: str = ""):
     """argparse ``type=`` for a finite float in ``(low, high]`` (``[low`` if not ``low_open``).
+
+    argparse puts ``argument NAME:`` before the message; ``why`` explains the bound.
 
     Examples
     --------
@@ -193,7 +195,7 @@ def float_type(name: str, unit: str, *, low: float = 0.0, high: float = math.inf
     >>> float_type("--rpm", "rpm")("-5")
     Traceback (most recent call last):
     ...
-    argparse.ArgumentTypeError: --rpm must be a finite number > 0 [rpm], got '-5'
+    argparse.ArgumentTypeError: must be a finite number > 0 [rpm], got '-5'
     """
     lo = ">" if low_open else ">="
     rng = f"{lo} {low:g}" if math.isinf(high) else \
@@ -208,7 +210,7 @@ def float_type(name: str, unit: str, *, low: float = 0.0, high: float = math.inf
             and value <= high
         if not ok:
             raise argparse.ArgumentTypeError(
-                f"{name} must be a finite number {rng} [{unit}], got {text!r}")
+                f"must be a finite number {rng} [{unit}]{why}, got {text!r}")
         return value
 
     convert.__name__ = name
@@ -315,7 +317,8 @@ def check_outputs(outputs, inputs=(), *, force: bool = False) -> None:
     >>> check_outputs([Output("--json", rec, "json")], [("RECORD", rec)])
     Traceback (most recent call last):
     ...
-    liquidamp.errors.ParameterError: --json ...cal.csv' has suffix '.csv'; valid: .json
+    liquidamp.errors.ParameterError: --json ...cal.csv' is the input RECORD ...cal.csv'; writing \
+it would destroy the input: give another file name
     >>> check_outputs([Output("--json", os.path.join(d, "no", "x.json"), "json")])
     Traceback (most recent call last):
     ...
@@ -335,6 +338,11 @@ def check_outputs(outputs, inputs=(), *, force: bool = False) -> None:
             continue
         if path.is_dir():
             raise ParameterError(f"{out.flag} {str(path)!r} is a folder; give a file name")
+        for flag, p in inputs:
+            if _same(path, p):
+                raise ParameterError(
+                    f"{out.flag} {str(path)!r} is the input {flag} {str(p)!r}; writing it would "
+                    "destroy the input: give another file name")
         suffix = path.suffix.lower()
         if out.kind == "plot":
             formats = plot_formats()
@@ -348,11 +356,6 @@ def check_outputs(outputs, inputs=(), *, force: bool = False) -> None:
         _check_parent(out.flag, path)
         if path.exists() and not os.access(path, os.W_OK):
             raise ParameterError(f"{out.flag} {str(path)!r} exists and is not writable")
-        for flag, p in inputs:
-            if _same(path, p):
-                raise ParameterError(
-                    f"{out.flag} {str(path)!r} is the input {flag} {str(p)!r}; writing it would "
-                    "destroy the input: give another file name")
         for flag, p in seen:
             if _same(path, p):
                 raise ParameterError(f"{out.flag} {str(path)!r} is also the output of {flag}; "
@@ -422,7 +425,7 @@ def add_effect_argument(parser, extra: str = "") -> None:
     parser.add_argument(
         "--effect", action="append", default=[], metavar="NAME[:KEY=VALUE,...]",
         help="add a catalogue effect to the device model; repeatable, values in SI, e.g. "
-        "cavitation or coulomb_friction:friction_N=30. Effects: {effects}." + extra)
+        "cavitation or coulomb_friction:force_N=30. Effects: {effects}." + extra)
 
 
 def parse_effect(text: str):
@@ -431,7 +434,7 @@ def parse_effect(text: str):
     Parameters
     ----------
     text : str
-        E.g. ``"coulomb_friction:friction_N=30"`` or ``"cavitation"``.
+        E.g. ``"coulomb_friction:force_N=30"`` or ``"cavitation"``.
 
     Returns
     -------

@@ -27,7 +27,8 @@ def register(sub) -> None:
     add_device_arguments(p)
     p.add_argument("--model", default="full",
                    help="device model (default %(default)s): {models}")
-    add_effect_argument(p)
+    add_effect_argument(p, " Where the compiled engine cannot run the model with its effects, "
+                        "use --engine python.")
     p.add_argument("--frequency", required=True, type=float, help="excitation frequency [Hz]")
     p.add_argument("--amplitude", required=True,
                    help="stroke amplitude, SI metres or with unit (3mm)")
@@ -76,6 +77,7 @@ def run(args) -> int:
     from liquidamp.coupled.testrig import steady_state
     from liquidamp.device.effects import with_effects
     from liquidamp.device.models import get_model
+    from liquidamp.errors import ParameterError
     from liquidamp.options import SolverOptions
     from liquidamp.structure.testmachine import HarmonicStroke
 
@@ -86,7 +88,12 @@ def run(args) -> int:
         model = with_effects(model, *effects)
     stroke = HarmonicStroke(parse_length(args.amplitude, "amplitude"), args.frequency)
     options = SolverOptions(engine=args.engine, compiled_method=args.compiled_method)
-    response = steady_state(model, params, stroke, options=options)
+    try:
+        response = steady_state(model, params, stroke, options=options)
+    except ParameterError as exc:
+        if "engine='python'" not in str(exc):
+            raise
+        raise ParameterError(f"{exc} (on the command line: --engine python)") from None
     data = summary(response)
     if effects:
         data["effects"] = {e.name: e.parameters for e in effects}
