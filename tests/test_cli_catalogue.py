@@ -430,3 +430,49 @@ def test_python_m_liquidamp_argument_error():
     assert p.returncode == 2
     assert "liquidamp simulate: error: argument --amplitude: expected one argument" in p.stderr
     assert "Traceback" not in p.stderr
+
+
+# --------------------------------------------------------------------------------------------
+# checks come before the work; the progress loop changes no number
+
+
+@pytest.mark.parametrize(("argv", "target", "message"), [
+    (["simulate", "--frequency", "3", "--amplitude", "1mm", "--plot", "BAD"],
+     "liquidamp.coupled.testrig.steady_state", "unknown figure format '(none)'"),
+    (["sweep", "ground-resonance", "--rpm", "100,200", "--json", "gr.json", "--plot", "g.x"],
+     "liquidamp.analysis.ground_resonance.ground_resonance_sweep", "unknown figure format"),
+    (["lco", "--damper", "device_a", "--rpm", "230", "--json", "nofolder/l.json"],
+     "liquidamp.analysis.lco.critical_mode", "does not exist"),
+    (["stiffness", "--frequency", "1", "--amplitude", "1mm", "--out", "k", "--json", "k.txt"],
+     "liquidamp.analysis.stiffness.nonlinear_stiffness", "valid: .json"),
+])
+def test_outputs_are_checked_before_any_work(tmp_path, capsys, monkeypatch, argv, target,
+                                             message):
+    import importlib
+
+    module, name = target.rsplit(".", 1)
+
+    def work(*args, **kwargs):
+        raise AssertionError("work started before the output check")
+
+    monkeypatch.setattr(importlib.import_module(module), name, work)
+    monkeypatch.chdir(tmp_path)
+    code, _, err = run(argv, capsys)
+    assert code == 2 and message in err, err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_stiffness_points_under_the_bar_equal_the_library(tmp_path):
+    import numpy as np
+
+    from liquidamp.analysis.stiffness import nonlinear_stiffness
+    from liquidamp.commands.stiffness import _nonlinear
+    from liquidamp.device import preset
+
+    f, a = np.array([1.0, 4.0]), np.array([5e-4, 2e-3])
+    ours = _nonlinear(preset("damper"), "inertial_2state", f, a, quiet=True)
+    lib = nonlinear_stiffness(preset("damper"), f, a, model="inertial_2state", on_error="skip")
+    assert ours.model == lib.model
+    np.testing.assert_array_equal(ours.value, lib.value)
+    np.testing.assert_array_equal(ours.cycles, lib.cycles)
+    assert ours.warnings == lib.warnings and ours.failures == lib.failures

@@ -157,6 +157,20 @@ got 10000000
 def count_type(name: str, low: int, high: int, meaning: str):
     """argparse ``type=`` for an integer in ``[low, high]``; the message says what it counts.
 
+    Parameters
+    ----------
+    name : str
+        Option name (shown by argparse for other failures).
+    low, high : int
+        Allowed range, both ends included [-].
+    meaning : str
+        What the integer counts, with its unit if any, e.g. ``"model evaluations per fit"``.
+
+    Returns
+    -------
+    callable
+        ``str -> int``; raises ``argparse.ArgumentTypeError`` (exit 2 at parse time).
+
     Examples
     --------
     >>> count_type("--top", 1, 50, "candidates refitted per step")("3")
@@ -187,6 +201,24 @@ def float_type(name: str, unit: str, *, low: float = 0.0, high: float = math.inf
     """argparse ``type=`` for a finite float in ``(low, high]`` (``[low`` if not ``low_open``).
 
     argparse puts ``argument NAME:`` before the message; ``why`` explains the bound.
+
+    Parameters
+    ----------
+    name : str
+        Option name.
+    unit : str
+        Unit of the value, shown in the message, e.g. ``"s"``.
+    low, high : float
+        Allowed range in ``unit``.
+    low_open : bool
+        Exclude ``low`` (default True).
+    why : str
+        Reason for the bound, appended to the message.
+
+    Returns
+    -------
+    callable
+        ``str -> float``; raises ``argparse.ArgumentTypeError`` (exit 2 at parse time).
 
     Examples
     --------
@@ -387,6 +419,17 @@ def _check_dir(out: Output, path: Path, inputs, force: bool) -> None:
 def file_inputs(*pairs) -> list:
     """``(flag, path)`` pairs of the inputs that are files (preset names are skipped).
 
+    Parameters
+    ----------
+    *pairs : (str, str or list or None)
+        Option and its value; a list gives one pair per entry.  A value that
+        ends in ``.toml``, ``.json`` or ``.csv`` or names an existing path is
+        a file.
+
+    Returns
+    -------
+    list of (str, str)
+
     Examples
     --------
     >>> file_inputs(("--device", None), ("--rotor", "hammond1974"), ("--rotor", "r.toml"))
@@ -404,7 +447,7 @@ def file_inputs(*pairs) -> list:
 
 
 def add_force_argument(parser) -> None:
-    """Add ``--force``: allow replacing the files of an existing output folder."""
+    """Add ``--force`` to ``parser``: allow replacing the files of an existing output folder."""
     parser.add_argument("--force", action="store_true",
                         help="replace the files of an existing output folder (without it an "
                         "existing report or index is never overwritten)")
@@ -479,7 +522,17 @@ def parse_effect(text: str):
 
 
 def effects_from_args(args) -> tuple:
-    """The Effect objects of the ``--effect`` options (empty tuple if none)."""
+    """The Effect objects of the ``--effect`` options (empty tuple if none).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed arguments; ``args.effect`` is the list of ``NAME[:key=value,...]``.
+
+    Returns
+    -------
+    tuple of liquidamp.device.effects.Effect
+    """
     return tuple(parse_effect(t) for t in getattr(args, "effect", None) or ())
 
 
@@ -489,6 +542,16 @@ def effects_from_args(args) -> tuple:
 
 def collect_warnings(data) -> list[str]:
     """Every string of every ``"warnings"`` list in a nested JSON-ready ``data``, in order.
+
+    Parameters
+    ----------
+    data : dict or list
+        JSON-ready result (dicts, lists, scalars).
+
+    Returns
+    -------
+    list of str
+        Each warning once, in the order met.
 
     Examples
     --------
@@ -513,7 +576,15 @@ def collect_warnings(data) -> list[str]:
 
 
 def print_warnings(command: str, data) -> None:
-    """Print each warning of ``data`` (see :func:`collect_warnings`) as one stderr line."""
+    """Print each warning of ``data`` (see :func:`collect_warnings`) as one stderr line.
+
+    Parameters
+    ----------
+    command : str
+        Command name for the ``liquidamp COMMAND: warning: ...`` prefix.
+    data : dict
+        JSON-ready result.
+    """
     for w in collect_warnings(data):
         print(f"liquidamp {command}: warning: {w}", file=sys.stderr)
 
@@ -540,6 +611,19 @@ def progress_bar(total: int, desc: str, quiet: bool = False):
 
     The bar is shown only when stderr is a terminal, ``quiet`` is False and
     tqdm is installed.  Use as a context manager; ``update(n)`` advances it.
+
+    Parameters
+    ----------
+    total : int
+        Number of steps.
+    desc : str
+        Label of the bar.
+    quiet : bool
+        Never show the bar (``--quiet``).
+
+    Returns
+    -------
+    tqdm.tqdm or a do-nothing object with the same ``update``/``close``
 
     Examples
     --------

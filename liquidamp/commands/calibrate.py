@@ -53,7 +53,21 @@ def add_fit_arguments(p) -> None:
 
 
 def check_fit_outputs(args, command: str) -> None:
-    """Check --json and --report against the inputs; warn if a record validates itself."""
+    """Check --json and --report against the inputs; warn if a record validates itself.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed calibrate/diagnose arguments.
+    command : str
+        Command name for the stderr warning.
+
+    Raises
+    ------
+    ParameterError
+        An output that would overwrite an input or an existing report, or a
+        bad output path (see :func:`liquidamp.commands._args.check_outputs`).
+    """
     from pathlib import Path
 
     inputs = file_inputs(("RECORD", args.records), ("--validate", args.validate))

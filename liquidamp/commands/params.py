@@ -76,7 +76,25 @@ def device_file_data(params) -> dict:
 
 
 def write_device_file(path, params) -> None:
-    """Write ``params`` as a ``.toml`` or ``.json`` device file (see :func:`device_file_data`)."""
+    """Write ``params`` as a ``.toml`` or ``.json`` device file (see :func:`device_file_data`).
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file; its suffix (``.json``, else TOML) chooses the format.
+    params : DeviceParams
+        Device; fields are written in SI and read back by
+        :func:`liquidamp.device.presets.load_device` to equal parameters.
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from liquidamp.device import load_device, preset
+    >>> f = os.path.join(tempfile.mkdtemp(), "dev.toml")
+    >>> write_device_file(f, preset("inerter"))
+    >>> load_device(f) == preset("inerter")
+    True
+    """
     from pathlib import Path
 
     path = Path(path)
