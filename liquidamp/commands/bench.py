@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 
-from liquidamp.commands._args import write_json
+from liquidamp.commands._args import Output, check_outputs, count_type, write_json
 
 
 def register(sub) -> None:
@@ -14,10 +14,12 @@ def register(sub) -> None:
         description="Median wall times of the fast routes (compiled engine), of a user-style "
                     "scipy LSODA baseline at the same accuracy, their ratio and the first "
                     "call's time (compilation included) in fresh processes; JSON output.")
-    p.add_argument("--json", default=None, help="output JSON file (default stdout)")
+    p.add_argument("--json", default=None, help="output JSON file (.json; default stdout)")
     p.add_argument("--quick", action="store_true",
                    help="tiny configuration (seconds, for tests); numbers not representative")
-    p.add_argument("--repeats", type=int, default=None, help="repeats of the fast routes")
+    p.add_argument("--repeats", type=count_type("--repeats", 1, 1000, "repeats of the fast "
+                                                "routes"), default=None,
+                   help="repeats of the fast routes, 1-1000")
     p.add_argument("--cases", default=None,
                    help="comma list of cases (default all: steady_state_loop, calibration, "
                         "floquet_sweep, coupled_rotor, diagnosis)")
@@ -28,11 +30,9 @@ def run(args) -> int:
     """Run the benchmark and write the JSON."""
     import json
 
+    check_outputs([Output("--json", args.json, "json")])
     from liquidamp.analysis.bench import run_bench
-    from liquidamp.errors import ParameterError
 
-    if args.repeats is not None and args.repeats < 1:
-        raise ParameterError(f"--repeats must be >= 1, got {args.repeats}")
     cases = None
     if args.cases:
         cases = [c.strip() for c in args.cases.split(",") if c.strip()]

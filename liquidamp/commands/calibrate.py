@@ -4,36 +4,108 @@ from __future__ import annotations
 
 import sys
 
-from liquidamp.commands._args import write_json
-from liquidamp.commands.params import add_device_arguments
+from liquidamp.commands._args import (
+    Output,
+    add_effect_argument,
+    add_force_argument,
+    check_outputs,
+    count_type,
+    effects_from_args,
+    file_inputs,
+    print_warnings,
+    write_json,
+)
+from liquidamp.commands.params import add_device_arguments, device_inputs
+
+#: Files the HTML report writes into ``--report DIR``.
+REPORT_FILES = ("index.html", "records.png", "loops_calibration.png",
+                "residuals_calibration.png", "loops_validation.png", "residuals_validation.png")
 
 
 def add_fit_arguments(p) -> None:
     """Arguments shared by calibrate and diagnose."""
-    p.add_argument("records", nargs="+", help="calibration record CSV files")
-    p.add_argument("--validate", nargs="*", default=[], help="held-out record CSV files")
-    add_device_arguments(p)
-    p.add_argument("--model", default="full", help="device model (default %(default)s)")
+    p.add_argument("records", nargs="+", metavar="RECORD",
+                   help="calibration record CSV files (time [s], displacement [mm] or [m], "
+                   "force [N] or [kN])")
+    p.add_argument("--validate", action="append", default=[], metavar="FILE",
+                   help="held-out record CSV file; repeat the option for several")
+    add_device_arguments(p, default="paper_initial")
+    p.add_argument("--model", default="full",
+                   help="device model (default %(default)s): {models}")
+    add_effect_argument(p, " Their default fit keys are fitted, starting from the values "
+                        "given.")
     p.add_argument("--vary", default="inv_gamma1,inv_gamma2,c1,c2",
                    help="comma list of multipliers to fit (default %(default)s)")
-    p.add_argument("--window", type=int, default=21, help="Savitzky-Golay window [samples]")
-    p.add_argument("--order", type=int, default=4, help="Savitzky-Golay order")
-    p.add_argument("--max-nfev", type=int, default=80, help="model evaluations per fit")
-    p.add_argument("--json", required=True, help="output JSON file")
-    p.add_argument("--report", default=None, help="directory for an HTML report")
+    p.add_argument("--window", type=count_type("--window", 3, 10_001,
+                                               "Savitzky-Golay window [samples]"),
+                   default=21, help="Savitzky-Golay window [samples] (default %(default)s)")
+    p.add_argument("--order", type=count_type("--order", 1, 10, "Savitzky-Golay order"),
+                   default=4, help="Savitzky-Golay polynomial order (default %(default)s)")
+    p.add_argument("--max-nfev", type=count_type("--max-nfev", 1, 100_000,
+                                                 "model evaluations per fit"),
+                   default=80,
+                   help="model evaluations per fit, 1-100000 (default %(default)s)")
+    p.add_argument("--json", required=True, help="output JSON file (.json)")
+    p.add_argument("--report", default=None,
+                   help="folder for an HTML report (index.html and PNGs, written after the "
+                   "JSON); an existing report is replaced only with --force")
+    add_force_argument(p)
+
+
+def check_fit_outputs(args, command: str) -> None:
+    """Check --json and --report against the inputs; warn if a record validates itself.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed calibrate/diagnose arguments.
+    command : str
+        Command name for the stderr warning.
+
+    Raises
+    ------
+    ParameterError
+        An output that would overwrite an input or an existing report, or a
+        bad output path (see :func:`liquidamp.commands._args.check_outputs`).
+    """
+    from pathlib import Path
+
+    inputs = file_inputs(("RECORD", args.records), ("--validate", args.validate))
+    inputs += device_inputs(args)
+    check_outputs([Output("--json", args.json, "json"),
+                   Output("--report", args.report, "dir", REPORT_FILES)],
+                  inputs, force=args.force)
+    cal = {Path(f).resolve() for f in args.records}
+    for f in args.validate:
+        if Path(f).resolve() in cal:
+            print(f"liquidamp {command}: warning: validation record {f!r} is also a "
+                  "calibration record: its validation error is not held-out",
+                  file=sys.stderr)
+
+
+def _read(path, window: int, order: int):
+    """read_record, with an error that names the file for a file that is not text."""
+    from liquidamp.analysis.records import read_record
+    from liquidamp.errors import DataFileError
+
+    try:
+        return read_record(path, window, order)
+    except UnicodeDecodeError as exc:
+        raise DataFileError(f"record {str(path)!r} is not a text CSV file ({exc.reason} at "
+                            f"byte {exc.start})") from None
 
 
 def load(args):
-    """Records, validation records, start parameters and fit spec from the arguments."""
+    """Records, validation records, start parameters, effects and fit spec from the arguments."""
     from liquidamp.analysis.calibration import FitSpec
-    from liquidamp.analysis.records import read_record
     from liquidamp.commands.params import device_from_args
 
-    cal = [read_record(f, args.window, args.order) for f in args.records]
-    val = [read_record(f, args.window, args.order) for f in args.validate]
+    effects = effects_from_args(args)
+    cal = [_read(f, args.window, args.order) for f in args.records]
+    val = [_read(f, args.window, args.order) for f in args.validate]
     params = device_from_args(args, default="paper_initial")
     vary = tuple(v.strip() for v in args.vary.split(",") if v.strip())
-    return cal, val, params, FitSpec.default(vary=vary)
+    return cal, val, params, effects, FitSpec.default(vary=vary, effects=effects)
 
 
 def register(sub) -> None:
@@ -42,27 +114,31 @@ def register(sub) -> None:
         "calibrate", help="fit device multipliers to measured records",
         description="Least-squares fit of the device model, driven by each record's stroke, "
         "to the recorded force; JSON holds the calibrated parameters, standard errors, "
-        "correlations, fit status and the NRMSE on calibration and validation records.")
+        "correlations, fit status and the NRMSE on calibration and validation records. "
+        "Exit code 1 if the fit did not converge (the JSON says so).")
     add_fit_arguments(p)
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
     """Calibrate; exit 1 if the fit did not converge (the JSON says so)."""
+    check_fit_outputs(args, "calibrate")
     from liquidamp.analysis.calibration import calibrate
 
-    cal, val, params, spec = load(args)
-    res = calibrate(cal, model=args.model, params=params, spec=spec, validate=val,
-                    max_nfev=args.max_nfev)
-    write_json(args.json, res.as_dict())
+    cal, val, params, effects, spec = load(args)
+    res = calibrate(cal, model=args.model, params=params, effects=effects, spec=spec,
+                    validate=val, max_nfev=args.max_nfev)
+    d = res.as_dict()
+    write_json(args.json, d)
+    print_warnings("calibrate", d)
     if args.report:
         from liquidamp.analysis.report_calibration import write_report
 
         write_report(args.report, result=res, title="liquidamp calibrate")
     if not res.converged:
-        print(f"warning: calibration did not converge: {res.message}", file=sys.stderr)
+        print(f"liquidamp calibrate: warning: calibration did not converge: {res.message}",
+              file=sys.stderr)
         return 1
-    d = res.as_dict()
     val_txt = d["nrmse"]["validation"]
     val_txt = "n/a" if val_txt is None else f"{val_txt:.4g}"
     print(f"calibrated ({res.nfev} evaluations): NRMSE calibration "

@@ -6,6 +6,8 @@ import sys
 import time
 from pathlib import Path
 
+from liquidamp.commands._args import Output, add_force_argument, check_outputs
+
 
 def register(sub) -> None:
     """Add the ``demo`` sub-command."""
@@ -15,17 +17,21 @@ def register(sub) -> None:
         description="Reproduce Titurus (2018) Figs. 7-11 with the full model: PNGs and an "
         "index.html with the first-harmonic dynamic stiffness of every case.",
     )
-    p.add_argument("--out", default="liquidamp-demo", help="output directory (default %(default)s)")
+    p.add_argument("--out", default="liquidamp-demo",
+                   help="output folder (default %(default)s); an existing index.html there is "
+                   "replaced only with --force")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.add_argument("--skip-diagnosis", action="store_true",
                    help="only the case study, not the calibrate-and-diagnose loop")
     p.add_argument("--engine", choices=("compiled", "python"), default="compiled",
                    help="integration engine (default %(default)s; python is the reference)")
+    add_force_argument(p)
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
     """Run the demo; return the exit code."""
+    check_outputs([Output("--out", args.out, "dir", ("index.html",))], force=args.force)
     from liquidamp.analysis.casestudy import run_case_study, write_case_study
 
     start = time.perf_counter()

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import sys
 
-from liquidamp.commands._args import write_json
-from liquidamp.commands.calibrate import add_fit_arguments, load
+from liquidamp.commands._args import count_type, print_warnings, write_json
+from liquidamp.commands.calibrate import add_fit_arguments, check_fit_outputs, load
 
 
 def register(sub) -> None:
@@ -14,33 +14,38 @@ def register(sub) -> None:
         "diagnose", help="calibrate and add the catalogue effects the residual asks for",
         description="Calibrate on the records, rank the catalogue effects by the evidence in "
         "the residual, refit the best, keep one only if the held-out NRMSE falls by more than "
-        "10%% and the BIC by more than 10; repeat. JSON: baseline, steps, final.")
+        "10% and the BIC by more than 10; repeat. JSON: baseline, steps, final. Needs "
+        "--validate.")
     add_fit_arguments(p)
-    p.add_argument("--max-steps", type=int, default=3, help="effects added at most")
-    p.add_argument("--top", type=int, default=2, help="candidates refitted per step")
+    p.add_argument("--max-steps", type=count_type("--max-steps", 0, 8, "effects added at most"),
+                   default=3, help="effects added at most, 0-8 (default %(default)s)")
+    p.add_argument("--top", type=count_type("--top", 1, 8, "candidates refitted per step"),
+                   default=2, help="candidates refitted per step, 1-8 (default %(default)s)")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
-    """Diagnose and write the JSON (and report)."""
-    from liquidamp.analysis.diagnosis import diagnose
+    """Diagnose and write the JSON (then the report)."""
     from liquidamp.errors import ParameterError
 
-    cal, val, params, spec = load(args)
-    if not val:
-        raise ParameterError("diagnose needs held-out records: --validate FILE [...]")
-    d = diagnose(cal, val, model=args.model, params=params, spec=spec,
+    if not args.validate:
+        raise ParameterError("diagnose needs held-out records: --validate FILE [--validate "
+                             "FILE ...]")
+    check_fit_outputs(args, "diagnose")
+    from liquidamp.analysis.diagnosis import diagnose
+
+    cal, val, params, effects, spec = load(args)
+    d = diagnose(cal, val, model=args.model, params=params, effects=effects, spec=spec,
                  max_steps=args.max_steps, top=args.top, max_nfev=args.max_nfev)
-    write_json(args.json, d.as_dict())
+    nr = d.as_dict()
+    write_json(args.json, nr)
+    print_warnings("diagnose", nr)
+    if d.unexplained:
+        print(f"liquidamp diagnose: note: {d.unexplained}", file=sys.stderr)
     if args.report:
         from liquidamp.analysis.report_calibration import write_report
 
         write_report(args.report, diagnosis=d, title="liquidamp diagnose")
-    for w in d.warnings:
-        print(f"warning: {w}", file=sys.stderr)
-    if d.unexplained:
-        print(f"note: {d.unexplained}", file=sys.stderr)
-    nr = d.as_dict()
     added = ", ".join(d.added) or "nothing"
     print(f"added: {added}; validation NRMSE {nr['baseline']['nrmse']['validation']:.4g} -> "
           f"{nr['final']['nrmse']['validation']:.4g} ({d.stop_reason}); wrote {args.json}")

@@ -14,8 +14,22 @@ from __future__ import annotations
 
 import math
 
-from liquidamp.commands._args import parse_length, write_json
+from liquidamp.commands._args import (
+    Output,
+    add_quiet_argument,
+    check_outputs,
+    file_inputs,
+    float_type,
+    parse_length,
+    print_warnings,
+    progress_bar,
+    write_json,
+)
 from liquidamp.errors import ParameterError
+
+#: Longest limit-cycle run [s]: the run keeps every sample (at least 200 per
+#: second) and a limit cycle settles in 10-60 s.
+MAX_T_END = 600.0
 
 __all__ = ["register", "run"]
 
@@ -26,28 +40,44 @@ def register(subparsers) -> None:
         "lco", help="limit cycle of a rotor with liquid lag dampers (linear, DF, time domain)",
         description=__doc__.split("\n\n", 1)[1])
     p.add_argument("--rotor", default="hammond1974",
-                   help="rotor preset or .toml/.json file (default hammond1974)")
+                   help="rotor preset ({rotors}) or .toml/.json file (default hammond1974)")
     p.add_argument("--damper", required=True,
-                   help="viscous, maxwell, a device preset or a device file")
-    p.add_argument("--rpm", required=True, type=float, help="rotor speed [rpm]")
+                   help="viscous, maxwell, a device preset ({presets}) or a device file")
+    p.add_argument("--rpm", required=True, type=float_type("--rpm", "rpm"),
+                   help="rotor speed [rpm], > 0")
     p.add_argument("--inoperative", action="append", default=[], metavar="K",
                    help="blade whose damper has failed (1-based; repeatable)")
     p.add_argument("--arm", default=None, help="damper arm, metres or with unit (250mm)")
-    p.add_argument("--model", default="full", help="device model (default full)")
-    p.add_argument("--t-end", dest="t_end", type=float, default=None,
-                   help="simulated time of the limit-cycle run [s] (default from the growth "
+    p.add_argument("--model", default="full", help="device model (default full): {models}")
+    p.add_argument("--t-end", dest="t_end", default=None,
+                   type=float_type("--t-end", "s", high=MAX_T_END,
+                                   why=" (the run keeps every sample, at least 200 per "
+                                   "second; a limit cycle settles in 10-60 s)"),
+                   help="simulated time of the limit-cycle run [s], at most 600 s: the run "
+                   "keeps every sample, at least 200 per second (default from the growth "
                    "rate, 10-60 s)")
-    p.add_argument("--json", required=True, help="output JSON")
-    p.add_argument("--plot", default=None, help="time-history figure (PNG)")
+    p.add_argument("--json", required=True, help="output JSON (.json)")
+    p.add_argument("--plot", default=None,
+                   help="time-history figure (.png, .pdf, .svg, ...), written after the JSON")
+    add_quiet_argument(p)
     p.set_defaults(func=run)
 
 
-def analyse(rotor, Omega, device, inoperative=(), t_end=None) -> dict:
-    """Linear rate, time-domain rate, DF prediction and simulated amplitude (SI dict)."""
+def analyse(rotor, Omega, device, inoperative=(), t_end=None, bar=None) -> dict:
+    """Linear rate, time-domain rate, DF prediction and simulated amplitude (SI dict).
+
+    ``bar`` (optional) has ``update()`` and is advanced after each of the four
+    stages: critical mode, small-amplitude run, describing function, limit-cycle run.
+    """
     from liquidamp.analysis.lco import critical_mode, predict_lco, simulate_lco
+
+    def step():
+        if bar is not None:
+            bar.update()
 
     inop = tuple(inoperative)
     cm = critical_mode(rotor, Omega, device, inoperative=inop)
+    step()
     sigma = cm.eigenvalue.real
     arm = rotor.blade.damper_arm
     # small-amplitude run: stroke 1e-6 x the stroke limit (quadratic loss negligible)
@@ -57,7 +87,9 @@ def analyse(rotor, Omega, device, inoperative=(), t_end=None) -> dict:
     t_small = min(max(6 * Tb, 2.0 / max(abs(sigma), 1e-3)), 12.0)
     small = simulate_lco(rotor, Omega, device, inoperative=inop, initial_lag=lag0,
                          t_end=t_small, mode=cm)
+    step()
     pred = predict_lco(rotor, Omega, device, inoperative=inop)
+    step()
     out = {
         "rotor": rotor.name, "damper": device.label, "model": device.model.name,
         "rotor_speed [rpm]": Omega * 60 / (2 * math.pi), "inoperative_blades": list(inop),
@@ -90,18 +122,21 @@ def analyse(rotor, Omega, device, inoperative=(), t_end=None) -> dict:
     else:
         out["time_domain_status"] = "decays (linearly stable)"
         out["simulated_time [s]"] = float(small.response.time[-1])
+    step()
     out["warnings"] = list(run_.response.warnings)
     return out, run_
 
 
 def run(args) -> int:
-    """Run the analysis and write JSON (and a plot)."""
+    """Run the analysis and write the JSON (then the figure)."""
+    check_outputs([Output("--json", args.json, "json"), Output("--plot", args.plot, "plot")],
+                  file_inputs(("--rotor", args.rotor), ("--damper", args.damper)))
+    if not (math.isfinite(args.rpm) and args.rpm > 0):
+        raise ParameterError(f"--rpm must be finite and > 0 [rpm], got {args.rpm}")
     from liquidamp.analysis.ground_resonance import rpm_to_rad_s
     from liquidamp.analysis.sizing import lag_damper_device
     from liquidamp.structure.hostio import load_rotor
 
-    if not (math.isfinite(args.rpm) and args.rpm > 0):
-        raise ParameterError(f"--rpm must be finite and > 0 [rpm], got {args.rpm}")
     rotor = load_rotor(args.rotor)
     inop = []
     for text in args.inoperative:
@@ -111,16 +146,18 @@ def run(args) -> int:
             raise ParameterError(f"--inoperative must be a blade number, got {text!r}") from None
     arm = parse_length(args.arm, "arm") if args.arm else None
     device, rotor, sizing = lag_damper_device(args.damper, rotor, arm=arm, model=args.model)
-    data, sim = analyse(rotor, rpm_to_rad_s(args.rpm), device, inop, args.t_end)
+    with progress_bar(4, "lco stages", args.quiet) as bar:
+        data, sim = analyse(rotor, rpm_to_rad_s(args.rpm), device, inop, args.t_end, bar)
     if sizing is not None:
         data["sizing"] = sizing.as_dict()
     write_json(args.json, data)
-    if args.plot:
-        plot_lco(sim, data).savefig(args.plot, dpi=120)
+    print_warnings("lco", data)
     amp = data["time_domain_amplitude [rad]"]
     print(f"{rotor.name} + {device.label} at {args.rpm:g} rpm: linear rate "
           f"{data['linear_growth_rate [1/s]']:+.4f} 1/s; predicted LCO "
           f"{data['predicted_amplitude [rad]']} rad; simulated {amp} rad")
+    if args.plot:
+        plot_lco(sim, data).savefig(args.plot, dpi=120)
     return 0
 
 

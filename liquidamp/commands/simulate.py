@@ -4,8 +4,16 @@ from __future__ import annotations
 
 import sys
 
-from liquidamp.commands._args import parse_length, write_json
-from liquidamp.commands.params import add_device_arguments, device_from_args
+from liquidamp.commands._args import (
+    Output,
+    add_effect_argument,
+    check_outputs,
+    effects_from_args,
+    parse_length,
+    print_warnings,
+    write_json,
+)
+from liquidamp.commands.params import add_device_arguments, device_from_args, device_inputs
 from liquidamp.options import COMPILED_METHODS
 
 
@@ -17,7 +25,10 @@ def register(sub) -> None:
         "state; write the first-harmonic dynamic stiffness, peak forces, lowest chamber "
         "pressure, mass-conservation error and steady-state residual as JSON.")
     add_device_arguments(p)
-    p.add_argument("--model", default="full", help="device model (default %(default)s)")
+    p.add_argument("--model", default="full",
+                   help="device model (default %(default)s): {models}")
+    add_effect_argument(p, " Where the compiled engine cannot run the model with its effects, "
+                        "use --engine python.")
     p.add_argument("--frequency", required=True, type=float, help="excitation frequency [Hz]")
     p.add_argument("--amplitude", required=True,
                    help="stroke amplitude, SI metres or with unit (3mm)")
@@ -27,7 +38,8 @@ def register(sub) -> None:
                    help="stepper of the compiled engine: auto (Dormand-Prince, RODAS4 where "
                         "stiff), rodas4 or dopri5 (default %(default)s)")
     p.add_argument("--json", default=None, help="output JSON (default stdout)")
-    p.add_argument("--plot", default=None, help="three-panel loop figure (PNG)")
+    p.add_argument("--plot", default=None,
+                   help="three-panel loop figure (.png, .pdf, .svg, ...; written after the JSON)")
     p.set_defaults(func=run)
 
 
@@ -57,23 +69,40 @@ def summary(response) -> dict:
 
 
 def run(args) -> int:
-    """Run the simulation and write its summary."""
+    """Run the simulation and write its summary (JSON first, then the figure)."""
     import json
 
+    check_outputs([Output("--json", args.json, "json"), Output("--plot", args.plot, "plot")],
+                  device_inputs(args))
     from liquidamp.coupled.testrig import steady_state
+    from liquidamp.device.effects import with_effects
     from liquidamp.device.models import get_model
+    from liquidamp.errors import ParameterError
+    from liquidamp.options import SolverOptions
     from liquidamp.structure.testmachine import HarmonicStroke
 
     params = device_from_args(args)
     model = get_model(args.model)
+    effects = effects_from_args(args)
+    if effects:
+        model = with_effects(model, *effects)
     stroke = HarmonicStroke(parse_length(args.amplitude, "amplitude"), args.frequency)
-    from liquidamp.options import SolverOptions
-
     options = SolverOptions(engine=args.engine, compiled_method=args.compiled_method)
-    response = steady_state(model, params, stroke, options=options)
+    try:
+        response = steady_state(model, params, stroke, options=options)
+    except ParameterError as exc:
+        if "engine='python'" not in str(exc):
+            raise
+        raise ParameterError(f"{exc} (on the command line: --engine python)") from None
     data = summary(response)
-    for w in response.warnings:
-        print(f"warning: {w}", file=sys.stderr)
+    if effects:
+        data["effects"] = {e.name: e.parameters for e in effects}
+    if args.json:
+        write_json(args.json, data)
+    else:
+        json.dump(data, sys.stdout, indent=2)
+        print()
+    print_warnings("simulate", data)
     if args.plot:
         from liquidamp.analysis.plots import plot_loops
 
@@ -82,9 +111,4 @@ def run(args) -> int:
         fig = plot_loops([response], ideal=ideal,
                          title=f"{params.name or 'device'}: model {model.name}")
         fig.savefig(args.plot, dpi=110)
-    if args.json:
-        write_json(args.json, data)
-    else:
-        json.dump(data, sys.stdout, indent=2)
-        print()
     return 0

@@ -29,10 +29,28 @@ import math
 import sys
 from pathlib import Path
 
-from liquidamp.commands._args import parse_length, parse_list, write_json
-from liquidamp.commands.params import add_device_arguments, device_from_args
+from liquidamp.commands._args import (
+    Output,
+    add_effect_argument,
+    add_force_argument,
+    add_quiet_argument,
+    check_outputs,
+    effects_from_args,
+    parse_length,
+    parse_list,
+    print_warnings,
+    progress_bar,
+    write_json,
+)
+from liquidamp.commands.params import add_device_arguments, device_from_args, device_inputs
+from liquidamp.errors import ParameterError
 
 LINEAR_MODELS = ("full", "maxwell", "dashpot_inerter", "inertial_2state")
+#: Largest number of nonlinear points (frequencies x amplitudes); each is a
+#: periodic steady state of 0.01-1 s.
+MAX_GRID = 10_000
+#: Files written into ``--out``.
+FILES = ("stiffness.json", "stiffness.csv", "stiffness.png")
 
 
 def register(sub) -> None:
@@ -45,14 +63,22 @@ def register(sub) -> None:
         "linearization at each stroke amplitude overlaid. Writes PNG, CSV and JSON.")
     add_device_arguments(p)
     p.add_argument("--frequency", required=True,
-                   help="frequencies [Hz]: comma list or START:STOP:COUNT (log-spaced)")
+                   help="frequencies [Hz]: comma list or START:STOP:COUNT (COUNT points "
+                   "log-spaced from START to STOP)")
     p.add_argument("--amplitude", required=True,
                    help="stroke amplitudes: comma list (SI metres or with unit, 1mm) or "
-                   "START:STOP:COUNT (linear)")
-    p.add_argument("--out", required=True, help="output directory (PNG, CSV, JSON)")
-    p.add_argument("--json", default=None, help="also write the JSON here")
+                   "START:STOP:COUNT (COUNT points linearly spaced from START to STOP)")
+    p.add_argument("--out", required=True,
+                   help="output folder: stiffness.json, stiffness.csv, then stiffness.png; an "
+                   "existing one is replaced only with --force")
+    p.add_argument("--json", default=None, help="also write the JSON here (.json)")
     p.add_argument("--model", default="full",
-                   help="nonlinear model for the first-harmonic points (default %(default)s)")
+                   help="nonlinear model for the first-harmonic points (default %(default)s): "
+                   "{models}")
+    add_effect_argument(p, " The effects apply to the nonlinear first-harmonic points only; "
+                        "the linear and equivalent curves are of the model without them.")
+    add_force_argument(p)
+    add_quiet_argument(p)
     p.set_defaults(func=run)
 
 
@@ -76,28 +102,65 @@ def amplitude_key(value: float) -> str:
     return repr(float(value))
 
 
+def _nonlinear(params, model, freqs, amps, quiet: bool):
+    """``nonlinear_stiffness`` point by point under a progress bar (same numbers)."""
+    import numpy as np
+
+    from liquidamp.analysis.stiffness import NonlinearStiffness, nonlinear_stiffness
+
+    shape = (amps.size, freqs.size)
+    value = np.full(shape, np.nan, complex)
+    pmin, res = np.full(shape, np.nan), np.full(shape, np.nan)
+    cyc = np.zeros(shape, int)
+    warns, fails = [], []
+    name = None
+    with progress_bar(amps.size * freqs.size, "stiffness points", quiet) as bar:
+        for i, Y in enumerate(amps):
+            for j, fj in enumerate(freqs):
+                r = nonlinear_stiffness(params, [fj], [Y], model=model, on_error="skip")
+                name = r.model
+                value[i, j], pmin[i, j] = r.value[0, 0], r.min_pressure[0, 0]
+                res[i, j], cyc[i, j] = r.residual[0, 0], r.cycles[0, 0]
+                warns += r.warnings
+                fails += r.failures
+                bar.update()
+    return NonlinearStiffness(model=name, params=params, frequency=freqs, amplitude=amps,
+                              value=value, min_pressure=pmin, residual=res, cycles=cyc,
+                              warnings=tuple(warns), failures=tuple(fails))
+
+
 def run(args) -> int:
-    """Compute the sweep, write PNG, CSV and JSON."""
+    """Compute the sweep; write JSON, CSV, then PNG (data before the figure)."""
+    out = Path(args.out)
+    check_outputs([Output("--out", args.out, "dir", FILES), Output("--json", args.json, "json")],
+                  device_inputs(args), force=args.force)
+    freqs = parse_list(args.frequency, "frequency", log=True)
+    amps = parse_list(args.amplitude, "amplitude", item=lambda t: parse_length(t, "amplitude"))
+    if freqs.size * amps.size > MAX_GRID:
+        raise ParameterError(
+            f"frequency x amplitude grid has {freqs.size} x {amps.size} = "
+            f"{freqs.size * amps.size} nonlinear points; at most {MAX_GRID} (each is a periodic "
+            "steady state of 0.01-1 s)")
     from liquidamp.analysis.linear import linearize, transfer_function
-    from liquidamp.analysis.stiffness import equivalent_sweep, linear_stiffness, nonlinear_stiffness
-    from liquidamp.analysis.stiffness_plots import plot_dynamic_stiffness
+    from liquidamp.analysis.stiffness import equivalent_sweep, linear_stiffness
+    from liquidamp.device.effects import with_effects
     from liquidamp.device.models import get_model
 
     params = device_from_args(args)
     model = get_model(args.model).name
-    freqs = parse_list(args.frequency, "frequency", log=True)
-    amps = parse_list(args.amplitude, "amplitude", item=lambda t: parse_length(t, "amplitude"))
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    effects = effects_from_args(args)
+    nl_model = with_effects(get_model(model), *effects) if effects else model
 
+    # the equivalent sweep is cheap and checks every frequency and amplitude first
+    eq = equivalent_sweep(params, freqs, amps, model=model)
     linear = []
     for name in LINEAR_MODELS + ((model,) if model not in LINEAR_MODELS else ()):
         if name == "full" or name not in ("maxwell", "dashpot_inerter", "inertial_2state"):
             linear.append(linear_stiffness(linearize(name, params), freqs, label=name))
         else:
             linear.append(linear_stiffness(transfer_function(name, params), freqs, label=name))
-    nl = nonlinear_stiffness(params, freqs, amps, model=model, on_error="skip")
-    eq = equivalent_sweep(params, freqs, amps, model=model)
+    nl = _nonlinear(params, nl_model, freqs, amps, args.quiet)
+    out.mkdir(exist_ok=True)
 
     data = {
         "preset": params.name,
@@ -110,6 +173,10 @@ def run(args) -> int:
         "warnings": list(nl.warnings) + [f"equivalent: {w}" for w in eq.warnings],
         "failures": list(nl.failures),
     }
+    if effects:
+        data["effects"] = {e.name: e.parameters for e in effects}
+        data["effects_note"] = (f"nonlinear points: model {nl.model}; the linear and "
+                                f"equivalent curves are of {model} without the effects")
     for i, Y in enumerate(amps):
         d = _curve_dict(nl.curve(i))
         d["min_pressure [Pa]"] = _clean(nl.min_pressure[i])
@@ -125,7 +192,7 @@ def run(args) -> int:
         w.writerow(["curve", "amplitude [m]", "frequency [Hz]", "magnitude [N/m]",
                     "phase [deg]", "storage [N/m]", "loss [N/m]"])
         rows = [(f"linear:{c.label}", "", c) for c in linear]
-        rows += [(f"nonlinear:{model}", amplitude_key(Y), nl.curve(i))
+        rows += [(f"nonlinear:{nl.model}", amplitude_key(Y), nl.curve(i))
                  for i, Y in enumerate(amps)]
         rows += [(f"equivalent:{model}", amplitude_key(Y), eq.curve(i))
                  for i, Y in enumerate(amps)]
@@ -134,14 +201,17 @@ def run(args) -> int:
                 vals = [c.magnitude[k], c.phase_deg[k], c.storage[k], c.loss[k]]
                 w.writerow([label, amp, f"{fk:.10g}"]
                            + ["" if not math.isfinite(v) else f"{v:.10g}" for v in vals])
-    fig = plot_dynamic_stiffness(linear, nl, eq,
-                                 title=f"{params.name or 'device'}: dynamic stiffness, "
-                                 f"nonlinear model {model}")
-    fig.savefig(out / "stiffness.png", dpi=110)
     write_json(out / "stiffness.json", data)
     if args.json:
         write_json(args.json, data)
+    print_warnings("stiffness", data)
     for msg in nl.failures:
-        print(f"warning: point failed: {msg}", file=sys.stderr)
-    print(f"wrote {out / 'stiffness.png'}, {out / 'stiffness.csv'}, {out / 'stiffness.json'}")
+        print(f"liquidamp stiffness: warning: point failed: {msg}", file=sys.stderr)
+    from liquidamp.analysis.stiffness_plots import plot_dynamic_stiffness
+
+    fig = plot_dynamic_stiffness(linear, nl, eq,
+                                 title=f"{params.name or 'device'}: dynamic stiffness, "
+                                 f"nonlinear model {nl.model}")
+    fig.savefig(out / "stiffness.png", dpi=110)
+    print(f"wrote {out / 'stiffness.json'}, {out / 'stiffness.csv'}, {out / 'stiffness.png'}")
     return 0

@@ -28,9 +28,15 @@ from __future__ import annotations
 
 import sys
 
-import numpy as np
-
-from liquidamp.commands._args import parse_list, write_json
+from liquidamp.commands._args import (
+    Output,
+    add_quiet_argument,
+    check_outputs,
+    file_inputs,
+    parse_list,
+    print_warnings,
+    write_json,
+)
 from liquidamp.errors import ParameterError, check_choice
 
 __all__ = ["register"]
@@ -47,45 +53,68 @@ def register(subparsers) -> None:
 
     g = sub.add_parser("ground-resonance", help="rotor on its landing gear against rotor speed")
     g.add_argument("--rotor", default="hammond1974",
-                   help="rotor preset name or .toml/.json file (default hammond1974)")
+                   help="rotor preset name ({rotors}) or .toml/.json file (default hammond1974)")
     g.add_argument("--rpm", required=True,
-                   help="rotor speeds [rpm]: comma list or START:STOP:COUNT")
+                   help="rotor speeds [rpm]: comma list or START:STOP:COUNT (COUNT points "
+                   "linearly spaced; at most 100000)")
     g.add_argument("--inoperative", action="append", default=[], metavar="K",
                    help="blade whose lag damper has failed (1-based; repeat for several)")
     g.add_argument("--method", default="coleman", help="coleman (default) or floquet")
     g.add_argument("--damper", default="viscous",
                    help="viscous (default: the rotor's own dampers), maxwell, a device preset "
-                   "or a device file (sized to replace the lag damper)")
+                   "({presets}) or a device file (sized to replace the lag damper)")
     g.add_argument("--arm", default=None,
                    help="damper arm, metres or with unit (250mm); default the rotor's")
-    g.add_argument("--model", default="full", help="device model (default full)")
-    g.add_argument("--json", required=True, help="output JSON file")
-    g.add_argument("--plot", help="output figure (Coleman diagram), e.g. .png")
-    g.set_defaults(func=_ground_resonance)
+    g.add_argument("--model", default="full", help="device model (default full): {models}")
+    g.add_argument("--json", required=True, help="output JSON file (.json)")
+    g.add_argument("--plot", help="output figure (Coleman diagram; .png, .pdf, .svg, ...), "
+                   "written after the JSON")
+    add_quiet_argument(g)
+    g.set_defaults(func=_ground_resonance, command_name="sweep ground-resonance")
 
     f = sub.add_parser("flutter", help="typical section against airspeed")
     f.add_argument("--section", default="hodges-pierce",
-                   help="section preset name or .toml/.json file (default hodges-pierce)")
+                   help="section preset name ({sections}) or .toml/.json file (default "
+                   "hodges-pierce)")
     f.add_argument("--aero", default=None,
                    help="steady, quasi-steady, theodorsen (default) or jones (default with "
                    "--damper)")
     f.add_argument("--method", default=None, help="pk (default), k or p (p with --damper)")
     f.add_argument("--damper", default=None,
-                   help="device on the section: viscous, maxwell, a device preset or file")
+                   help="device on the section: viscous, maxwell, a device preset ({presets}) "
+                   "or a device file")
     f.add_argument("--port", default="plunge", help="plunge (default) or pitch")
     f.add_argument("--zeta", type=float, default=0.05,
                    help="damping ratio the device is sized for (default 0.05)")
-    f.add_argument("--model", default="full", help="device model (default full)")
+    f.add_argument("--model", default="full", help="device model (default full): {models}")
     f.add_argument("--speeds", default="0.05:3.5:70",
-                   help="reduced speeds U/(b omega_theta) for pk and p (default 0.05:3.5:70)")
+                   help="reduced speeds U/(b omega_theta) for pk and p: comma list or "
+                   "START:STOP:COUNT (COUNT points linearly spaced; default 0.05:3.5:70)")
     f.add_argument("--k", dest="reduced_frequencies", default=None,
-                   help="reduced frequencies for the k method (default 80 log-spaced, 3 to 0.03)")
-    f.add_argument("--json", required=True, help="output JSON file")
-    f.add_argument("--plot", help="output figure (V-g and V-f), e.g. .png")
-    f.set_defaults(func=_flutter)
+                   help="reduced frequencies for the k method: comma list or START:STOP:COUNT "
+                   "(COUNT points linearly spaced; default 80 log-spaced, 3 to 0.03)")
+    f.add_argument("--json", required=True, help="output JSON file (.json)")
+    f.add_argument("--plot", help="output figure (V-g and V-f; .png, .pdf, .svg, ...), "
+                   "written after the JSON")
+    f.set_defaults(func=_flutter, command_name="sweep flutter")
+
+
+def _check_paths(args, host_flag: str, host: str) -> None:
+    """Check --json and --plot against the host and damper files, before any work."""
+    inputs = file_inputs((host_flag, host), ("--damper", getattr(args, "damper", None)))
+    check_outputs([Output("--json", args.json, "json"), Output("--plot", args.plot, "plot")],
+                  inputs)
 
 
 def _ground_resonance(args) -> int:
+    import numpy as np
+
+    _check_paths(args, "--rotor", args.rotor)
+    rpm = parse_list(args.rpm, "rpm")
+    if not np.all(np.isfinite(rpm)) or np.any(rpm <= 0.0):
+        raise ParameterError(f"rpm values must be finite and > 0 [rpm], got {args.rpm!r}")
+    if rpm.size > 1 and np.any(np.diff(rpm) <= 0.0):
+        raise ParameterError(f"rpm values must be strictly increasing, got {args.rpm!r}")
     from liquidamp.analysis.ground_resonance import (
         METHODS,
         ground_resonance_sweep,
@@ -95,13 +124,6 @@ def _ground_resonance(args) -> int:
     from liquidamp.structure.hostio import load_rotor
 
     method = check_choice("method", args.method, METHODS)
-    rpm = parse_list(args.rpm, "rpm")
-    if rpm.size == 0:
-        raise ParameterError("rpm range is empty")
-    if not np.all(np.isfinite(rpm)) or np.any(rpm <= 0.0):
-        raise ParameterError(f"rpm values must be finite and > 0 [rpm], got {args.rpm!r}")
-    if rpm.size > 1 and np.any(np.diff(rpm) <= 0.0):
-        raise ParameterError(f"rpm values must be strictly increasing, got {args.rpm!r}")
     rotor = load_rotor(args.rotor)
     blades = []
     for text in args.inoperative:
@@ -136,8 +158,10 @@ def _ground_resonance_device(args, rotor, rpm, blades, method) -> int:
     arm = parse_length(args.arm, "arm") if args.arm else None
     device, rotor, sizing = lag_damper_device(args.damper, rotor, arm=arm, model=args.model)
     used = "floquet" if blades else method
+    tty = bool(getattr(sys.stderr, "isatty", lambda: False)())
     sweep = device_ground_resonance_sweep(rotor, rpm_to_rad_s(rpm), device,
-                                          inoperative=blades, method=used, executor="serial")
+                                          inoperative=blades, method=used, executor="serial",
+                                          progress=tty and not args.quiet)
     if sweep.method != method:
         print(f"liquidamp sweep ground-resonance: note: {sweep.note}", file=sys.stderr)
     data = sweep.to_dict()
@@ -150,27 +174,28 @@ def _ground_resonance_device(args, rotor, rpm, blades, method) -> int:
 
 
 def _flutter(args) -> int:
-    from liquidamp.analysis.flutter import check_combination, flutter_analysis
-    from liquidamp.analysis.stability_plots import plot_flutter
-    from liquidamp.structure.hostio import load_section
-
-    if getattr(args, "damper", None):
-        return _flutter_device(args)
-    args.aero = args.aero or "theodorsen"
-    args.method = args.method or "pk"
-    check_combination(args.aero, args.method)
-    section = load_section(args.section)
+    _check_paths(args, "--section", args.section)
     speeds = parse_list(args.speeds, "speeds")
     kvals = None
     if args.reduced_frequencies is not None:
         kvals = parse_list(args.reduced_frequencies, "k")
+    if getattr(args, "damper", None):
+        return _flutter_device(args, speeds)
+    from liquidamp.analysis.flutter import check_combination, flutter_analysis
+    from liquidamp.analysis.stability_plots import plot_flutter
+    from liquidamp.structure.hostio import load_section
+
+    args.aero = args.aero or "theodorsen"
+    args.method = args.method or "pk"
+    check_combination(args.aero, args.method)
+    section = load_section(args.section)
     result = flutter_analysis(section, args.aero, args.method, speeds=speeds,
                               reduced_frequencies=kvals)
     return _write_outputs(args, result.to_dict(), plot_flutter, result,
                           _flutter_summary(section.name, args.aero, args.method, result))
 
 
-def _flutter_device(args) -> int:
+def _flutter_device(args, speeds) -> int:
     from liquidamp.analysis.damped_stability import damped_flutter_analysis
     from liquidamp.analysis.flutter import check_combination
     from liquidamp.analysis.sizing import flutter_damper_device
@@ -187,7 +212,6 @@ def _flutter_device(args) -> int:
     section = load_section(args.section)
     device, sizing = flutter_damper_device(args.damper, section, port=args.port,
                                            zeta=args.zeta, model=args.model)
-    speeds = parse_list(args.speeds, "speeds")
     result = damped_flutter_analysis(section, {args.port: device}, speeds=speeds, aero=aero)
     data = result.to_dict()
     data["damper"] = args.damper
@@ -221,12 +245,13 @@ def _flutter_summary(label: str, aero: str, method: str, result) -> str:
 
 
 def _write_outputs(args, data: dict, plot, result, summary: str) -> int:
-    """Write ``data`` to ``--json``, ``plot(result)`` to ``--plot`` if given, print ``summary``.
+    """Write ``data`` to ``--json``, print ``summary``, then ``plot(result)`` to ``--plot``.
 
     The figure is saved at 120 dpi; returns the exit code 0.
     """
     write_json(args.json, data)
+    print_warnings(args.command_name, data)
+    print(summary)
     if args.plot:
         plot(result).savefig(args.plot, dpi=120)
-    print(summary)
     return 0
