@@ -52,7 +52,7 @@ from liquidamp.coupled.testrig import DeviceResponse
 from liquidamp.device.models import REGISTRY, DeviceModel, get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, DataFileError, ParameterError, PressureError
-from liquidamp.options import DEFAULT_OPTIONS, SolverOptions
+from liquidamp.options import SolverOptions, resolve_options
 from liquidamp.structure.testmachine import RecordedStroke, savgol_derivatives
 
 __all__ = ["Record", "NoiseFloor", "read_record", "write_record", "simulate_record",
@@ -515,7 +515,7 @@ def _stroke_driven_split(model: DeviceModel, base: DeviceModel | None) -> _Split
 
 
 def _engine(options) -> str:
-    return getattr(options, "engine", "python")
+    return getattr(options, "engine", "scipy")
 
 
 def simulate_record(model, params: DeviceParams, record: Record, *,
@@ -541,8 +541,9 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
         (the compiled engine) and the effects' own states from their
         one-state ODE (:func:`integrate`); effects that change what the fluid
         sees (leakage, cavitation, series compliance, freeplay), and the
-        ``python`` engine, integrate the composed model with LSODA
-        (:func:`integrate`).
+        ``scipy`` engine, integrate the composed model with LSODA
+        (:func:`integrate`).  Default: the ``"default"`` preset of
+        :data:`liquidamp.options.PRESETS` (the fitting functions pass ``"fit"``).
     preroll : int
         Passes over the first cycle discarded before the record is run
         (module docstring) [-].
@@ -574,7 +575,7 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     (True, True)
     """
     model = get_model(model)
-    options = DEFAULT_OPTIONS if options is None else options
+    options = resolve_options(options, "default")
     if not isinstance(params, DeviceParams):
         raise ParameterError(f"params must be DeviceParams, got {type(params).__name__}")
     model.check_params(params)
@@ -596,7 +597,7 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     hmax = max(options.max_step_fraction, 1e-4) * record.period
     base = REGISTRY.get(model.name.split("+")[0])
     split = _stroke_driven_split(model, base)
-    if engine != "python" and model.n_states and split is not None:
+    if engine != "scipy" and model.n_states and split is not None:
         # a registered model, or one whose effects act on the force only and own states
         # driven by the stroke alone (and a leakage the compiled kernels hold): the fluid
         # states come from the compiled engine, the effects' states from their own (small)
