@@ -40,9 +40,11 @@ from types import MappingProxyType
 from liquidamp.errors import ParameterError, check_choice, check_in_range, check_positive
 
 __all__ = ["SolverOptions", "DEFAULT_OPTIONS", "DEFAULT_ENGINE", "ENGINES", "ENGINE_ALIASES",
-           "COMPILED_METHODS", "PRESETS", "preset_names", "resolve_options"]
+           "COMPILED_METHODS", "PRESETS", "RTOL_RANGE", "preset_names", "resolve_options"]
 
 _METHODS = ("Radau", "BDF", "LSODA", "RK45", "DOP853")
+#: Allowed relative tolerance [-]: below 1e-14 is round-off, above 1e-2 no answer.
+RTOL_RANGE = (1e-14, 1e-2)
 #: Steppers of the compiled engine (see ``SolverOptions.compiled_method``).
 COMPILED_METHODS = ("auto", "rodas4", "dopri5")
 #: Integration engines: the reference, scipy ``solve_ivp`` on the models' Python
@@ -154,7 +156,7 @@ vapour_pressure, max_step_fraction, engine, compiled_method
             raise ParameterError(f"unknown engine {self.engine!r}; valid: {', '.join(ENGINES)} "
                                  f"(alias: {aliases})")
         check_choice("solver method", self.method, _METHODS)
-        check_in_range("rtol", self.rtol, 1e-14, 1e-2)
+        check_in_range("rtol", self.rtol, *RTOL_RANGE)
         check_in_range("atol_scale", self.atol_scale, 1e-16, 1e-2)
         check_in_range("samples_per_period", self.samples_per_period, 16, 1 << 16)
         check_in_range("steady_tol", self.steady_tol, 1e-12, 1e-1)

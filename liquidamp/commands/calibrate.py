@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 
 from liquidamp.commands._args import write_json
+from liquidamp.commands._solver import add_solver_arguments, solver_options
 from liquidamp.commands.params import add_device_arguments
 
 
@@ -21,6 +22,7 @@ def add_fit_arguments(p) -> None:
     p.add_argument("--max-nfev", type=int, default=80, help="model evaluations per fit")
     p.add_argument("--json", required=True, help="output JSON file")
     p.add_argument("--report", default=None, help="directory for an HTML report")
+    add_solver_arguments(p, "fit")
 
 
 def load(args):
@@ -51,9 +53,10 @@ def run(args) -> int:
     """Calibrate; exit 1 if the fit did not converge (the JSON says so)."""
     from liquidamp.analysis.calibration import calibrate
 
+    options = solver_options(args, "fit")
     cal, val, params, spec = load(args)
     res = calibrate(cal, model=args.model, params=params, spec=spec, validate=val,
-                    max_nfev=args.max_nfev)
+                    max_nfev=args.max_nfev, options=options)
     write_json(args.json, res.as_dict())
     if args.report:
         from liquidamp.analysis.report_calibration import write_report

@@ -6,6 +6,8 @@ import sys
 import time
 from pathlib import Path
 
+from liquidamp.commands._solver import add_solver_arguments, solver_options
+
 
 def register(sub) -> None:
     """Add the ``demo`` sub-command."""
@@ -19,8 +21,7 @@ def register(sub) -> None:
     p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.add_argument("--skip-diagnosis", action="store_true",
                    help="only the case study, not the calibrate-and-diagnose loop")
-    p.add_argument("--engine", choices=("compiled", "python"), default="compiled",
-                   help="integration engine (default %(default)s; python is the reference)")
+    add_solver_arguments(p, "default")  # the case study; the diagnosis loop uses "fit"
     p.set_defaults(func=run)
 
 
@@ -34,10 +35,8 @@ def run(args) -> int:
         if not args.quiet:
             print(f"[{time.perf_counter() - start:6.1f} s] {msg}", file=sys.stderr)
 
-    from liquidamp.options import SolverOptions
-
     out = Path(args.out)
-    study = run_case_study(options=SolverOptions(engine=args.engine), progress=progress)
+    study = run_case_study(options=solver_options(args, "default"), progress=progress)
     extra = ""
     if not args.skip_diagnosis:
         extra = _diagnosis_section(out, progress)

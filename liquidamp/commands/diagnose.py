@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 
 from liquidamp.commands._args import write_json
+from liquidamp.commands._solver import solver_options
 from liquidamp.commands.calibrate import add_fit_arguments, load
 
 
@@ -26,11 +27,13 @@ def run(args) -> int:
     from liquidamp.analysis.diagnosis import diagnose
     from liquidamp.errors import ParameterError
 
+    options = solver_options(args, "fit")  # flags added by add_fit_arguments
     cal, val, params, spec = load(args)
     if not val:
         raise ParameterError("diagnose needs held-out records: --validate FILE [...]")
     d = diagnose(cal, val, model=args.model, params=params, spec=spec,
-                 max_steps=args.max_steps, top=args.top, max_nfev=args.max_nfev)
+                 max_steps=args.max_steps, top=args.top, max_nfev=args.max_nfev,
+                 options=options)
     write_json(args.json, d.as_dict())
     if args.report:
         from liquidamp.analysis.report_calibration import write_report

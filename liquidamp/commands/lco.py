@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 
 from liquidamp.commands._args import parse_length, write_json
+from liquidamp.commands._solver import add_solver_arguments, solver_options
 from liquidamp.errors import ParameterError
 
 __all__ = ["register", "run"]
@@ -39,10 +40,11 @@ def register(subparsers) -> None:
                    "rate, 10-60 s)")
     p.add_argument("--json", required=True, help="output JSON")
     p.add_argument("--plot", default=None, help="time-history figure (PNG)")
+    add_solver_arguments(p, "rotor")
     p.set_defaults(func=run)
 
 
-def analyse(rotor, Omega, device, inoperative=(), t_end=None) -> dict:
+def analyse(rotor, Omega, device, inoperative=(), t_end=None, options=None) -> dict:
     """Linear rate, time-domain rate, DF prediction and simulated amplitude (SI dict)."""
     from liquidamp.analysis.lco import critical_mode, predict_lco, simulate_lco
 
@@ -56,7 +58,7 @@ def analyse(rotor, Omega, device, inoperative=(), t_end=None) -> dict:
     Tb = 2 * math.pi / max(cm.blade_frequency, 1e-6)
     t_small = min(max(6 * Tb, 2.0 / max(abs(sigma), 1e-3)), 12.0)
     small = simulate_lco(rotor, Omega, device, inoperative=inop, initial_lag=lag0,
-                         t_end=t_small, mode=cm)
+                         t_end=t_small, mode=cm, options=options)
     pred = predict_lco(rotor, Omega, device, inoperative=inop)
     out = {
         "rotor": rotor.name, "damper": device.label, "model": device.model.name,
@@ -77,7 +79,7 @@ def analyse(rotor, Omega, device, inoperative=(), t_end=None) -> dict:
         start = 0.8 * pred.lag_amplitude if pred.lag_amplitude else 10 * lag0
         T = t_end or min(max(12.0 / sigma, 10.0), 60.0)
         big = simulate_lco(rotor, Omega, device, inoperative=inop, initial_lag=start,
-                           t_end=T, mode=cm)
+                           t_end=T, mode=cm, options=options)
         run_ = big
         settled = big.response.status == "completed" and big.amplitude_change < 0.05
         out["time_domain_status"] = big.response.status
@@ -100,6 +102,7 @@ def run(args) -> int:
     from liquidamp.analysis.sizing import lag_damper_device
     from liquidamp.structure.hostio import load_rotor
 
+    options = solver_options(args, "rotor")
     if not (math.isfinite(args.rpm) and args.rpm > 0):
         raise ParameterError(f"--rpm must be finite and > 0 [rpm], got {args.rpm}")
     rotor = load_rotor(args.rotor)
@@ -111,7 +114,7 @@ def run(args) -> int:
             raise ParameterError(f"--inoperative must be a blade number, got {text!r}") from None
     arm = parse_length(args.arm, "arm") if args.arm else None
     device, rotor, sizing = lag_damper_device(args.damper, rotor, arm=arm, model=args.model)
-    data, sim = analyse(rotor, rpm_to_rad_s(args.rpm), device, inop, args.t_end)
+    data, sim = analyse(rotor, rpm_to_rad_s(args.rpm), device, inop, args.t_end, options)
     if sizing is not None:
         data["sizing"] = sizing.as_dict()
     write_json(args.json, data)

@@ -5,8 +5,8 @@ from __future__ import annotations
 import sys
 
 from liquidamp.commands._args import parse_length, write_json
+from liquidamp.commands._solver import add_solver_arguments, solver_options
 from liquidamp.commands.params import add_device_arguments, device_from_args
-from liquidamp.options import COMPILED_METHODS
 
 
 def register(sub) -> None:
@@ -21,11 +21,7 @@ def register(sub) -> None:
     p.add_argument("--frequency", required=True, type=float, help="excitation frequency [Hz]")
     p.add_argument("--amplitude", required=True,
                    help="stroke amplitude, SI metres or with unit (3mm)")
-    p.add_argument("--engine", choices=("compiled", "python"), default="compiled",
-                   help="integration engine (default %(default)s; python is the reference)")
-    p.add_argument("--compiled-method", choices=COMPILED_METHODS, default="auto",
-                   help="stepper of the compiled engine: auto (Dormand-Prince, RODAS4 where "
-                        "stiff), rodas4 or dopri5 (default %(default)s)")
+    add_solver_arguments(p, "default")
     p.add_argument("--json", default=None, help="output JSON (default stdout)")
     p.add_argument("--plot", default=None, help="three-panel loop figure (PNG)")
     p.set_defaults(func=run)
@@ -64,12 +60,10 @@ def run(args) -> int:
     from liquidamp.device.models import get_model
     from liquidamp.structure.testmachine import HarmonicStroke
 
+    options = solver_options(args, "default")
     params = device_from_args(args)
     model = get_model(args.model)
     stroke = HarmonicStroke(parse_length(args.amplitude, "amplitude"), args.frequency)
-    from liquidamp.options import SolverOptions
-
-    options = SolverOptions(engine=args.engine, compiled_method=args.compiled_method)
     response = steady_state(model, params, stroke, options=options)
     data = summary(response)
     for w in response.warnings:

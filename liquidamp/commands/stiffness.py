@@ -30,6 +30,7 @@ import sys
 from pathlib import Path
 
 from liquidamp.commands._args import parse_length, parse_list, write_json
+from liquidamp.commands._solver import add_solver_arguments, solver_options
 from liquidamp.commands.params import add_device_arguments, device_from_args
 
 LINEAR_MODELS = ("full", "maxwell", "dashpot_inerter", "inertial_2state")
@@ -53,6 +54,7 @@ def register(sub) -> None:
     p.add_argument("--json", default=None, help="also write the JSON here")
     p.add_argument("--model", default="full",
                    help="nonlinear model for the first-harmonic points (default %(default)s)")
+    add_solver_arguments(p, "default")
     p.set_defaults(func=run)
 
 
@@ -83,6 +85,7 @@ def run(args) -> int:
     from liquidamp.analysis.stiffness_plots import plot_dynamic_stiffness
     from liquidamp.device.models import get_model
 
+    options = solver_options(args, "default")
     params = device_from_args(args)
     model = get_model(args.model).name
     freqs = parse_list(args.frequency, "frequency", log=True)
@@ -96,7 +99,7 @@ def run(args) -> int:
             linear.append(linear_stiffness(linearize(name, params), freqs, label=name))
         else:
             linear.append(linear_stiffness(transfer_function(name, params), freqs, label=name))
-    nl = nonlinear_stiffness(params, freqs, amps, model=model, on_error="skip")
+    nl = nonlinear_stiffness(params, freqs, amps, model=model, on_error="skip", options=options)
     eq = equivalent_sweep(params, freqs, amps, model=model)
 
     data = {
