@@ -21,7 +21,7 @@ def register(sub) -> None:
     p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.add_argument("--skip-diagnosis", action="store_true",
                    help="only the case study, not the calibrate-and-diagnose loop")
-    add_solver_arguments(p, "default")  # the case study; the diagnosis loop uses "fit"
+    add_solver_arguments(p, "casestudy")  # the case study; the diagnosis loop uses "fit"
     p.set_defaults(func=run)
 
 
@@ -36,7 +36,7 @@ def run(args) -> int:
             print(f"[{time.perf_counter() - start:6.1f} s] {msg}", file=sys.stderr)
 
     out = Path(args.out)
-    study = run_case_study(options=solver_options(args, "default"), progress=progress)
+    study = run_case_study(options=solver_options(args, "casestudy"), progress=progress)
     extra = ""
     if not args.skip_diagnosis:
         extra = _diagnosis_section(out, progress)
