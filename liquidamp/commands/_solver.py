@@ -11,6 +11,7 @@ cannot drift apart.  A flag overrides that one value of the same preset.
 
 from __future__ import annotations
 
+from liquidamp.errors import ParameterError
 from liquidamp.options import (
     COMPILED_METHODS,
     ENGINE_ALIASES,
@@ -83,7 +84,8 @@ def solver_options(args, purpose: str = "default") -> SolverOptions | None:
     ParameterError
         A value outside its allowed range, e.g. ``--rtol 2``; the message
         (from :class:`~liquidamp.options.SolverOptions`) names the option, the
-        value and the range, and the command exits with 2.
+        value and the range, and the command exits with 2; also
+        ``--compiled-method`` with an engine other than ``compiled``.
 
     Examples
     --------
@@ -99,4 +101,11 @@ def solver_options(args, purpose: str = "default") -> SolverOptions | None:
     """
     base = SolverOptions.preset(purpose)  # an unknown purpose raises, listing the presets
     changes = {k: getattr(args, k) for k in SOLVER_FLAGS if getattr(args, k, None) is not None}
-    return base.replace(**changes) if changes else None
+    if not changes:
+        return None
+    options = base.replace(**changes)
+    if "compiled_method" in changes and options.engine != "compiled":
+        raise ParameterError(f"--compiled-method {options.compiled_method} chooses the stepper "
+                             f"of the compiled engine, but the engine is {options.engine!r}; "
+                             "add --engine compiled")
+    return options
