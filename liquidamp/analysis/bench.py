@@ -332,8 +332,9 @@ def _case_calibration(quick: bool, repeats: int) -> dict:
     reps = 1 if quick else max(1, min(3, repeats // 10))
     seconds, res = _median_time(lambda: calibrate(records, params=base), reps)
     mult = {k: float(res.values[k]) for k in _TRUE_MULT}
+    # user-style baseline: the fit preset's tolerances on scipy's LSODA
     py = SolverOptions(method="LSODA", rtol=FIT_OPTIONS.rtol, atol_scale=FIT_OPTIONS.atol_scale,
-                       engine="python")
+                       engine="scipy")
     t_eval, _ = _median_time(lambda: predict("full", base, (), records, options=py),
                              1 if quick else 3)
     baseline = t_eval * res.nfev
@@ -461,7 +462,7 @@ def _case_coupled(quick: bool, repeats: int) -> dict:
     W = 260.0 * 2.0 * math.pi / 60.0
     t_end = 1.0 if quick else 10.0
     x0 = {"zeta_1": 1e-3, "hub_x": 1e-4}
-    opts = SolverOptions(method="DOP853", rtol=1e-7)
+    opts = SolverOptions.preset("rotor", engine="scipy")  # DOP853 1e-7; scipy for the baseline
 
     def fast():
         return simulate_rotor(rotor, W, dev, t_end, x0, options=opts)

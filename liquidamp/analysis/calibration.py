@@ -72,24 +72,15 @@ from liquidamp.errors import (
     PressureError,
     check_choice,
 )
-from liquidamp.options import SolverOptions
+from liquidamp.options import PRESETS, SolverOptions, resolve_options
 
 __all__ = ["Parameter", "FitSpec", "CalibrationResult", "RecordError", "calibrate",
            "predict", "physics_start", "check_records", "FIT_OPTIONS", "PAPER_FOUR"]
 
 
-def _fit_engine() -> str:
-    try:
-        import numba  # noqa: F401
-    except ImportError:  # pragma: no cover - numba is optional
-        return "python"
-    return "compiled"
-
-
-FIT_OPTIONS = SolverOptions(rtol=1e-6, atol_scale=1e-8, engine=_fit_engine(),
-                            compiled_method="rodas4")
-"""Solver options for fitting: looser than the defaults (rtol 1e-6); the compiled
-engine where numba is installed (used for the models it supports, see
+FIT_OPTIONS = PRESETS["fit"]
+"""Solver options for fitting, the ``"fit"`` preset of :data:`liquidamp.options.PRESETS`:
+looser than the defaults (rtol 1e-6); the compiled engine (used for the models it supports, see
 :func:`liquidamp.analysis.records.simulate_record`), with RODAS4 throughout: the
 least-squares Jacobians are finite differences of the simulated force, and at
 rtol 1e-6 RODAS4's global error is several times smaller than Dormand-Prince's
@@ -335,7 +326,7 @@ def predict(model, params: DeviceParams, effects, records, *, options=None,
             preroll: int = 1) -> list[np.ndarray]:
     """Model force [N] for each record (driven by its stroke)."""
     m = with_effects(get_model(model), *effects)
-    opts = FIT_OPTIONS if options is None else options
+    opts = resolve_options(options, "fit")
     return [simulate_record(m, params, r, options=opts, preroll=preroll).force for r in records]
 
 
@@ -856,7 +847,8 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
     validate : sequence of Record
         Held-out records.
     options : SolverOptions, optional
-        Solver options of the model runs (default :data:`FIT_OPTIONS`).
+        Solver options of the model runs (default: the ``"fit"`` preset,
+        :data:`FIT_OPTIONS`).
     start : {'physics', 'spec'}
         'physics': evaluate the physics start, the spec's start and their
         geometric mean, fit from the best; 'spec': fit from the spec's start.
@@ -924,7 +916,7 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
                                  "outliers='drop' needs distinct labels")
     keep_c = _keep_masks(records, dropped)
     keep_v = _keep_masks(validate, dropped)
-    options = FIT_OPTIONS if options is None else options
+    options = resolve_options(options, "fit")
     obj = _Objective(model, base, effects, spec, records, options, preroll, keep=keep_c)
     if not obj.var:
         raise ParameterError("the fit specification varies nothing")

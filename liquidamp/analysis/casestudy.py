@@ -19,7 +19,7 @@ from pathlib import Path
 from liquidamp.analysis.harmonics import DynamicStiffness, dynamic_stiffness
 from liquidamp.coupled.testrig import DeviceResponse, steady_state
 from liquidamp.device import preset
-from liquidamp.options import SolverOptions
+from liquidamp.options import SolverOptions, resolve_options
 from liquidamp.structure.testmachine import HarmonicStroke
 
 __all__ = ["FigureSpec", "FIGURES", "CaseResult", "CaseStudy", "run_case_study",
@@ -108,7 +108,9 @@ def run_case_study(figures=FIGURES, options: SolverOptions | None = None,
     figures : sequence of FigureSpec
         Default: Figs. 7-11.
     options : SolverOptions, optional
-        Tolerances.
+        Tolerances and engine; default the ``"casestudy"`` preset of
+        :data:`liquidamp.options.PRESETS` (the default tolerances on the
+        compiled engine).
     progress : callable, optional
         Called with a one-line message after each case.
 
@@ -116,6 +118,7 @@ def run_case_study(figures=FIGURES, options: SolverOptions | None = None,
     -------
     CaseStudy
     """
+    options = resolve_options(options, "casestudy")
     cases, ref = [], {}
     for spec in figures:
         for f, Y in spec.cases:

@@ -90,6 +90,7 @@ from liquidamp.errors import (
     ParameterError,
     check_choice,
 )
+from liquidamp.options import resolve_options
 
 __all__ = ["Candidate", "Step", "Diagnosis", "diagnose", "CONFOUNDED", "signatures", "demo_loop",
            "bundled_records"]
@@ -555,7 +556,7 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
     names = tuple(EFFECTS) if candidates is None else tuple(candidates)
     for n in names:
         check_choice("candidate effect", n, EFFECTS)
-    options = FIT_OPTIONS if options is None else options
+    options = resolve_options(options, "fit")
     if baseline is None:
         baseline = calibrate(calibration, model=model, params=params, effects=effects,
                              spec=spec, validate=validation, options=options,

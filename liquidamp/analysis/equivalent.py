@@ -98,7 +98,7 @@ from liquidamp.device.fluid import bulk_modulus_gholizadeh
 from liquidamp.device.models import get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ParameterError, check_choice, check_positive
-from liquidamp.options import DEFAULT_OPTIONS, SolverOptions
+from liquidamp.options import SolverOptions, resolve_options
 
 __all__ = [
     "EquivalentLinearization",
@@ -289,7 +289,8 @@ def equivalent_linearization(params: DeviceParams, frequency_hz: float, amplitud
         follow ``params.bulk_law`` (``full``, ``no_inertia``) and uses p0
         for the constant-bulk reductions (what those models assume).
     options : SolverOptions, optional
-        Only ``vapour_pressure`` [Pa] is used (cavitation check).
+        Only ``vapour_pressure`` [Pa] is used (cavitation check); default the
+        ``"default"`` preset of :data:`liquidamp.options.PRESETS`.
 
     Returns
     -------
@@ -317,7 +318,7 @@ def equivalent_linearization(params: DeviceParams, frequency_hz: float, amplitud
         raise ParameterError(f"amplitude {Y:g} m reaches the chamber end; allowed: "
                              f"0 < amplitude < {p.stroke_limit:g} m (V0/A_p)")
     check_choice("bulk", bulk, BULK_CHOICES)
-    opts = DEFAULT_OPTIONS if options is None else options
+    opts = resolve_options(options, "default")
     if bulk == "auto":
         bulk = "averaged" if (m.uses_bulk_law and p.bulk_law == "gholizadeh") else "rest"
     w = 2.0 * math.pi * f

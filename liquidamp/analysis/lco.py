@@ -80,7 +80,7 @@ from liquidamp.coupled.assembly import (
     simulate_coupled,
 )
 from liquidamp.errors import ParameterError, check_positive
-from liquidamp.options import SolverOptions
+from liquidamp.options import SolverOptions, resolve_options
 
 __all__ = [
     "GrowthFit",
@@ -420,11 +420,13 @@ def simulate_lco(rotor, Omega: float, device: Device, *, inoperative=(),
     tail : float, optional
         Window of the final amplitude [s] (default 3 blade periods).
     options : SolverOptions, optional
-        Default: DOP853, rtol 1e-7 (the coupled Hammond system is not stiff
-        for these devices; pass Radau for stiff ones), on the compiled engine
-        where :func:`~liquidamp.coupled.assembly.compiled_support` allows it
-        (the same DOP853; agrees with the Python route to about 1e-13), else
-        on the Python engine.
+        Default: the ``"rotor"`` preset of :data:`liquidamp.options.PRESETS`
+        (DOP853, rtol 1e-7: the coupled Hammond system is not stiff for
+        these devices; pass Radau for stiff ones) on the compiled engine, or
+        on the scipy engine (the same DOP853; agreement about 1e-13) where
+        :func:`~liquidamp.coupled.assembly.compiled_support` says the
+        compiled kernel cannot run the system.  Options given are used as
+        given.
     mode : CriticalMode, optional
         Precomputed small-signal critical mode.
     """
@@ -432,9 +434,9 @@ def simulate_lco(rotor, Omega: float, device: Device, *, inoperative=(),
     inop = tuple(inoperative)
     cm = mode or critical_mode(rotor, W, device, inoperative=inop)
     sys_ = rotor_system(rotor, W, device, inoperative=inop)
-    opts = options or SolverOptions(
-        method="DOP853", rtol=1e-7,
-        engine="compiled" if compiled_support(sys_) is None else "python")
+    opts = resolve_options(options, "rotor")
+    if options is None and opts.engine == "compiled" and compiled_support(sys_) is not None:
+        opts = opts.replace(engine="scipy")
     x0 = cm.host_state * initial_lag
     res = simulate_coupled(sys_, t_end, x0, options=opts, strict=False, energy=False,
                            samples_per_second=max(200.0, 40 * W / (2 * math.pi)))
@@ -686,14 +688,15 @@ def simulate_section_lco(section, U: float, device: Device, *, port: str = "plun
     tail : float, optional
         Window of the final amplitude [s] (default 3 mode periods).
     options : SolverOptions, optional
-        Default Radau, rtol 1e-6.
+        Default: the ``"section"`` preset of :data:`liquidamp.options.PRESETS`
+        (Radau, rtol 1e-6, scipy engine).
     mode : SectionMode, optional
         Precomputed small-signal critical mode.
     """
     U = check_positive("airspeed U", U, "m/s")
     port = _check_port(port)
     cm = mode or section_critical_mode(section, U, device, port=port, aero=aero)
-    opts = options or SolverOptions(rtol=1e-6)
+    opts = resolve_options(options, "section")
     sys_ = section_system(section, U, {port: device}, aero)
     x0 = cm.host_state * check_positive("initial stroke", initial_stroke, "m")
     Tm = 1.0 / max(cm.frequency_hz, 1e-9)

@@ -54,7 +54,7 @@ from liquidamp.coupled.testrig import DeviceResponse
 from liquidamp.device.models import DeviceModel, get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, DataFileError, ParameterError, PressureError
-from liquidamp.options import DEFAULT_OPTIONS, SolverOptions
+from liquidamp.options import SolverOptions, resolve_options
 from liquidamp.structure.testmachine import RecordedStroke, savgol_derivatives
 
 __all__ = ["Record", "NoiseFloor", "read_record", "write_record", "simulate_record",
@@ -548,7 +548,7 @@ def integrate(model: DeviceModel, params: DeviceParams, stroke, t_eval, x0, *,
 
 
 def _engine(options) -> str:
-    return getattr(options, "engine", "python")
+    return getattr(options, "engine", "scipy")
 
 
 def simulate_record(model, params: DeviceParams, record: Record, *,
@@ -569,8 +569,10 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
         ``rtol``, ``atol_scale``, ``max_step_fraction`` and
         ``pressure_floor`` are used.  With ``engine="compiled"`` the model,
         with any effects, runs on the compiled engine
-        (:func:`liquidamp.coupled.fast.march`); the reference engine
+        (:func:`liquidamp.coupled.fast.march`); the ``scipy`` engine
         integrates the same right-hand side with LSODA (:func:`integrate`).
+        Default: the ``"default"`` preset of :data:`liquidamp.options.PRESETS`
+        (the fitting functions pass ``"fit"``).
     preroll : int
         Passes over the first cycle discarded before the record is run
         (module docstring) [-].
@@ -602,7 +604,7 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     (True, True)
     """
     model = get_model(model)
-    options = DEFAULT_OPTIONS if options is None else options
+    options = resolve_options(options, "default")
     if not isinstance(params, DeviceParams):
         raise ParameterError(f"params must be DeviceParams, got {type(params).__name__}")
     model.check_params(params)

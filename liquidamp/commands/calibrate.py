@@ -15,6 +15,7 @@ from liquidamp.commands._args import (
     print_warnings,
     write_json,
 )
+from liquidamp.commands._solver import add_solver_arguments, solver_options
 from liquidamp.commands.params import add_device_arguments, device_inputs
 
 #: Files the HTML report writes into ``--report DIR``.
@@ -50,6 +51,7 @@ def add_fit_arguments(p) -> None:
                    help="folder for an HTML report (index.html and PNGs, written after the "
                    "JSON); an existing report is replaced only with --force")
     add_force_argument(p)
+    add_solver_arguments(p, "fit")
 
 
 def check_fit_outputs(args, command: str) -> None:
@@ -125,9 +127,10 @@ def run(args) -> int:
     check_fit_outputs(args, "calibrate")
     from liquidamp.analysis.calibration import calibrate
 
+    options = solver_options(args, "fit")
     cal, val, params, effects, spec = load(args)
     res = calibrate(cal, model=args.model, params=params, effects=effects, spec=spec,
-                    validate=val, max_nfev=args.max_nfev)
+                    validate=val, max_nfev=args.max_nfev, options=options)
     d = res.as_dict()
     write_json(args.json, d)
     print_warnings("calibrate", d)

@@ -7,6 +7,7 @@ import time
 from pathlib import Path
 
 from liquidamp.commands._args import Output, add_force_argument, check_outputs
+from liquidamp.commands._solver import add_solver_arguments, solver_options
 
 
 def register(sub) -> None:
@@ -23,8 +24,7 @@ def register(sub) -> None:
     p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.add_argument("--skip-diagnosis", action="store_true",
                    help="only the case study, not the calibrate-and-diagnose loop")
-    p.add_argument("--engine", choices=("compiled", "python"), default="compiled",
-                   help="integration engine (default %(default)s; python is the reference)")
+    add_solver_arguments(p, "casestudy")  # the case study; the diagnosis loop uses "fit"
     add_force_argument(p)
     p.set_defaults(func=run)
 
@@ -40,10 +40,8 @@ def run(args) -> int:
         if not args.quiet:
             print(f"[{time.perf_counter() - start:6.1f} s] {msg}", file=sys.stderr)
 
-    from liquidamp.options import SolverOptions
-
     out = Path(args.out)
-    study = run_case_study(options=SolverOptions(engine=args.engine), progress=progress)
+    study = run_case_study(options=solver_options(args, "casestudy"), progress=progress)
     extra = ""
     if not args.skip_diagnosis:
         extra = _diagnosis_section(out, progress)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import sys
 
 from liquidamp.commands._args import count_type, print_warnings, write_json
+from liquidamp.commands._solver import solver_options
 from liquidamp.commands.calibrate import add_fit_arguments, check_fit_outputs, load
 
 
@@ -32,11 +33,13 @@ def run(args) -> int:
         raise ParameterError("diagnose needs held-out records: --validate FILE [--validate "
                              "FILE ...]")
     check_fit_outputs(args, "diagnose")
+    options = solver_options(args, "fit")  # flags added by add_fit_arguments
     from liquidamp.analysis.diagnosis import diagnose
 
     cal, val, params, effects, spec = load(args)
     d = diagnose(cal, val, model=args.model, params=params, effects=effects, spec=spec,
-                 max_steps=args.max_steps, top=args.top, max_nfev=args.max_nfev)
+                 max_steps=args.max_steps, top=args.top, max_nfev=args.max_nfev,
+                 options=options)
     nr = d.as_dict()
     write_json(args.json, nr)
     print_warnings("diagnose", nr)

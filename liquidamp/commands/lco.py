@@ -25,6 +25,7 @@ from liquidamp.commands._args import (
     progress_bar,
     write_json,
 )
+from liquidamp.commands._solver import add_solver_arguments, solver_options
 from liquidamp.errors import ParameterError
 
 #: Longest limit-cycle run [s]: the run keeps every sample (at least 200 per
@@ -60,14 +61,16 @@ def register(subparsers) -> None:
     p.add_argument("--plot", default=None,
                    help="time-history figure (.png, .pdf, .svg, ...), written after the JSON")
     add_quiet_argument(p)
+    add_solver_arguments(p, "rotor")
     p.set_defaults(func=run)
 
 
-def analyse(rotor, Omega, device, inoperative=(), t_end=None, bar=None) -> dict:
+def analyse(rotor, Omega, device, inoperative=(), t_end=None, bar=None, options=None) -> dict:
     """Linear rate, time-domain rate, DF prediction and simulated amplitude (SI dict).
 
     ``bar`` (optional) has ``update()`` and is advanced after each of the four
     stages: critical mode, small-amplitude run, describing function, limit-cycle run.
+    ``options`` (SolverOptions or None: the ``"rotor"`` preset) for the time-domain runs.
     """
     from liquidamp.analysis.lco import critical_mode, predict_lco, simulate_lco
 
@@ -86,7 +89,7 @@ def analyse(rotor, Omega, device, inoperative=(), t_end=None, bar=None) -> dict:
     Tb = 2 * math.pi / max(cm.blade_frequency, 1e-6)
     t_small = min(max(6 * Tb, 2.0 / max(abs(sigma), 1e-3)), 12.0)
     small = simulate_lco(rotor, Omega, device, inoperative=inop, initial_lag=lag0,
-                         t_end=t_small, mode=cm)
+                         t_end=t_small, mode=cm, options=options)
     step()
     pred = predict_lco(rotor, Omega, device, inoperative=inop)
     step()
@@ -109,7 +112,7 @@ def analyse(rotor, Omega, device, inoperative=(), t_end=None, bar=None) -> dict:
         start = 0.8 * pred.lag_amplitude if pred.lag_amplitude else 10 * lag0
         T = t_end or min(max(12.0 / sigma, 10.0), 60.0)
         big = simulate_lco(rotor, Omega, device, inoperative=inop, initial_lag=start,
-                           t_end=T, mode=cm)
+                           t_end=T, mode=cm, options=options)
         run_ = big
         settled = big.response.status == "completed" and big.amplitude_change < 0.05
         out["time_domain_status"] = big.response.status
@@ -137,6 +140,7 @@ def run(args) -> int:
     from liquidamp.analysis.sizing import lag_damper_device
     from liquidamp.structure.hostio import load_rotor
 
+    options = solver_options(args, "rotor")
     rotor = load_rotor(args.rotor)
     inop = []
     for text in args.inoperative:
@@ -147,7 +151,8 @@ def run(args) -> int:
     arm = parse_length(args.arm, "arm") if args.arm else None
     device, rotor, sizing = lag_damper_device(args.damper, rotor, arm=arm, model=args.model)
     with progress_bar(4, "lco stages", args.quiet) as bar:
-        data, sim = analyse(rotor, rpm_to_rad_s(args.rpm), device, inop, args.t_end, bar)
+        data, sim = analyse(rotor, rpm_to_rad_s(args.rpm), device, inop, args.t_end, bar,
+                            options)
     if sizing is not None:
         data["sizing"] = sizing.as_dict()
     write_json(args.json, data)

@@ -13,8 +13,8 @@ from liquidamp.commands._args import (
     print_warnings,
     write_json,
 )
+from liquidamp.commands._solver import add_solver_arguments, solver_options
 from liquidamp.commands.params import add_device_arguments, device_from_args, device_inputs
-from liquidamp.options import COMPILED_METHODS
 
 
 def register(sub) -> None:
@@ -27,16 +27,11 @@ def register(sub) -> None:
     add_device_arguments(p)
     p.add_argument("--model", default="full",
                    help="device model (default %(default)s): {models}")
-    add_effect_argument(p, " Where the compiled engine cannot run the model with its effects, "
-                        "use --engine python.")
+    add_effect_argument(p)
     p.add_argument("--frequency", required=True, type=float, help="excitation frequency [Hz]")
     p.add_argument("--amplitude", required=True,
                    help="stroke amplitude, SI metres or with unit (3mm)")
-    p.add_argument("--engine", choices=("compiled", "python"), default="compiled",
-                   help="integration engine (default %(default)s; python is the reference)")
-    p.add_argument("--compiled-method", choices=COMPILED_METHODS, default="auto",
-                   help="stepper of the compiled engine: auto (Dormand-Prince, RODAS4 where "
-                        "stiff), rodas4 or dopri5 (default %(default)s)")
+    add_solver_arguments(p, "default")
     p.add_argument("--json", default=None, help="output JSON (default stdout)")
     p.add_argument("--plot", default=None,
                    help="three-panel loop figure (.png, .pdf, .svg, ...; written after the JSON)")
@@ -77,23 +72,16 @@ def run(args) -> int:
     from liquidamp.coupled.testrig import steady_state
     from liquidamp.device.effects import with_effects
     from liquidamp.device.models import get_model
-    from liquidamp.errors import ParameterError
-    from liquidamp.options import SolverOptions
     from liquidamp.structure.testmachine import HarmonicStroke
 
+    options = solver_options(args, "default")
     params = device_from_args(args)
     model = get_model(args.model)
     effects = effects_from_args(args)
     if effects:
         model = with_effects(model, *effects)
     stroke = HarmonicStroke(parse_length(args.amplitude, "amplitude"), args.frequency)
-    options = SolverOptions(engine=args.engine, compiled_method=args.compiled_method)
-    try:
-        response = steady_state(model, params, stroke, options=options)
-    except ParameterError as exc:
-        if "engine='python'" not in str(exc):
-            raise
-        raise ParameterError(f"{exc} (on the command line: --engine python)") from None
+    response = steady_state(model, params, stroke, options=options)
     data = summary(response)
     if effects:
         data["effects"] = {e.name: e.parameters for e in effects}

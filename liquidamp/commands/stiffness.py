@@ -42,6 +42,7 @@ from liquidamp.commands._args import (
     progress_bar,
     write_json,
 )
+from liquidamp.commands._solver import add_solver_arguments, solver_options
 from liquidamp.commands.params import add_device_arguments, device_from_args, device_inputs
 from liquidamp.errors import ParameterError
 
@@ -77,6 +78,7 @@ def register(sub) -> None:
                    "{models}")
     add_effect_argument(p, " The effects apply to the nonlinear first-harmonic points only; "
                         "the linear and equivalent curves are of the model without them.")
+    add_solver_arguments(p, "default")
     add_force_argument(p)
     add_quiet_argument(p)
     p.set_defaults(func=run)
@@ -102,7 +104,7 @@ def amplitude_key(value: float) -> str:
     return repr(float(value))
 
 
-def _nonlinear(params, model, freqs, amps, quiet: bool):
+def _nonlinear(params, model, freqs, amps, quiet: bool, options=None):
     """``nonlinear_stiffness`` point by point under a progress bar (same numbers)."""
     import numpy as np
 
@@ -117,7 +119,8 @@ def _nonlinear(params, model, freqs, amps, quiet: bool):
     with progress_bar(amps.size * freqs.size, "stiffness points", quiet) as bar:
         for i, Y in enumerate(amps):
             for j, fj in enumerate(freqs):
-                r = nonlinear_stiffness(params, [fj], [Y], model=model, on_error="skip")
+                r = nonlinear_stiffness(params, [fj], [Y], model=model, on_error="skip",
+                                        options=options)
                 name = r.model
                 value[i, j], pmin[i, j] = r.value[0, 0], r.min_pressure[0, 0]
                 res[i, j], cyc[i, j] = r.residual[0, 0], r.cycles[0, 0]
@@ -146,6 +149,7 @@ def run(args) -> int:
     from liquidamp.device.effects import with_effects
     from liquidamp.device.models import get_model
 
+    options = solver_options(args, "default")
     params = device_from_args(args)
     model = get_model(args.model).name
     effects = effects_from_args(args)
@@ -159,7 +163,7 @@ def run(args) -> int:
             linear.append(linear_stiffness(linearize(name, params), freqs, label=name))
         else:
             linear.append(linear_stiffness(transfer_function(name, params), freqs, label=name))
-    nl = _nonlinear(params, nl_model, freqs, amps, args.quiet)
+    nl = _nonlinear(params, nl_model, freqs, amps, args.quiet, options)
     out.mkdir(exist_ok=True)
 
     data = {

@@ -72,7 +72,7 @@ from liquidamp.errors import (
     PressureError,
     check_positive,
 )
-from liquidamp.options import DEFAULT_OPTIONS, SolverOptions
+from liquidamp.options import SolverOptions, resolve_options
 from liquidamp.structure.port import DevicePort, PeriodicStateSpace, find_port
 
 __all__ = [
@@ -989,8 +989,9 @@ def simulate_coupled(system: CoupledSystem, t_end: float, x0=None, *, t_eval=Non
     options : SolverOptions, optional
         ``engine``, ``method``, ``rtol``, ``atol_scale`` (atol = atol_scale x
         state scale: the device's ``state_scales``, the host's largest
-        initial state), ``pressure_floor``, ``vapour_pressure``.
-        ``engine="python"`` (default): :func:`scipy.integrate.solve_ivp`
+        initial state), ``pressure_floor``, ``vapour_pressure``; default the
+        ``"default"`` preset of :data:`liquidamp.options.PRESETS`.
+        ``engine="scipy"``: :func:`scipy.integrate.solve_ivp`
         with ``method``.  ``engine="compiled"``: the compiled rotor kernel
         :func:`liquidamp.coupled.fast.simulate_rotor` (DOP853 with scipy's
         coefficients, step control and dense output, whatever ``method``;
@@ -1052,7 +1053,7 @@ def simulate_coupled(system: CoupledSystem, t_end: float, x0=None, *, t_eval=Non
 ground-resonance rotor with devices built by rotor_system(); host ... has constant \
 coefficients (a typical section or another linear StateSpace); use engine='python'
     """
-    opts = DEFAULT_OPTIONS if options is None else options
+    opts = resolve_options(options, "default")
     T_end = check_positive("t_end", t_end, "s")
     X0 = _resolve_x0(system, x0)
     period = system.host.period
@@ -1074,8 +1075,7 @@ coefficients (a typical section or another linear StateSpace); use engine='pytho
         if not float(g(X0)) > 0.0:
             raise ParameterError("x0 is at a stop condition already: "
                                  + _stop_reason(system, kind, j, opts.pressure_floor))
-    engine = getattr(opts, "engine", "python")
-    route = _run_compiled if engine == "compiled" else _run_python
+    route = _run_compiled if opts.engine == "compiled" else _run_python
     t, X, status, message = route(system, T_end, X0, t_eval, opts, max_step, conds)
     if status != "completed" and strict:
         raise (PressureError if status == "pressure_floor" else ParameterError)(message)

@@ -451,8 +451,9 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
     x0 : array or mapping, optional
         As :func:`~liquidamp.coupled.assembly.simulate_coupled`.
     options : SolverOptions, optional
-        ``rtol``, ``atol_scale``, ``pressure_floor`` (default ``rtol`` 1e-7;
-        ``method`` is ignored).
+        ``rtol``, ``atol_scale``, ``pressure_floor`` (default: the ``"rotor"``
+        preset of :data:`liquidamp.options.PRESETS`, rtol 1e-7; ``method`` and
+        ``engine`` are ignored).
 
     Returns
     -------
@@ -461,9 +462,9 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
     import math
 
     from liquidamp.coupled.assembly import rotor_system
-    from liquidamp.options import SolverOptions
+    from liquidamp.options import resolve_options
 
-    opts = options or SolverOptions(method="DOP853", rtol=1e-7)
+    opts = resolve_options(options, "rotor")
     system = rotor_system(rotor, Omega, device, inoperative=inoperative)
     T_end = float(t_end)
     if not T_end > 0.0:

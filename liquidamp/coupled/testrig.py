@@ -26,7 +26,7 @@ from scipy.integrate import solve_ivp
 from liquidamp.device.models import DeviceModel, get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, ParameterError, PressureError
-from liquidamp.options import DEFAULT_OPTIONS, SolverOptions
+from liquidamp.options import SolverOptions, resolve_options
 from liquidamp.structure.testmachine import HarmonicStroke
 
 __all__ = ["DeviceResponse", "simulate", "steady_state", "check_stroke"]
@@ -153,9 +153,7 @@ def _prepare(model, params, stroke, options):
         raise ParameterError(f"params must be DeviceParams, got {type(params).__name__}")
     model.check_params(params)
     check_stroke(stroke, params)
-    if options is None:
-        options = DEFAULT_OPTIONS
-    return model, options
+    return model, resolve_options(options, "default")
 
 
 def _events(model: DeviceModel, params: DeviceParams, stroke, options: SolverOptions):
@@ -208,7 +206,7 @@ def _march(model, params, stroke, x0, t0, t1, t_eval, options, max_step):
 
 def _add_stats(stats: dict, options, sol) -> None:
     """Accumulate the work counts of a ``solve_ivp`` span into ``stats``."""
-    stats["engine"] = "python"
+    stats["engine"] = "scipy"
     stats["method"] = options.method
     for key in ("nfev", "njev", "nlu"):
         stats[key] = stats.get(key, 0) + int(getattr(sol, key, 0))
@@ -279,7 +277,8 @@ def simulate(model, params: DeviceParams, stroke, t_end: float, *, t_start: floa
     options : SolverOptions, optional
         Tolerances and the engine (``options.engine = "compiled"`` runs the
         numba core of :mod:`liquidamp.coupled.fast` for a HarmonicStroke or
-        RecordedStroke).
+        RecordedStroke).  Default: the ``"default"`` preset
+        (:data:`liquidamp.options.PRESETS`).
 
     Returns
     -------
@@ -351,6 +350,7 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
     options : SolverOptions, optional
         Tolerances, cycle limits and the engine (``"compiled"``: the whole
         cycle loop runs in the numba core of :mod:`liquidamp.coupled.fast`).
+        Default: the ``"default"`` preset (:data:`liquidamp.options.PRESETS`).
     x0 : array, optional
         Initial state (default: rest at ``p0``).
 

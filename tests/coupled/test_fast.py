@@ -203,7 +203,7 @@ def test_pressure_floor_and_unsupported_combinations_raise():
     np.testing.assert_array_equal(a.force, b.force)
     with pytest.raises(ParameterError, match="unknown model base 'nonesuch'"):
         dataclasses.replace(get_model("full"), base="nonesuch")
-    with pytest.raises(ParameterError, match="unknown engine 'numba'; valid: python, compiled"):
+    with pytest.raises(ParameterError, match="unknown engine 'numba'; valid: scipy, compiled"):
         SolverOptions(engine="numba")
     # algebraic models need no integration: both engines give the same answer
     r = steady_state("dashpot", preset("reference"), HarmonicStroke(0.001, 3.0), options=FAST)
@@ -323,7 +323,7 @@ def test_every_compiled_method_matches_the_python_steady_state(method):
     expected_explicit = {"auto": st["steps"], "rodas4": 0, "dopri5": st["steps"]}[method]
     assert st["explicit_steps"] == expected_explicit and st["switches_to_rodas4"] == 0
     assert st["rerun_with_rodas4"] is False  # the explicit-only kernel did all of it
-    assert a.solver_stats["engine"] == "python" and a.solver_stats["nfev"] > 0
+    assert a.solver_stats["engine"] == "scipy" and a.solver_stats["nfev"] > 0
 
 
 def test_auto_switches_to_rodas4_where_the_device_is_stiff():
