@@ -785,29 +785,22 @@ def _compiled_origin(system: CoupledSystem) -> _RotorOrigin:
                 f"system {system.name!r} was not built by rotor_system() (couple() on periodic "
                 "matrices, or a dataclasses.replace copy)")
         raise ParameterError(f"{head} integrates only the ground-resonance rotor with devices "
-                             f"built by rotor_system(); {what}; use engine='python'")
+                             f"built by rotor_system(); {what}; use engine='scipy'")
     if system.host is not o.host or len(system.devices) != len(o.devices) or any(
             a is not b for a, b in zip(system.devices, o.devices, strict=True)):
         raise ParameterError(f"{head}: system {system.name!r} no longer matches the "
-                             "rotor_system() call that built it; use engine='python'")
+                             "rotor_system() call that built it; use engine='scipy'")
     if type(o.rotor) is not GroundResonanceRotor:
         raise ParameterError(f"{head} integrates the GroundResonanceRotor equations only, got a "
-                             f"{type(o.rotor).__name__}; use engine='python'")
+                             f"{type(o.rotor).__name__}; use engine='scipy'")
     from liquidamp.coupled import fast
 
     for p, d in zip(system.ports, system.devices, strict=True):
         where = f"device {d.label!r} at port {p.name!r}"
-        if not isinstance(d.params, DeviceParams):
-            raise ParameterError(f"{head} does not integrate the viscous damper ({where}); "
-                                 "use engine='python'")
         if d.model.uses_acceleration:
             raise ParameterError(f"{head} does not integrate model {d.model.name!r} ({where}): "
                                  "its force depends on the stroke acceleration; "
-                                 "use engine='python'")
-        if "+" in d.model.name:
-            raise ParameterError(f"{head} does not integrate model {d.model.name!r} ({where}): "
-                                 "add-on effects are not compiled for the rotor; "
-                                 "use engine='python'")
+                                 "use engine='scipy'")
         try:
             fast.check_compiled(d.model)
         except ParameterError as exc:
@@ -819,9 +812,9 @@ def compiled_support(system: CoupledSystem) -> str | None:
     """Why ``SolverOptions(engine="compiled")`` cannot run ``system``, or None if it can.
 
     The compiled route of :func:`simulate_coupled` takes a ground-resonance
-    rotor built by :func:`rotor_system` whose devices all have compiled
-    models (:data:`liquidamp.coupled.fast.COMPILED_MODELS`) without add-on
-    effects; it integrates with DOP853 and agrees with the Python route run
+    rotor built by :func:`rotor_system` whose devices do not use the stroke
+    acceleration (every model of the family, with any add-on effects, and the
+    viscous damper are compiled); it integrates with DOP853 and agrees with the Python route run
     with ``method="DOP853"`` to round-off (about 1e-13 relative).
 
     Parameters
@@ -870,7 +863,7 @@ def _run_compiled(system, T_end, X0, t_eval, opts, max_step, conds):
                                 max_step=max_step)
         if r.system.state_names != system.state_names:  # pragma: no cover - guard
             raise ParameterError("engine 'compiled': the kernel's state layout differs from "
-                                 f"{system.name!r}; use engine='python'")
+                                 f"{system.name!r}; use engine='scipy'")
         return r
 
     def margins(X):
@@ -1015,7 +1008,7 @@ def simulate_coupled(system: CoupledSystem, t_end: float, x0=None, *, t_eval=Non
     ParameterError
         Bad input; a stroke at a chamber end with ``strict``; under
         ``engine="compiled"``, a configuration the compiled kernel does not
-        integrate (the message names it and says ``use engine='python'``).
+        integrate (the message names it and says ``use engine='scipy'``).
     PressureError
         A chamber pressure at the floor with ``strict``.
     ConvergenceError
@@ -1051,7 +1044,7 @@ def simulate_coupled(system: CoupledSystem, t_end: float, x0=None, *, t_eval=Non
     ...
     liquidamp.errors.ParameterError: engine 'compiled' (simulate_coupled) integrates only the \
 ground-resonance rotor with devices built by rotor_system(); host ... has constant \
-coefficients (a typical section or another linear StateSpace); use engine='python'
+coefficients (a typical section or another linear StateSpace); use engine='scipy'
     """
     opts = resolve_options(options, "default")
     T_end = check_positive("t_end", t_end, "s")

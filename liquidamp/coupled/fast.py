@@ -146,7 +146,7 @@ def _stroke_arrays(stroke):
                 stroke.acceleration)
     raise ParameterError(
         f"engine 'compiled' needs a HarmonicStroke or RecordedStroke, got "
-        f"{type(stroke).__name__}; use engine='python' for another stroke callable"
+        f"{type(stroke).__name__}; use engine='scipy' for another stroke callable"
     )
 
 
