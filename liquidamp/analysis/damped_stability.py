@@ -69,7 +69,8 @@ from liquidamp.coupled.assembly import (
     rotor_system,
     section_system,
 )
-from liquidamp.device.models import REGISTRY
+from liquidamp.device.effects import with_effects
+from liquidamp.device.models import BASES, REGISTRY
 from liquidamp.errors import ParameterError, check_positive
 from liquidamp.structure.rotor import multiblade_basis
 
@@ -202,8 +203,18 @@ def device_lti(device: Device, *, amplitude_m: float | None = None,
     if isinstance(p, ViscousParams):
         return DeviceLTI(np.zeros((0, 0)), np.zeros((0, 3)), np.zeros((1, 0)),
                          np.array([[0.0, p.c, 0.0]]), device.label, "exact")
-    base = m.name.split("+")[0]
+    base = m.base
     if amplitude_m is None:
+        # stateless parallel force effects (moving mass, offset) are exact parallel elements:
+        # add their (k, c, b) to the feedthrough of the rest of the model
+        parallel = [e for e in m.effects if e.kind == "force" and not e.state_names
+                    and e.small_signal_reason is None]
+        if parallel:
+            rest = with_effects(BASES[base], *[e for e in m.effects if e not in parallel])
+            lti = device_lti(Device(rest, p, device.label))
+            extra = sum(np.asarray(e.describing_function(1.0, 1.0, p)) for e in parallel)
+            return DeviceLTI(lti.A, lti.B, lti.C, lti.D + extra[None, :], device.label,
+                             lti.kind)
         lin = linearize(m, p)
         k = lin.output_names.index("force")
         if not lin.is_proper_in_stroke:
@@ -211,7 +222,7 @@ def device_lti(device: Device, *, amplitude_m: float | None = None,
                 raise ParameterError(f"model {m.name!r}: improper with states; not supported")
             return DeviceLTI(np.zeros((0, 0)), np.zeros((0, 3)), np.zeros((1, 0)),
                              lin.D[k:k + 1].copy(), device.label, "small-signal")
-        if REGISTRY.get(m.name) is m:
+        if not m.effects:
             mn = lin.minimal()
             Bm = np.zeros((mn.nstates, 3))
             Bm[:, 0] = np.asarray(mn.B, float)[:, 0]
@@ -226,17 +237,25 @@ def device_lti(device: Device, *, amplitude_m: float | None = None,
     check_positive("frequency", frequency_hz, "Hz")
     if base not in REGISTRY:
         raise ParameterError(f"no equivalent linearization for model {m.name!r}")
+    # each effect states its describing function (a parallel element) or raises naming itself
+    w = 2.0 * math.pi * frequency_hz
+    extra = np.zeros(3)
+    for e in m.effects:
+        extra += e.describing_function(amplitude_m, w, p)
     eq = equivalent_linearization(p, frequency_hz, amplitude_m, base, bulk=bulk)
     kind = f"equivalent (Y = {amplitude_m:.4g} m, f = {frequency_hz:.4g} Hz)"
+    if m.effects:
+        kind += " with " + ", ".join(e.name for e in m.effects)
     cf = eq.c_friction
     if base in _INERTIAL:
         A, B, C, D = _eq18(p.A_p, eq.B, p.L_t, eq.c_eq, cf)
     elif base in _NO_INERTIA:
         A, B, C, D = _eq18(p.A_p, eq.B, 0.0, eq.c_eq, cf)
     else:
-        lin = device_lti(Device(m, p, device.label))
+        lin = device_lti(Device(BASES[base], p, device.label))
         A, B, C, D = lin.A, lin.B, lin.C, lin.D.copy()
         D[0, 1] += cf
+    D = D + extra[None, :]
     return DeviceLTI(A, B, C, D, device.label, kind)
 
 

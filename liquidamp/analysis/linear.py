@@ -553,12 +553,14 @@ def linearize(model: str | DeviceModel, params: DeviceParams, x0=None, u0=None
               ) -> Linearization:
     """Linearize ``model`` about (x0, u0), default rest at p0 with zero stroke.
 
-    d rhs/dx from ``model.jacobian`` where the model has it, otherwise central
-    differences with steps eps^(1/3) times ``model.state_scales(params)`` and
-    one Richardson step (which cancels the O(h) error at the kink of the
-    quadratic loss at zero flow); d rhs/du, C and D by the same differences
-    over u = (y, v, a) and x (the models are affine in v and a).  Friction is
-    not linearized (module notes).
+    d rhs/dx from ``model.jacobian`` (analytic, or the compiled central
+    differences of a composition with kinematic or fluid effects); d rhs/du,
+    C and D by central differences with steps eps^(1/3) times the state
+    scales and one Richardson step (which cancels the O(h) error at the kink
+    of the quadratic loss at zero flow) over u = (y, v, a) and x (the models
+    are affine in v and a).  The parameter set's friction is not linearized
+    (module notes); an add-on effect without a small-signal model at rest
+    (Coulomb friction, freeplay) raises ParameterError naming it.
 
     Parameters
     ----------
@@ -587,6 +589,8 @@ def linearize(model: str | DeviceModel, params: DeviceParams, x0=None, u0=None
     m = get_model(model)
     p = _check_params(params)
     m.check_params(p)
+    for e in m.effects:  # each effect says whether the equations at rest hold it
+        e.check_small_signal(p)
     u0 = np.zeros(3) if u0 is None else np.asarray(u0, float).reshape(-1)
     if u0.size != 3 or not np.all(np.isfinite(u0)):
         raise ParameterError(f"u0 must be 3 finite numbers (y [m], v [m/s], a [m/s^2]), got {u0}")
@@ -600,15 +604,13 @@ def linearize(model: str | DeviceModel, params: DeviceParams, x0=None, u0=None
     u0t = tuple(u0)
     f0 = np.asarray(m.rhs(0.0, x0, u0t, p), float)
     A = np.zeros((n, n))
-    kind = "analytic" if m.jacobian is not None else "central differences"
+    kind = "analytic" if m.analytic_jacobian else "central differences (compiled)"
     hx = _rel_steps(np.asarray(m.state_scales(p), float)) if n else np.zeros(0)
     names = _output_names(m)
     C = np.zeros((len(names), n))
     for j in range(n):
         C[:, j] = _central(lambda x: _outputs(m, p, x, u0t), x0, j, hx[j])
-        if m.jacobian is None:
-            A[:, j] = _central(lambda x: m.rhs(0.0, x, u0t, p), x0, j, hx[j])
-    if m.jacobian is not None and n:
+    if n:
         A = np.asarray(m.jacobian(0.0, x0, u0t, p), float)
     B = np.zeros((n, 3))
     D = np.zeros((len(names), 3))

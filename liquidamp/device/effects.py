@@ -153,6 +153,52 @@ class Effect:
                 f"model {model.name!r} has states ({', '.join(model.state_names) or 'none'}); "
                 "use 'full', 'no_inertia', 'constant_bulk', 'volumetric' or 'inertial'")
 
+    #: Why the effect has no small-signal model at rest (None: the linearization of the
+    #: composed equations at rest holds it exactly).
+    small_signal_reason: ClassVar[str | None] = None
+    #: Why the effect has no describing function in parallel with the fluid (None: it has).
+    describing_reason: ClassVar[str | None] = (
+        "it changes the fluid equations, so its first harmonic is not a force in parallel "
+        "with the fluid's")
+
+    def check_small_signal(self, params) -> None:
+        """Raise ParameterError if the linearization at rest cannot represent the effect."""
+        if self.small_signal_reason is not None:
+            raise ParameterError(
+                f"effect {self.name!r} has no small-signal model at rest: "
+                f"{self.small_signal_reason}; give an amplitude and a frequency for an "
+                "equivalent linearization, or use the time domain")
+
+    def describing_function(self, amplitude_m: float, omega: float, params
+                            ) -> tuple[float, float, float]:
+        """Equivalent parallel element of the effect at y = Y sin(w t) (first harmonic).
+
+        Parameters
+        ----------
+        amplitude_m : float
+            Stroke amplitude Y > 0 [m].
+        omega : float
+            Angular frequency w > 0 [rad/s].
+        params : DeviceParams
+            Device parameters.
+
+        Returns
+        -------
+        (k, c, b) : tuple of float
+            Stiffness [N/m], damping [N s/m] and inertance [kg] in parallel
+            with the fluid force whose first harmonic equals the effect's:
+            its dynamic stiffness is k + i w c - w^2 b.
+
+        Raises
+        ------
+        ParameterError
+            Where the effect does not act as a force in parallel (naming why).
+        """
+        raise ParameterError(
+            f"effect {self.name!r} has no equivalent linearization in parallel with the "
+            f"fluid: {self.describing_reason}; use the time domain "
+            "(liquidamp.analysis.stiffness.nonlinear_stiffness)")
+
     def initial_state(self, params, y0: float) -> np.ndarray:
         """Initial values of the effect's states at rest with rod stroke ``y0`` [m]."""
         return np.zeros(len(self.state_names))
@@ -197,8 +243,24 @@ class CoulombFriction(Effect):
     def __post_init__(self):
         check_nonnegative("coulomb_friction force_N", self.force_N, "N")
 
+    small_signal_reason: ClassVar[str | None] = (
+        "Coulomb friction sticks at rest (infinite slope of sign(v))")
+    describing_reason: ClassVar[str | None] = None
+
     def pack(self, ep):
         ep[K.E_CF] = self.force_N
+
+    def describing_function(self, amplitude_m, omega, params):
+        """Equivalent damping 4 F_c / (pi w Y) [N s/m] (no stiffness, no inertance).
+
+        Examples
+        --------
+        >>> k, c, b = CoulombFriction(30.0).describing_function(1e-3, 2 * math.pi, None)
+        >>> round(c * 2 * math.pi * 1e-3 * math.pi / 4, 12)   # = F_c
+        30.0
+        """
+        Y, w = _check_harmonic(amplitude_m, omega)
+        return 0.0, 4.0 * self.force_N / (math.pi * w * Y), 0.0
 
 
 @dataclass(frozen=True)
@@ -223,8 +285,15 @@ class ForceOffset(Effect):
     def __post_init__(self):
         check_finite("force_offset offset_N", self.offset_N, "N")
 
+    describing_reason: ClassVar[str | None] = None
+
     def pack(self, ep):
         ep[K.E_OFF] = self.offset_N
+
+    def describing_function(self, amplitude_m, omega, params):
+        """A constant force has no first harmonic: (0, 0, 0)."""
+        _check_harmonic(amplitude_m, omega)
+        return 0.0, 0.0, 0.0
 
 
 @dataclass(frozen=True)
@@ -250,8 +319,15 @@ class MovingMass(Effect):
     def __post_init__(self):
         check_nonnegative("moving_mass mass_kg", self.mass_kg, "kg")
 
+    describing_reason: ClassVar[str | None] = None
+
     def pack(self, ep):
         ep[K.E_MASS] = self.mass_kg
+
+    def describing_function(self, amplitude_m, omega, params):
+        """An inertance m [kg] in parallel (exact: F = m a is linear)."""
+        _check_harmonic(amplitude_m, omega)
+        return 0.0, 0.0, self.mass_kg
 
 
 @dataclass(frozen=True)
@@ -306,9 +382,50 @@ class SmoothFriction(Effect):
         if r < 1.0:
             raise ParameterError(f"smooth_friction static_ratio must be >= 1 [-], got {r:g}")
 
+    describing_reason: ClassVar[str | None] = None
+
     def pack(self, ep):
         ep[K.E_SFC], ep[K.E_SIG] = self.force_N, self.stiffness_N_per_m
         ep[K.E_VS], ep[K.E_SR] = self.stribeck_velocity_m_per_s, self.static_ratio
+
+    def describing_function(self, amplitude_m, omega, params):
+        """Equivalent (k, c, 0) from the first harmonic of F_c z on its periodic orbit.
+
+        The bristle state is driven by the stroke alone, so its describing
+        function is exact: z is integrated (Radau, rtol 1e-10) over cycles
+        of y = Y sin(w t) until one period repeats to 1e-9, and
+        k + i w c = F1 / Y.  Large amplitudes tend to Coulomb's
+        (0, 4 F_c / (pi w Y)); small ones to the bristle spring (sigma0, 0).
+
+        Examples
+        --------
+        >>> f = SmoothFriction(30.0, 1e7)
+        >>> k, c, b = f.describing_function(1e-3, 2 * math.pi, None)
+        >>> c_coulomb = CoulombFriction(30.0).describing_function(1e-3, 2 * math.pi, None)[1]
+        >>> bool(abs(c / c_coulomb - 1) < 0.01), bool(0 < k < 0.05 * 1e7)
+        (True, True)
+        """
+        from scipy.integrate import solve_ivp
+
+        Y, w = _check_harmonic(amplitude_m, omega)
+        if self.force_N == 0.0:
+            return 0.0, 0.0, 0.0
+        args = (self.force_N, self.stiffness_N_per_m, self.stribeck_velocity_m_per_s,
+                self.static_ratio)
+        T = 2.0 * math.pi / w
+        N = 512
+        z0 = 0.0
+        for _ in range(50):
+            sol = solve_ivp(lambda t, z: [lugre_rate(Y * w * math.cos(w * t), z[0], *args)],
+                            (0.0, T), [z0], method="Radau", rtol=1e-10, atol=1e-12,
+                            t_eval=np.arange(N + 1) * (T / N), max_step=T / 64)
+            z = sol.y[0]
+            if abs(z[-1] - z0) < 1e-9:
+                break
+            z0 = z[-1]
+        F1 = 2.0 / N * np.sum(self.force_N * z[:N] * np.exp(-1j * w * sol.t[:N]))
+        K = 1j * F1 / Y  # y = Y sin(w t) = Im(Y e^{iwt}): K = F1 / (-i Y)
+        return float(K.real), float(K.imag / w), 0.0
 
 
 @dataclass(frozen=True)
@@ -359,6 +476,10 @@ class SeriesCompliance(Effect):
                 + (" and uses the acceleration" if model.uses_acceleration else "")
                 + "; for a dashpot behind a spring use 'maxwell'")
 
+    describing_reason: ClassVar[str | None] = (
+        "a spring in series with the fluid; its equivalent is 1/(1/K_fluid + 1/k), not a "
+        "parallel element")
+
     def pack(self, ep):
         ep[K.E_KC] = float(self.stiffness_N_per_m)
 
@@ -399,6 +520,11 @@ class Freeplay(Effect):
 
     def __post_init__(self):
         check_nonnegative("freeplay gap_m", self.gap_m, "m")
+
+    small_signal_reason: ClassVar[str | None] = (
+        "inside the dead band the piston does not move at all")
+    describing_reason: ClassVar[str | None] = (
+        "a dead band in series with the fluid")
 
     def pack(self, ep):
         ep[K.E_GAP] = self.gap_m
@@ -488,11 +614,32 @@ class Cavitation(Effect):
         if not v > 0:
             raise ParameterError(f"cavitation vapour_pressure_Pa must be > 0 [Pa], got {v:g}")
 
+    describing_reason: ClassVar[str | None] = (
+        "cavities open on part of the cycle and change the chamber stiffness")
+
     def pack(self, ep):
         ep[K.E_PV] = self.vapour_pressure_Pa
 
+    def check_small_signal(self, params) -> None:
+        """At rest the cavities are closed (p0 above p_v plus the switch width): no effect."""
+        if params.p0 <= self.vapour_pressure_Pa + cavity_width(self.vapour_pressure_Pa):
+            raise ParameterError(
+                f"effect 'cavitation' has no small-signal model at rest: the filling pressure "
+                f"p0 = {params.p0:g} Pa is within the cavity switch "
+                f"(p_v = {self.vapour_pressure_Pa:g} Pa + "
+                f"{cavity_width(self.vapour_pressure_Pa):g} Pa)")
+
     def state_scales(self, params):
         return np.full(2, params.A_p * 1e-4)
+
+
+def _check_harmonic(amplitude_m, omega) -> tuple[float, float]:
+    Y, w = float(amplitude_m), float(omega)
+    if not (math.isfinite(Y) and Y > 0):
+        raise ParameterError(f"amplitude must be finite and > 0 [m], got {amplitude_m!r}")
+    if not (math.isfinite(w) and w > 0):
+        raise ParameterError(f"omega must be finite and > 0 [rad/s], got {omega!r}")
+    return Y, w
 
 
 EFFECTS: dict[str, type[Effect]] = {
