@@ -38,6 +38,11 @@ Cases (keys of ``"cases"``):
 ``diagnosis``
     One :func:`~liquidamp.analysis.diagnosis.diagnose` of the bundled record
     (first 3 cycles, as the demo loop).
+``diagnosis_hidden_effects``
+    :func:`~liquidamp.analysis.diagnosis.diagnose` of the synthetic records of
+    the diagnosis tests that hold series compliance, freeplay or cavitation
+    (states that touch the fluid: before every effect was compiled these ran
+    on LSODA, 10-25 s each); one time per effect.
 ``stiffness_sweep``
     :func:`~liquidamp.analysis.stiffness.nonlinear_stiffness` of the reference
     design, full model, 30 log-spaced frequencies 0.5-20 Hz x 2 amplitudes
@@ -62,7 +67,7 @@ import numpy as np
 __all__ = ["run_bench", "GOALS", "CASES"]
 
 CASES = ("steady_state_loop", "calibration", "floquet_sweep", "coupled_rotor", "diagnosis",
-         "stiffness_sweep")
+         "stiffness_sweep", "diagnosis_hidden_effects")
 
 #: The issue's goals: case -> (quantity, comparison, target).
 GOALS = {
@@ -71,6 +76,9 @@ GOALS = {
     "floquet_sweep": [("seconds", "<", 2.0)],
     "coupled_rotor": [("real_time_factor", ">=", 50.0)],
     "stiffness_sweep": [("seconds", "<", 5.0)],
+    "diagnosis_hidden_effects": [("seconds_series_compliance", "<", 3.0),
+                                 ("seconds_freeplay", "<", 3.0),
+                                 ("seconds_cavitation", "<", 3.0)],
     "first_call": [("cold_cache_seconds", "<", 10.0)],
 }
 
@@ -529,6 +537,46 @@ def _case_diagnosis(quick: bool, repeats: int) -> dict:
     }
 
 
+#: Hidden-effect records of the diagnosis tests (issue #11 item 3): effect -> (preset, truth,
+#: (f [Hz], Y [m]) calibration, (f, Y) validation, seed).
+HIDDEN_EFFECT_RECORDS = {
+    "series_compliance": ("paper_calibrated", {"series_compliance": {"stiffness_N_per_m": 5e5}},
+                          (3.0, 0.003), (4.0, 0.002), 54),
+    "freeplay": ("paper_calibrated", {"freeplay": {"gap_m": 1.0e-4}},
+                 (3.0, 0.003), (4.0, 0.002), 53),
+    "cavitation": ("paper_calibrated", {"cavitation": {"vapour_pressure_Pa": 40e3}},
+                   (3.0, 0.003), (4.0, 0.003), 61),
+}
+
+
+def _case_hidden_effects(quick: bool, repeats: int) -> dict:
+    """Diagnosis of synthetic records holding series compliance, freeplay or cavitation.
+
+    The records and the call are those of ``tests/analysis/test_diagnosis.py`` (whole
+    catalogue, top 1, max_nfev 40, two steps); the records are made before timing.
+    """
+    from liquidamp.analysis.diagnosis import diagnose
+    from liquidamp.analysis.synthetic import synthetic_record
+
+    out = {"description": "liquidamp.analysis.diagnosis.diagnose of 3-cycle synthetic records "
+                          "(200 Hz, noise) holding an undeclared effect, validated on a second "
+                          "record; whole catalogue, top 1, max_nfev 40, max_steps 2"
+                          + (" (quick: one candidate, one step, max_nfev 4)" if quick else ""),
+           "repeats": 1}
+    for name, (preset_name, truth, (fc, Yc), (fv, Yv), seed) in HIDDEN_EFFECT_RECORDS.items():
+        cal = synthetic_record(preset=preset_name, frequency=fc, amplitude=Yc, cycles=3,
+                               seed=seed, effects=truth)
+        val = synthetic_record(preset=preset_name, frequency=fv, amplitude=Yv, cycles=3,
+                               seed=seed + 100, effects=truth)
+        kw = dict(top=1, max_nfev=40, max_steps=2)
+        if quick:
+            kw = dict(top=1, max_nfev=4, max_steps=1, candidates=(name,))
+        seconds, d = _median_time(lambda: diagnose([cal], [val], **kw), 1)  # noqa: B023
+        out[f"seconds_{name}"] = seconds
+        out[f"added_{name}"] = list(d.added)
+    return out
+
+
 def _case_stiffness(quick: bool, repeats: int) -> dict:
     import warnings
 
@@ -571,7 +619,8 @@ def _case_stiffness(quick: bool, repeats: int) -> dict:
 
 _RUNNERS = {"steady_state_loop": _case_steady, "calibration": _case_calibration,
             "floquet_sweep": _case_floquet, "coupled_rotor": _case_coupled,
-            "diagnosis": _case_diagnosis, "stiffness_sweep": _case_stiffness}
+            "diagnosis": _case_diagnosis, "stiffness_sweep": _case_stiffness,
+            "diagnosis_hidden_effects": _case_hidden_effects}
 
 # ------------------------------------------------------------ first calls
 _FIRST_CALL_CODE = {

@@ -124,10 +124,10 @@ def register(sub) -> None:
 
 def run(args) -> int:
     """Calibrate; exit 1 if the fit did not converge (the JSON says so)."""
+    options = solver_options(args, "fit")  # the arguments first, then the outputs
     check_fit_outputs(args, "calibrate")
     from liquidamp.analysis.calibration import calibrate
 
-    options = solver_options(args, "fit")
     cal, val, params, effects, spec = load(args)
     res = calibrate(cal, model=args.model, params=params, effects=effects, spec=spec,
                     validate=val, max_nfev=args.max_nfev, options=options)

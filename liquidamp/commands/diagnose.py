@@ -32,8 +32,8 @@ def run(args) -> int:
     if not args.validate:
         raise ParameterError("diagnose needs held-out records: --validate FILE [--validate "
                              "FILE ...]")
-    check_fit_outputs(args, "diagnose")
     options = solver_options(args, "fit")  # flags added by add_fit_arguments
+    check_fit_outputs(args, "diagnose")
     from liquidamp.analysis.diagnosis import diagnose
 
     cal, val, params, effects, spec = load(args)

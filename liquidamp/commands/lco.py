@@ -132,6 +132,7 @@ def analyse(rotor, Omega, device, inoperative=(), t_end=None, bar=None, options=
 
 def run(args) -> int:
     """Run the analysis and write the JSON (then the figure)."""
+    options = solver_options(args, "rotor")
     check_outputs([Output("--json", args.json, "json"), Output("--plot", args.plot, "plot")],
                   file_inputs(("--rotor", args.rotor), ("--damper", args.damper)))
     if not (math.isfinite(args.rpm) and args.rpm > 0):
@@ -140,7 +141,6 @@ def run(args) -> int:
     from liquidamp.analysis.sizing import lag_damper_device
     from liquidamp.structure.hostio import load_rotor
 
-    options = solver_options(args, "rotor")
     rotor = load_rotor(args.rotor)
     inop = []
     for text in args.inoperative:

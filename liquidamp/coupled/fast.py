@@ -3,16 +3,18 @@
 This is the engine behind ``SolverOptions(engine="compiled")``:
 :func:`liquidamp.coupled.testrig.simulate` and
 :func:`~liquidamp.coupled.testrig.steady_state` dispatch here and return the
-same :class:`~liquidamp.coupled.testrig.DeviceResponse` as the plain-Python
-reference path (scipy ``solve_ivp``), which stays the judge and is tested
-against this one.
+same :class:`~liquidamp.coupled.testrig.DeviceResponse` as the scipy
+reference engine (``solve_ivp``), which is tested against this one.
 
 Design
 ------
-* One compiled right-hand side, analytic Jacobian and force for every
-  supported model (:data:`COMPILED_MODELS`), selected by an integer, so that
-  one compiled specialisation (cached on disk, ``cache=True``) serves them
-  all; parameters travel as a packed float vector (:func:`pack_params`).
+* No physics here: the right-hand side, Jacobian and force of every model
+  and effect are those of :mod:`liquidamp.device.kernels`, the one copy
+  that both engines run, on the arrays of
+  :meth:`~liquidamp.device.models.DeviceModel.packed` (composition ``spec``,
+  parameters ``prm``, effect parameters ``ep``), so one compiled
+  specialisation (cached on disk, ``cache=True``) serves every model with
+  any effects (:func:`supports`).
 * Integrators: RODAS4 (Hairer & Wanner), an L-stable, stiffly accurate
   Rosenbrock method of order 4 with an embedded order-3 error estimate and a
   continuous extension for output between steps.  It needs one LU
@@ -43,11 +45,6 @@ Design
   stretch makes the explicit kernel stop, and the call is rerun with the full
   kernel from the start (:func:`_run`), which gives the answer ``"auto"``
   would have given in one go.
-* Add-on effects: the kernels take an effect vector (``_kernels.E_*``) whose
-  zero entries mean "absent" (at present a laminar leakage bypass
-  ``rho_l k (p1 - p2)`` for ``full`` and ``no_inertia``, and a force offset),
-  so that effects can be wired in without another compiled specialisation.
-
 * The rotor with a liquid device on each blade (:func:`simulate_rotor`,
   the nonlinear coupled system of :func:`liquidamp.coupled.assembly.rotor_system`)
   runs in one compiled kernel: the rotating-frame equations of
@@ -56,13 +53,12 @@ Design
   the same compiled ones, and the integrator is DOP853 with scipy's
   coefficients, error norm, step control and dense output (the coupled Hammond system is
   not stiff for these devices).  :func:`~liquidamp.coupled.assembly.simulate_coupled`
-  dispatches here under ``SolverOptions(engine="compiled")``; its Python route stays the
+  dispatches here under ``SolverOptions(engine="compiled")``; its scipy route stays the
   reference.
 
-``SolverOptions.method`` applies to the Python engine only.  A model outside
-:data:`COMPILED_MODELS`, or a :class:`DeviceModel` that is not the registered
-object of its name, raises :class:`~liquidamp.errors.ParameterError` under
-the compiled engine (no silent fall-back that could change an answer).
+``SolverOptions.method`` applies to the scipy engine only.  What the
+compiled engine cannot run raises :class:`~liquidamp.errors.ParameterError`
+naming why (:func:`supports`; no silent fall-back that could change an answer).
 
 References
 ----------

@@ -77,12 +77,15 @@ def test_default_run_takes_the_compiled_rotor_route_with_the_same_answer(device_
     """The default options pick the compiled DOP853 where the system allows it."""
     import numpy as np
 
-    from liquidamp.coupled.assembly import compiled_support, rotor_system, viscous
+    from liquidamp.coupled.assembly import Device, compiled_support, rotor_system, viscous
+    from liquidamp.device import preset
     from liquidamp.options import SolverOptions
 
     W = 230.0 * 2.0 * math.pi / 60.0
     assert compiled_support(rotor_system(ROTOR, W, device_a)) is None
-    assert "viscous damper" in compiled_support(rotor_system(ROTOR, W, viscous(5e4)))
+    assert compiled_support(rotor_system(ROTOR, W, viscous(5e4))) is None  # compiled too
+    assert "stroke acceleration" in compiled_support(
+        rotor_system(ROTOR, W, Device("inerter", preset("inerter"))))
     cm = critical_mode(ROTOR, W, device_a)
     fast = simulate_lco(ROTOR, W, device_a, initial_lag=1e-3, t_end=2.0, mode=cm)
     ref = simulate_lco(ROTOR, W, device_a, initial_lag=1e-3, t_end=2.0, mode=cm,
