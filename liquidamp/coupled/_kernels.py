@@ -71,15 +71,24 @@ import types
 import numpy as np
 from numba import njit
 
+from liquidamp.device import kernels as _physics
 from liquidamp.device.kernels import (
     E_LEAK,
     M_FULL,
-    P_FRIC,  # noqa: F401  (re-exported for the rotor packing)
+    P_FRIC,
     S_ANALYTIC,
+    S_COUL,
+    S_IC,
+    S_IFP,
+    S_IZ,
     S_LEAK,
+    S_MASS,
     S_MID,
     S_N,
     S_NB,
+    S_OFF,
+    base_force,
+    base_rhs,
     base_rhs_inline,
     full_all,
     model_force,
@@ -87,6 +96,35 @@ from liquidamp.device.kernels import (
     model_rhs,
     model_rhs_t,
 )
+
+
+def _drop_stale_cache() -> None:
+    """Delete this module's numba cache files when the physics source has changed.
+
+    Numba keys a cached function on its own source file only: the compiled
+    integrators here link the device physics of :mod:`liquidamp.device.kernels`
+    in, and would keep a stale copy of it after that file changes.  A stamp
+    (hash of the physics source) kept beside the cache files decides.
+    """
+    import hashlib
+    from pathlib import Path
+
+    try:
+        stamp = hashlib.sha256(Path(_physics.__file__).read_bytes()).hexdigest()
+        cache = Path(__file__).parent / "__pycache__"
+        mark = cache / "_kernels.physics-stamp"
+        if mark.is_file() and mark.read_text() == stamp:
+            return
+        for f in cache.glob("_kernels.*.nb[ic]"):
+            f.unlink()
+        cache.mkdir(exist_ok=True)
+        mark.write_text(stamp)
+    except OSError:  # a read-only install: numba's own cache handling applies
+        pass
+
+
+_drop_stale_cache()
+
 
 #: Fast-math flags of the pure arithmetic kernels: reciprocal and contraction only
 #: (no assumption of finite values, so NaN/inf checks keep working).
@@ -431,6 +469,8 @@ def _rodas_attempt(spec, prm, ep, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, reu
     holds the six stages and ``xn`` the new state.
     """
     n = x.size
+    mid = spec[S_MID]
+    plain = spec[S_N] == spec[S_NB] and spec[S_LEAK] == 0
     nj = G.shape[0]  # 5 (padded with the identity) or the state count where larger
     fac = 1.0 / (h * _GAM)
     for i in range(nj):
@@ -457,7 +497,10 @@ def _rodas_attempt(spec, prm, ep, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, reu
                 y, v = y0, v0
             elif st_i != 5:  # stages 5 and 6 share the time t + h
                 y, v, a = stroke_eval(kind, t + _RC[st_i] * h, sp, st, sy, sv, sa)
-            model_rhs(spec, ys, y, v, prm, ep, ft)
+            if plain:
+                base_rhs(mid, ys, y, v, prm, 0.0, ft)
+            else:
+                model_rhs(spec, ys, y, v, prm, ep, ft)
             if st_i == 0:
                 for i in range(n):
                     f0[i] = ft[i]
@@ -565,6 +608,10 @@ def _integrate_source(spec, prm, ep, kind, sp, st, sy, sv, sa, x0, t0, t1, teval
     ks = np.zeros(nj)
     full_fused = spec[S_MID] == M_FULL and spec[S_N] == 5 and spec[S_ANALYTIC] != 0
     kL = ep[E_LEAK] if spec[S_LEAK] != 0 else 0.0
+    # the load-cell force needs the stroke only for stateless bases and stroke-driven terms
+    force_needs_stroke = (spec[S_NB] == 0 or spec[S_IFP] >= 0 or spec[S_IC] >= 0
+                          or spec[S_IZ] >= 0 or spec[S_COUL] != 0 or spec[S_MASS] != 0
+                          or spec[S_OFF] != 0 or prm[P_FRIC] > 0.0)
     nf = max(ne - 1, 1)
     force_now = np.empty(nf)
     force_prev = np.empty(nf)
@@ -770,8 +817,11 @@ def _integrate_source(spec, prm, ep, kind, sp, st, sy, sv, sa, x0, t0, t1, teval
         for j in range(nf):
             for i in range(n):
                 ks[i] = out[i, j]
-            y, v, a = stroke_eval(kind, teval[j] + off, sp, st, sy, sv, sa)
-            fj = model_force(spec, ks, y, v, a, prm, ep, True)
+            if force_needs_stroke:
+                y, v, a = stroke_eval(kind, teval[j] + off, sp, st, sy, sv, sa)
+                fj = model_force(spec, ks, y, v, a, prm, ep, True)
+            else:  # a force carried by the states alone
+                fj = base_force(spec[S_MID], ks, 0.0, 0.0, 0.0, prm)
             force_now[j] = fj
             fmax = max(fmax, abs(fj))
         if cyc > 0:
@@ -834,69 +884,57 @@ integrate_explicit = _specialise(_integrate_source, "integrate_explicit", _WITH_
 # ------------------------------------------------- rotor + devices (coupled)
 ST_STROKE_LIMIT = 5
 
-#: Layout of the rotor vector ``rp`` of :func:`rotor_integrate`.
-R_NB, R_IB, R_S, R_MX, R_MY, R_KX, R_KY, R_CX, R_CY, R_KZ, R_W, R_ARM = range(12)
-N_RP = 12
-
-
 @njit(cache=True, error_model="numpy")
-def rotor_rhs(t, X, rp, cb, dblade, DSPEC, doff, PRM, DEP, M, b, piv, Fk, out):
-    """Coupled rotor (rotating frame) + devices on the blade ports: dX/dt into ``out``.
+def rotor_rhs(t, X, W, MH, Pout, Prate, Pin, DSPEC, doff, PRM, DEP, M, b, piv, Fk, out):
+    """Periodic second-order host + devices on its ports: dX/dt into ``out``.
 
-    Host state ``[zeta_1..zeta_N, x, y, rates]`` (``GroundResonanceRotor``);
-    the device on blade k sees stroke ``arm zeta_k`` and rate ``arm
-    zeta_dot_k`` and its force F acts as ``-arm F`` on ``zeta_k``.
+    The host is ``M(psi) q'' + C(psi) q' + K(psi) q = Pin F`` with
+    ``psi = W t`` and each matrix a first harmonic of psi: ``MH`` (9, n, n)
+    holds ``M0, Mc, Ms, C0, Cc, Cs, K0, Kc, Ks`` as returned by
+    :meth:`liquidamp.structure.rotor.GroundResonanceRotor.harmonic_second_order`
+    (the rotor's own equations; none are written here).  Host state
+    ``[q, q']``; device j sees stroke ``Pout[j] . X[:2n]`` and rate
+    ``Prate[j] . X[:2n]``, its force F_j enters through column j of ``Pin``.
     """
-    N = int(rp[R_NB])
-    nb = N + 2
-    nh = 2 * nb
-    Ib, S, W, arm = rp[R_IB], rp[R_S], rp[R_W], rp[R_ARM]
-    for k in range(N):
-        Fk[k] = 0.0
-    for j in range(dblade.size):
-        k = dblade[j]
+    n = MH.shape[1]
+    nh = 2 * n
+    psi = W * t
+    cp = math.cos(psi)
+    sp = math.sin(psi)
+    nd = DSPEC.shape[0]
+    for j in range(nd):
+        y = 0.0
+        v = 0.0
+        for i in range(nh):
+            y += Pout[j, i] * X[i]
+            v += Prate[j, i] * X[i]
         a0 = nh + doff[j]
         a1 = nh + doff[j + 1]
-        v = arm * X[nb + k]
         z = X[a0:a1]
-        y = arm * X[k]
-        Fk[k] += model_force(DSPEC[j], z, y, v, 0.0, PRM[j], DEP[j], True)
+        Fk[j] = model_force(DSPEC[j], z, y, v, 0.0, PRM[j], DEP[j], True)
         if a1 > a0:
             model_rhs(DSPEC[j], z, y, v, PRM[j], DEP[j], out[a0:a1])
-    for i in range(nb):
-        for j in range(nb):
-            M[i, j] = 0.0
-    psi = W * t
-    ix = N
-    iy = N + 1
-    bx = -rp[R_CX] * X[nb + ix] - rp[R_KX] * X[ix]
-    by = -rp[R_CY] * X[nb + iy] - rp[R_KY] * X[iy]
-    for k in range(N):
-        pk = psi + 2.0 * math.pi * k / N
-        s = math.sin(pk)
-        c = math.cos(pk)
-        M[k, k] = Ib
-        M[k, ix] = S * s
-        M[k, iy] = -S * c
-        M[ix, k] = S * s
-        M[iy, k] = -S * c
-        b[k] = -arm * Fk[k] - cb[k] * X[nb + k] - rp[R_KZ] * X[k]
-        bx -= 2.0 * S * W * c * X[nb + k] - S * W * W * s * X[k]
-        by -= 2.0 * S * W * s * X[nb + k] + S * W * W * c * X[k]
-    M[ix, ix] = rp[R_MX]
-    M[iy, iy] = rp[R_MY]
-    b[ix] = bx
-    b[iy] = by
+    for i in range(n):
+        acc = 0.0
+        for k in range(nd):
+            acc += Pin[i, k] * Fk[k]
+        for k in range(n):
+            Ck = MH[3, i, k] + MH[4, i, k] * cp + MH[5, i, k] * sp
+            Kk = MH[6, i, k] + MH[7, i, k] * cp + MH[8, i, k] * sp
+            acc -= Ck * X[n + k] + Kk * X[k]
+            M[i, k] = MH[0, i, k] + MH[1, i, k] * cp + MH[2, i, k] * sp
+        b[i] = acc
     _lu(M, piv)
     _solve(M, piv, b)
-    for i in range(nb):
-        out[i] = X[nb + i]
-        out[nb + i] = b[i]
+    for i in range(n):
+        out[i] = X[n + i]
+        out[n + i] = b[i]
 
 
 @njit(cache=True, error_model="numpy")
-def rotor_integrate(rp, cb, dblade, DSPEC, doff, PRM, DEP, fi, lim, pfloor, x0, t_end, teval,
-                    rtol, atol, hmax, max_steps, RA, RB, RC, E3, E5, RAX, RCX, RD, out, info):
+def rotor_integrate(W, MH, Pout, Prate, Pin, DSPEC, doff, PRM, DEP, fi, lim, pfloor, x0, t_end,
+                    teval, rtol, atol, hmax, max_steps, RA, RB, RC, E3, E5, RAX, RCX, RD, out,
+                    info):
     """DOP853 (Dormand-Prince 8(5,3), scipy's coefficients and step control) of :func:`rotor_rhs`.
 
     Output at ``teval`` by the 7th-order continuous extension (three extra
@@ -906,23 +944,23 @@ def rotor_integrate(rp, cb, dblade, DSPEC, doff, PRM, DEP, fi, lim, pfloor, x0, 
     ``info``: status, time reached, steps, rhs evaluations, samples written.
     """
     n = x0.size
-    N = int(rp[R_NB])
-    nb = N + 2
+    nb = MH.shape[1]
     nh = 2 * nb
+    nd = DSPEC.shape[0]
     ns = 12
     K = np.empty((ns + 4, n))
     Fd = np.empty((7, n))
     M = np.empty((nb, nb))
     b = np.empty(nb)
     piv = np.empty(nb, np.int64)
-    Fk = np.empty(N)
+    Fk = np.empty(max(nd, 1))
     y = x0.copy()
     ynew = np.empty(n)
     ytmp = np.empty(n)
     f = np.empty(n)
     fnew = np.empty(n)
     t = 0.0
-    rotor_rhs(t, y, rp, cb, dblade, DSPEC, doff, PRM, DEP, M, b, piv, Fk, f)
+    rotor_rhs(t, y, W, MH, Pout, Prate, Pin, DSPEC, doff, PRM, DEP, M, b, piv, Fk, f)
     nfev = 1
     # initial step (Hairer, Norsett & Wanner I, II.4; as scipy)
     d0 = 0.0
@@ -937,7 +975,7 @@ def rotor_integrate(rp, cb, dblade, DSPEC, doff, PRM, DEP, fi, lim, pfloor, x0, 
     h0 = min(h0, t_end, hmax)
     for i in range(n):
         ytmp[i] = y[i] + h0 * f[i]
-    rotor_rhs(h0, ytmp, rp, cb, dblade, DSPEC, doff, PRM, DEP, M, b, piv, Fk, K[1])
+    rotor_rhs(h0, ytmp, W, MH, Pout, Prate, Pin, DSPEC, doff, PRM, DEP, M, b, piv, Fk, K[1])
     nfev += 1
     d2 = 0.0
     for i in range(n):
@@ -981,14 +1019,14 @@ def rotor_integrate(rp, cb, dblade, DSPEC, doff, PRM, DEP, fi, lim, pfloor, x0, 
                 for r in range(s):
                     acc += RA[s, r] * K[r, i]
                 ytmp[i] = y[i] + h * acc
-            rotor_rhs(t + RC[s] * h, ytmp, rp, cb, dblade, DSPEC, doff, PRM, DEP, M, b, piv,
-                      Fk, K[s])
+            rotor_rhs(t + RC[s] * h, ytmp, W, MH, Pout, Prate, Pin, DSPEC, doff, PRM, DEP, M,
+                      b, piv, Fk, K[s])
         for i in range(n):
             acc = 0.0
             for r in range(ns):
                 acc += RB[r] * K[r, i]
             ynew[i] = y[i] + h * acc
-        rotor_rhs(tn, ynew, rp, cb, dblade, DSPEC, doff, PRM, DEP, M, b, piv, Fk, fnew)
+        rotor_rhs(tn, ynew, W, MH, Pout, Prate, Pin, DSPEC, doff, PRM, DEP, M, b, piv, Fk, fnew)
         for i in range(n):
             K[ns, i] = fnew[i]
         nfev += ns
@@ -1022,8 +1060,8 @@ def rotor_integrate(rp, cb, dblade, DSPEC, doff, PRM, DEP, fi, lim, pfloor, x0, 
                         for r in range(s):
                             acc += RAX[s - ns - 1, r] * K[r, i]
                         ytmp[i] = y[i] + h * acc
-                    rotor_rhs(t + RCX[s - ns - 1] * h, ytmp, rp, cb, dblade, DSPEC, doff, PRM,
-                              DEP, M, b, piv, Fk, K[s])
+                    rotor_rhs(t + RCX[s - ns - 1] * h, ytmp, W, MH, Pout, Prate, Pin, DSPEC,
+                              doff, PRM, DEP, M, b, piv, Fk, K[s])
                 nfev += 3
                 for i in range(n):
                     dy = ynew[i] - y[i]
@@ -1053,8 +1091,11 @@ def rotor_integrate(rp, cb, dblade, DSPEC, doff, PRM, DEP, fi, lim, pfloor, x0, 
                 f[i] = fnew[i]
             h *= factor
             rejected = False
-            for j in range(dblade.size):
-                if abs(rp[R_ARM] * y[dblade[j]]) >= lim[j]:
+            for j in range(nd):
+                ys = 0.0
+                for i in range(nh):
+                    ys += Pout[j, i] * y[i]
+                if abs(ys) >= lim[j]:
                     status = ST_STROKE_LIMIT
                 if fi[j, 0] >= 0:
                     a0 = nh + doff[j]

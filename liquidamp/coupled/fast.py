@@ -472,17 +472,23 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
     else:
         X0 = np.asarray(system.initial_state(x0), float)
     failed = {rotor.check_blade(k) for k in inoperative}
+    # the blades' own lag dampers: removed where a device is attached or failed
+    port_blade = {port.name: k for k, port in enumerate(rotor.ports, start=1)}
+    blades = [port_blade[port.name] for port in system.ports]
     c = list(rotor.blade_damping)
-    blades = [int(name.split("_")[1]) for name in system.port_names]
     for k in set(blades) | failed:
         c[k - 1] = 0.0
-    b = rotor.blade
-    rp = np.zeros(K.N_RP)
-    rp[K.R_NB], rp[K.R_IB], rp[K.R_S] = rotor.n_blades, b.inertia, b.static_moment
-    rp[K.R_MX], rp[K.R_MY] = rotor.total_mass_x, rotor.total_mass_y
-    rp[K.R_KX], rp[K.R_KY] = rotor.hub_stiffness_x, rotor.hub_stiffness_y
-    rp[K.R_CX], rp[K.R_CY] = rotor.hub_damping_x, rotor.hub_damping_y
-    rp[K.R_KZ], rp[K.R_W], rp[K.R_ARM] = b.lag_stiffness(W), W, b.damper_arm
+    host = rotor.with_lag_dampers(c)
+    # the rotor's equations come from structure/: M, C, K as first harmonics of the azimuth
+    MH = np.ascontiguousarray(np.stack(host.harmonic_second_order(W)))
+    G, Cout = host.force_matrix(), host.output_matrix()
+    ins, outs = host.input_names, host.output_names
+    Pin = np.ascontiguousarray(np.column_stack(
+        [G[:, ins.index(port.force_input)] for port in system.ports]).reshape(G.shape[0], -1))
+    Pout = np.ascontiguousarray(np.array(
+        [Cout[outs.index(port.stroke_output)] for port in system.ports]).reshape(-1, nh))
+    Prate = np.ascontiguousarray(np.array(
+        [Cout[outs.index(port.rate_output)] for port in system.ports]).reshape(-1, nh))
     nd = len(system.devices)
     doff = np.zeros(nd + 1, np.int64)
     DSPEC = np.zeros((nd, DK.N_SPEC), np.int64)
@@ -516,9 +522,9 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
     out = np.zeros((X0.size, t_eval.size))
     info = np.zeros(5)
     tables = _dop853_tables()
-    K.rotor_integrate(rp, np.asarray(c, float), np.asarray(blades, np.int64) - 1, DSPEC, doff,
-                      PRM, DEP, fi, lim, float(opts.pressure_floor), X0, T_end, t_eval,
-                      float(opts.rtol), atol, hmax, int(max_steps), *tables, out, info)
+    K.rotor_integrate(W, MH, Pout, Prate, Pin, DSPEC, doff, PRM, DEP, fi, lim,
+                      float(opts.pressure_floor), X0, T_end, t_eval, float(opts.rtol), atol, hmax,
+                      int(max_steps), *tables, out, info)
     status = int(info[0])
     if status in (K.ST_STEP_TOO_SMALL, K.ST_TOO_MANY_STEPS):
         raise ConvergenceError(

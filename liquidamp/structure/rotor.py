@@ -337,6 +337,58 @@ class GroundResonanceRotor:
         K[ix, ix], K[iy, iy] = self.hub_stiffness_x, self.hub_stiffness_y
         return M, C, K
 
+    def harmonic_second_order(self, Omega: float):
+        """``M, C, K`` of :meth:`second_order` as first harmonics of the azimuth.
+
+        Every entry of the rotating-frame matrices is a constant plus a first
+        harmonic of psi (the blade azimuths are psi + 2 pi k / N), so
+        ``X(psi) = X0 + Xc cos(psi) + Xs sin(psi)`` exactly for X = M, C, K.
+        The coefficients are read off :meth:`second_order` at psi = 0, pi/2,
+        pi and checked at two more azimuths, so the compiled rotor kernel
+        evaluates the same equations without a copy of them.
+
+        Parameters
+        ----------
+        Omega : float
+            Rotor speed >= 0 [rad/s].
+
+        Returns
+        -------
+        tuple of 9 ndarrays
+            ``(M0, Mc, Ms, C0, Cc, Cs, K0, Kc, Ks)``, each (N + 2, N + 2), in
+            the units of :meth:`second_order`.
+
+        Raises
+        ------
+        ParameterError
+            If the matrices are not first harmonics of psi (a subclass with
+            other equations).
+
+        Examples
+        --------
+        >>> from liquidamp.structure.hostio import load_rotor
+        >>> r = load_rotor("hammond1974")
+        >>> M0, Mc, Ms, *_ = r.harmonic_second_order(27.0)
+        >>> M = r.second_order(27.0, 0.3)[0]
+        >>> bool(np.allclose(M, M0 + Mc * np.cos(0.3) + Ms * np.sin(0.3), rtol=0, atol=1e-9))
+        True
+        """
+        a, b, c = (self.second_order(Omega, psi) for psi in (0.0, 0.5 * np.pi, np.pi))
+        out = []
+        for X0, X1, X2 in zip(a, b, c, strict=True):
+            mean = 0.5 * (X0 + X2)
+            out += [mean, 0.5 * (X0 - X2), X1 - mean]
+        for psi in (0.3, 2.2):
+            for X, (X0, Xc, Xs) in zip(self.second_order(Omega, psi),
+                                       (out[0:3], out[3:6], out[6:9]), strict=True):
+                err = np.max(np.abs(X - (X0 + Xc * np.cos(psi) + Xs * np.sin(psi))))
+                if err > 1e-12 * max(np.max(np.abs(X)), 1.0):
+                    raise ParameterError(
+                        f"{type(self).__name__}: rotating-frame matrices are not first "
+                        f"harmonics of the azimuth (error {err:.3g} at psi = {psi}); the "
+                        "compiled rotor kernel cannot represent them")
+        return tuple(out)
+
     def force_matrix(self) -> np.ndarray:
         """``G`` mapping inputs (``input_names``) to generalized forces of ``q``."""
         N = self.n_blades
