@@ -47,7 +47,8 @@ import math
 
 import numpy as np
 
-from liquidamp.coupled.testrig import DeviceResponse, _march, _prepare, _response, steady_state
+from liquidamp.coupled.engines import TestRig, get_engine
+from liquidamp.coupled.testrig import DeviceResponse, _prepare, _response, steady_state
 from liquidamp.device.fluid import density_gholizadeh
 from liquidamp.device.models import DeviceModel
 from liquidamp.device.params import DeviceParams
@@ -331,22 +332,16 @@ def periodic_orbit(model, params: DeviceParams, stroke: HarmonicStroke, options=
     runs = 0
     run_opts = options  # tightened when the residual stalls at the integration error
 
-    if options.engine == "compiled":
-        from liquidamp.coupled.fast import march as fast_march
+    rig = TestRig(model, params, stroke)
+    engine = get_engine(options.engine)
+    engine.check(rig)
 
-        def period(xs, t_eval=None):
-            nonlocal runs
-            runs += 1
-            te = grid[-1:] if t_eval is None else t_eval
-            X, xe, _ = fast_march(model, params, stroke, xs, 0.0, T, te, run_opts, max_step)
-            return xe, X
-    else:
-        def period(xs, t_eval=None):
-            nonlocal runs
-            runs += 1
-            te = grid[-1:] if t_eval is None else t_eval
-            sol = _march(model, params, stroke, xs, 0.0, T, te, run_opts, max_step)
-            return sol.y[:, -1], sol.y
+    def period(xs, t_eval=None):
+        nonlocal runs
+        runs += 1
+        te = grid[-1:] if t_eval is None else t_eval  # ends at T either way
+        X = engine.march(rig, xs, 0.0, T, te, run_opts, max_step, {})
+        return X[:, -1], X
 
     # one marched period removes the fast (stiff) part of the transient and
     # shows how far each state swings

@@ -15,17 +15,16 @@ References
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
-from liquidamp.device.models import DeviceModel, get_model
+from liquidamp.coupled.engines import TestRig, get_engine
+from liquidamp.device.models import get_model
 from liquidamp.device.params import DeviceParams
-from liquidamp.errors import ConvergenceError, ParameterError, PressureError
+from liquidamp.errors import ParameterError
 from liquidamp.options import SolverOptions, resolve_options
 from liquidamp.structure.testmachine import HarmonicStroke
 
@@ -156,62 +155,6 @@ def _prepare(model, params, stroke, options):
     return model, resolve_options(options, "default")
 
 
-def _events(model: DeviceModel, params: DeviceParams, stroke, options: SolverOptions):
-    if model.pressures is None or not model.uses_bulk_law or params.bulk_law != "gholizadeh":
-        return None
-
-    def low_pressure(t, x):
-        u = stroke(t)
-        p1, p2 = model.pressures(x, u, params)
-        return min(p1, p2) - options.pressure_floor
-
-    low_pressure.terminal = True
-    low_pressure.direction = -1
-    return [low_pressure]
-
-
-def _march(model, params, stroke, x0, t0, t1, t_eval, options, max_step):
-    """Integrate one span; raise clear errors on failure or on zero pressure."""
-    scales = model.state_scales(params)
-    atol = options.atol_scale * scales if scales.size else options.atol_scale
-    rhs, jac = model.rhs, model.jacobian
-
-    def f(t, x):
-        return rhs(t, x, stroke(t), params)
-
-    kwargs = {}
-    if jac is not None and options.method in ("Radau", "BDF", "LSODA"):
-        kwargs["jac"] = lambda t, x: jac(t, x, stroke(t), params)
-    sol = solve_ivp(
-        f, (t0, t1), x0, method=options.method, t_eval=t_eval, rtol=options.rtol, atol=atol,
-        events=_events(model, params, stroke, options), max_step=max_step, **kwargs,
-    )
-    if sol.status == 1:
-        tz = float(sol.t_events[0][0])
-        raise PressureError(
-            f"model {model.name!r}: a chamber pressure fell to the floor "
-            f"{options.pressure_floor:g} Pa at t = {tz:.6g} s; the liquid-air law (eq. 2) is "
-            "singular at p = 0. The device cavitates: reduce the stroke or frequency, raise the "
-            "filling pressure p0, or add the 'cavitation' effect"
-        )
-    if sol.status != 0:
-        raise ConvergenceError(
-            f"model {model.name!r}: time integration failed between t = {t0:.6g} s and "
-            f"{t1:.6g} s: {sol.message}"
-        )
-    if not np.all(np.isfinite(sol.y)):
-        raise ConvergenceError(f"model {model.name!r}: non-finite state in time integration")
-    return sol
-
-
-def _add_stats(stats: dict, options, sol) -> None:
-    """Accumulate the work counts of a ``solve_ivp`` span into ``stats``."""
-    stats["engine"] = "scipy"
-    stats["method"] = options.method
-    for key in ("nfev", "njev", "nlu"):
-        stats[key] = stats.get(key, 0) + int(getattr(sol, key, 0))
-
-
 def _response(model, params, stroke, t, X, options, *, status, message, residual=0.0,
               cycles=0, warnings=(), stats=None):
     y, v, a = stroke(t)
@@ -314,16 +257,12 @@ def simulate(model, params: DeviceParams, stroke, t_end: float, *, t_start: floa
     stats = {}
     if model.n_states == 0:
         X = np.zeros((0, t_eval.size))
-    elif options.engine == "compiled":
-        from liquidamp.coupled.fast import march
-
-        X, _, _ = march(model, params, stroke, x, t_start, t_end, t_eval, options,
-                        options.max_step_fraction * period, stats=stats)
     else:
-        sol = _march(model, params, stroke, x, t_start, t_end, t_eval, options,
-                     options.max_step_fraction * period)
-        X = sol.y
-        _add_stats(stats, options, sol)
+        rig = TestRig(model, params, stroke)
+        engine = get_engine(options.engine)
+        engine.check(rig)
+        X = engine.march(rig, x, t_start, t_end, t_eval, options,
+                         options.max_step_fraction * period, stats)
     return _response(model, params, stroke, t_eval, X, options, status="completed",
                      message=f"integrated {t_end - t_start:.4g} s", stats=stats)
 
@@ -386,54 +325,12 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
     if model.n_states == 0:
         return _response(model, params, stroke, grid[:N], np.zeros((0, N)), options,
                          status="steady", message="algebraic model: steady at once", cycles=1)
-    if options.engine == "compiled":
-        from liquidamp.coupled.fast import steady_loop
-
-        stats = {}
-        Xp, cycles, residual = steady_loop(model, params, stroke, x, options, stats=stats)
-        msg = (f"periodic steady state after {cycles} cycles; estimated remaining "
-               f"change {residual:.2e} of peak force (compiled engine)")
-        return _response(model, params, stroke, grid[:N], Xp, options, status="steady",
-                         message=msg, residual=residual, cycles=cycles, stats=stats)
+    rig = TestRig(model, params, stroke)
+    engine = get_engine(options.engine)
+    engine.check(rig)
     stats = {}
-    prev_force = None
-    prev_change = math.inf
-    hits = 0
-    residual = math.inf
-    for k in range(options.max_cycles):
-        t0 = k * T
-        sol = _march(model, params, stroke, x, t0, t0 + T, t0 + grid, options,
-                     options.max_step_fraction * T)
-        _add_stats(stats, options, sol)
-        x = sol.y[:, -1]
-        u = stroke(sol.t[:N])
-        force = np.asarray(model.force(sol.t[:N], sol.y[:, :N], u, params), float)
-        if prev_force is not None:
-            scale = max(float(np.max(np.abs(force))), 1e-30)
-            change = float(np.sqrt(np.mean((force - prev_force) ** 2))) / scale
-            rho = change / prev_change if prev_change > 0 else 0.0
-            if rho < 1.0:
-                residual = change * rho / (1.0 - rho) if k > 1 else change
-            else:
-                residual = max(change, residual if math.isfinite(residual) else change)
-            residual = max(residual, 0.0)
-            floor = 50.0 * options.rtol
-            if (residual < options.steady_tol or change < floor) and k + 1 >= options.min_cycles:
-                hits += 1
-            else:
-                hits = 0
-            if hits >= 2:
-                Xp = sol.y[:, :N]
-                msg = (f"periodic steady state after {k + 1} cycles; estimated remaining "
-                       f"change {residual:.2e} of peak force")
-                return _response(model, params, stroke, sol.t[:N] - t0, Xp, options,
-                                 status="steady", message=msg, residual=min(residual, change),
-                                 cycles=k + 1, stats=stats)
-            prev_change = change
-        prev_force = force
-    raise ConvergenceError(
-        f"model {model.name!r}: no periodic steady state after {options.max_cycles} cycles at "
-        f"{stroke.frequency:g} Hz, {stroke.amplitude:g} m; last relative change per cycle "
-        f"{prev_change:.2e}, estimated remaining {residual:.2e} (allowed {options.steady_tol:g}); "
-        "raise max_cycles or steady_tol"
-    )
+    Xp, cycles, residual = engine.steady(rig, x, options, stats)
+    msg = (f"periodic steady state after {cycles} cycles; estimated remaining change "
+           f"{residual:.2e} of peak force ({engine.name} engine)")
+    return _response(model, params, stroke, grid[:N], Xp, options, status="steady",
+                     message=msg, residual=residual, cycles=cycles, stats=stats)

@@ -1,0 +1,299 @@
+"""Integration engines behind one small numbered contract.
+
+Two engines integrate the same equations (the compiled physics of
+:mod:`liquidamp.device.kernels`): ``"scipy"`` (:func:`scipy.integrate.solve_ivp`,
+the reference) and ``"compiled"`` (the numba steppers of
+:mod:`liquidamp.coupled.fast`).  :data:`ENGINES` holds them by the name
+``SolverOptions.engine`` gives; the drivers (:func:`liquidamp.coupled.testrig.simulate`,
+:func:`~liquidamp.coupled.testrig.steady_state`,
+:func:`~liquidamp.coupled.assembly.simulate_coupled`) pick one there and
+nowhere else.
+
+The contract every engine keeps (``tests/coupled/test_engines.py`` checks
+1-5 over the whole model registry, with every effect that applies):
+
+1. ``name`` is its key in :data:`ENGINES` and the ``SolverOptions.engine``
+   value that selects it.
+2. ``supports(system) -> str | None``: None where it can run ``system`` (a
+   :class:`TestRig` or a :class:`~liquidamp.coupled.assembly.CoupledSystem`),
+   otherwise one line saying why; it never raises for a well-formed system.
+3. ``march(rig, x0, t0, t1, t_eval, options, max_step, stats) -> X``: the
+   states of a :class:`TestRig` at the sorted times ``t_eval`` within
+   [t0, t1] [s], shape (n_states, len(t_eval)), with the error controlled on
+   ``atol_i + rtol |x_i|`` (``atol = options.atol_scale * state_scales``)
+   and steps no longer than ``max_step``; ``stats`` (a dict) receives the
+   work counts.
+4. ``steady(rig, x0, options, stats) -> (X, cycles, residual)``: the periodic
+   steady state of a rig under a harmonic stroke, one period of
+   ``options.samples_per_period`` samples (end point excluded), accepted
+   when the estimated remaining relative change of the force waveform is
+   below ``options.steady_tol`` twice in a row (or the change is at the
+   round-off floor 50 rtol) after at least ``options.min_cycles``.
+5. Failures raise, never return NaN: :class:`~liquidamp.errors.PressureError`
+   when a chamber pressure reaches ``options.pressure_floor`` (models on the
+   pressure-dependent bulk law), :class:`~liquidamp.errors.ConvergenceError`
+   when the stepper fails or no steady state comes within
+   ``options.max_cycles``, and :class:`~liquidamp.errors.ParameterError`
+   with the reason of (2) for a system it does not support (no silent
+   fall-back to another engine).
+
+References
+----------
+.. [1] E. Hairer, G. Wanner, Solving Ordinary Differential Equations II, 2nd ed.,
+   Springer 1996 (RODAS4; the stiff reference Radau IIA).
+.. [2] P. Virtanen et al., SciPy 1.0, Nature Methods 17, 2020 (``solve_ivp``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from liquidamp.device.models import DeviceModel
+from liquidamp.device.params import DeviceParams
+from liquidamp.errors import ConvergenceError, ParameterError, PressureError, check_choice
+from liquidamp.structure.port import DevicePort
+from liquidamp.structure.testmachine import HarmonicStroke, RecordedStroke
+
+__all__ = ["TestRig", "Engine", "ScipyEngine", "CompiledEngine", "ENGINES", "get_engine",
+           "TEST_MACHINE_PORT"]
+
+#: The test machine's one port: it prescribes the rod stroke and reads the load-cell force.
+TEST_MACHINE_PORT = DevicePort("rod", "stroke", "stroke_rate", "force", 1.0, "rod")
+
+
+@dataclass(frozen=True, eq=False)
+class TestRig:
+    """A device on the test machine: the host that prescribes the stroke at its port.
+
+    Parameters
+    ----------
+    model : DeviceModel
+        The device model (any effects).
+    params : DeviceParams
+        Its parameters.
+    stroke : callable
+        ``stroke(t) -> (y [m], v [m/s], a [m/s^2])`` with ``max_abs``: a
+        :class:`~liquidamp.structure.testmachine.HarmonicStroke`, a
+        :class:`~liquidamp.structure.testmachine.RecordedStroke` or another
+        callable (the scipy engine only).
+
+    Examples
+    --------
+    >>> from liquidamp.device import preset
+    >>> from liquidamp.device.models import get_model
+    >>> rig = TestRig(get_model("full"), preset("reference"), HarmonicStroke(0.001, 3.0))
+    >>> rig.ports[0].name, ENGINES["compiled"].supports(rig) is None
+    ('rod', True)
+    """
+
+    __test__ = False  # not a pytest test class
+
+    model: DeviceModel
+    params: object
+    stroke: object
+
+    @property
+    def ports(self) -> tuple[DevicePort, ...]:
+        """The test machine's single port ``rod``."""
+        return (TEST_MACHINE_PORT,)
+
+
+class Engine:
+    """An integration engine (see the module's numbered contract)."""
+
+    name = ""
+
+    def supports(self, system) -> str | None:  # pragma: no cover - abstract
+        """None where the engine runs ``system``, otherwise why not (contract item 2)."""
+        raise NotImplementedError
+
+    def check(self, system) -> None:
+        """Raise ParameterError with the reason of :meth:`supports` (contract item 5)."""
+        reason = self.supports(system)
+        if reason is not None:
+            head = f"engine {self.name!r}"
+            raise ParameterError(reason if reason.startswith(head)
+                                 else f"{head} cannot run this system: {reason}")
+
+    def march(self, rig: TestRig, x0, t0: float, t1: float, t_eval, options, max_step: float,
+              stats: dict) -> np.ndarray:  # pragma: no cover - abstract
+        """States of ``rig`` at ``t_eval`` (contract item 3)."""
+        raise NotImplementedError
+
+    def steady(self, rig: TestRig, x0, options, stats: dict
+               ) -> tuple[np.ndarray, int, float]:  # pragma: no cover - abstract
+        """Periodic steady state of ``rig`` (contract item 4)."""
+        raise NotImplementedError
+
+
+class ScipyEngine(Engine):
+    """The reference: :func:`scipy.integrate.solve_ivp` (``options.method``, Radau by default)
+    on the compiled right-hand side and Jacobian of the model."""
+
+    name = "scipy"
+
+    def supports(self, system) -> str | None:
+        """Every test rig and every coupled system."""
+        if isinstance(system, TestRig) and not isinstance(system.model, DeviceModel):
+            return f"not a DeviceModel: {type(system.model).__name__}"
+        return None
+
+    def march(self, rig, x0, t0, t1, t_eval, options, max_step, stats):
+        sol = _solve_span(rig.model, rig.params, rig.stroke, x0, t0, t1, t_eval, options, max_step)
+        _add_scipy_stats(stats, options, sol)
+        return sol.y
+
+    def steady(self, rig, x0, options, stats):
+        model, params, stroke = rig.model, rig.params, rig.stroke
+        T = stroke.period
+        N = options.samples_per_period
+        grid = np.arange(N + 1) * (T / N)
+        x = np.asarray(x0, float)
+        prev_force = None
+        prev_change = math.inf
+        hits = 0
+        residual = math.inf
+        for k in range(options.max_cycles):
+            t0 = k * T
+            X = self.march(rig, x, t0, t0 + T, t0 + grid, options,
+                           options.max_step_fraction * T, stats)
+            x = X[:, -1]
+            t = t0 + grid[:N]
+            force = np.asarray(model.force(t, X[:, :N], stroke(t), params), float)
+            if prev_force is not None:
+                scale = max(float(np.max(np.abs(force))), 1e-30)
+                change = float(np.sqrt(np.mean((force - prev_force) ** 2))) / scale
+                rho = change / prev_change if prev_change > 0 else 0.0
+                if rho < 1.0:
+                    residual = change * rho / (1.0 - rho) if k > 1 else change
+                else:
+                    residual = max(change, residual if math.isfinite(residual) else change)
+                residual = max(residual, 0.0)
+                floor = 50.0 * options.rtol
+                if ((residual < options.steady_tol or change < floor)
+                        and k + 1 >= options.min_cycles):
+                    hits += 1
+                else:
+                    hits = 0
+                if hits >= 2:
+                    return X[:, :N], k + 1, min(residual, change)
+                prev_change = change
+            prev_force = force
+        raise ConvergenceError(
+            f"model {model.name!r}: no periodic steady state after {options.max_cycles} "
+            f"cycles at {stroke.frequency:g} Hz, {stroke.amplitude:g} m; last relative change "
+            f"per cycle {prev_change:.2e}, estimated remaining {residual:.2e} (allowed "
+            f"{options.steady_tol:g}); raise max_cycles or steady_tol")
+
+
+class CompiledEngine(Engine):
+    """The numba steppers (Dormand-Prince 5(4) switching to RODAS4; DOP853 for the rotor)."""
+
+    name = "compiled"
+
+    def supports(self, system) -> str | None:
+        """Test rigs with a harmonic or recorded stroke; the rotor built by ``rotor_system``."""
+        from liquidamp.coupled import fast
+
+        if isinstance(system, TestRig):
+            if not isinstance(system.stroke, (HarmonicStroke, RecordedStroke)):
+                return (f"the compiled engine needs a HarmonicStroke or RecordedStroke, got "
+                        f"{type(system.stroke).__name__}; use engine='scipy' for another "
+                        "stroke callable")
+            return fast.supports(system.model)
+        from liquidamp.coupled.assembly import compiled_support
+
+        return compiled_support(system)
+
+    def march(self, rig, x0, t0, t1, t_eval, options, max_step, stats):
+        from liquidamp.coupled import fast
+
+        X, _, _ = fast.march(rig.model, rig.params, rig.stroke, x0, t0, t1, t_eval, options,
+                             max_step, stats=stats)
+        return X
+
+    def steady(self, rig, x0, options, stats):
+        from liquidamp.coupled import fast
+
+        return fast.steady_loop(rig.model, rig.params, rig.stroke, x0, options, stats=stats)
+
+
+def _events(model: DeviceModel, params: DeviceParams, stroke, options):
+    if model.pressures is None or not model.uses_bulk_law or params.bulk_law != "gholizadeh":
+        return None
+
+    def low_pressure(t, x):
+        u = stroke(t)
+        p1, p2 = model.pressures(x, u, params)
+        return min(p1, p2) - options.pressure_floor
+
+    low_pressure.terminal = True
+    low_pressure.direction = -1
+    return [low_pressure]
+
+
+def _solve_span(model, params, stroke, x0, t0, t1, t_eval, options, max_step):
+    """Integrate one span; raise clear errors on failure or on zero pressure."""
+    scales = model.state_scales(params)
+    atol = options.atol_scale * scales if scales.size else options.atol_scale
+    rhs, jac = model.rhs, model.jacobian
+
+    def f(t, x):
+        return rhs(t, x, stroke(t), params)
+
+    kwargs = {}
+    if jac is not None and options.method in ("Radau", "BDF", "LSODA"):
+        kwargs["jac"] = lambda t, x: jac(t, x, stroke(t), params)
+    sol = solve_ivp(
+        f, (t0, t1), x0, method=options.method, t_eval=t_eval, rtol=options.rtol, atol=atol,
+        events=_events(model, params, stroke, options), max_step=max_step, **kwargs,
+    )
+    if sol.status == 1:
+        tz = float(sol.t_events[0][0])
+        raise PressureError(
+            f"model {model.name!r}: a chamber pressure fell to the floor "
+            f"{options.pressure_floor:g} Pa at t = {tz:.6g} s; the liquid-air law (eq. 2) is "
+            "singular at p = 0. The device cavitates: reduce the stroke or frequency, raise the "
+            "filling pressure p0, or add the 'cavitation' effect"
+        )
+    if sol.status != 0:
+        raise ConvergenceError(
+            f"model {model.name!r}: time integration failed between t = {t0:.6g} s and "
+            f"{t1:.6g} s: {sol.message}"
+        )
+    if not np.all(np.isfinite(sol.y)):
+        raise ConvergenceError(f"model {model.name!r}: non-finite state in time integration")
+    return sol
+
+
+def _add_scipy_stats(stats: dict, options, sol) -> None:
+    """Accumulate the work counts of a ``solve_ivp`` span into ``stats``."""
+    stats["engine"] = "scipy"
+    stats["method"] = options.method
+    for key in ("nfev", "njev", "nlu"):
+        stats[key] = stats.get(key, 0) + int(getattr(sol, key, 0))
+
+
+#: The engines by name (``SolverOptions.engine``).
+ENGINES: dict[str, Engine] = {e.name: e for e in (ScipyEngine(), CompiledEngine())}
+
+
+def get_engine(name: str) -> Engine:
+    """The engine called ``name`` (``"scipy"`` or ``"compiled"``; ``"python"`` is ``"scipy"``).
+
+    Examples
+    --------
+    >>> get_engine("python").name
+    'scipy'
+    >>> get_engine("fortran")
+    Traceback (most recent call last):
+    ...
+    liquidamp.errors.ParameterError: unknown engine 'fortran'; valid: scipy, compiled
+    """
+    name = {"python": "scipy"}.get(name, name)
+    check_choice("engine", name, ENGINES)
+    return ENGINES[name]
