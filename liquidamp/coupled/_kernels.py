@@ -813,7 +813,6 @@ def _integrate_source(spec, prm, ep, kind, sp, st, sy, sv, sa, x0, t0, t1, teval
             return x
         hcar = h
         # force waveform of this period against the previous one
-        fmax = 0.0
         for j in range(nf):
             for i in range(n):
                 ks[i] = out[i, j]
@@ -823,24 +822,9 @@ def _integrate_source(spec, prm, ep, kind, sp, st, sy, sv, sa, x0, t0, t1, teval
             else:  # a force carried by the states alone
                 fj = base_force(spec[S_MID], ks, 0.0, 0.0, 0.0, prm)
             force_now[j] = fj
-            fmax = max(fmax, abs(fj))
         if cyc > 0:
-            scale = max(fmax, 1e-30)
-            acc = 0.0
-            for j in range(nf):
-                acc += (force_now[j] - force_prev[j]) ** 2
-            change = math.sqrt(acc / nf) / scale
-            rho = change / prev_change if prev_change > 0.0 else 0.0
-            if rho < 1.0:
-                residual = change * rho / (1.0 - rho) if cyc > 1 else change
-            else:
-                residual = max(change, residual if math.isfinite(residual) else change)
-            residual = max(residual, 0.0)
-            floor = 50.0 * rtol
-            if (residual < steady_tol or change < floor) and cyc + 1 >= min_cycles:
-                hits += 1
-            else:
-                hits = 0
+            change, residual, hits = steady_rule(force_now, force_prev, prev_change, residual,
+                                                 hits, cyc, rtol, steady_tol, min_cycles)
             if hits >= 2:
                 info[0] = ST_OK
                 info[1] = te
@@ -857,6 +841,39 @@ def _integrate_source(spec, prm, ep, kind, sp, st, sy, sv, sa, x0, t0, t1, teval
     info[6] = residual
     info[7] = prev_change
     return x
+
+
+@njit(cache=True, error_model="numpy")
+def steady_rule(force_now, force_prev, prev_change, residual, hits, cyc, rtol, steady_tol,
+                min_cycles):
+    """The periodic-steady-state acceptance rule of both engines, after cycle ``cyc`` (0-based).
+
+    ``change`` is the RMS change of the force waveform against the previous
+    cycle relative to its peak; with ``rho = change / prev_change`` the
+    distance still to go is estimated as ``change rho / (1 - rho)``
+    (``residual``).  A cycle counts (``hits`` + 1) when that estimate is
+    below ``steady_tol`` or the change is at the round-off floor 50 rtol,
+    after ``min_cycles``; two in a row accept.  Returns ``(change, residual,
+    hits)``.
+    """
+    nf = force_now.size
+    fmax = 0.0
+    acc = 0.0
+    for j in range(nf):
+        fmax = max(fmax, abs(force_now[j]))
+        acc += (force_now[j] - force_prev[j]) ** 2
+    change = math.sqrt(acc / nf) / max(fmax, 1e-30)
+    rho = change / prev_change if prev_change > 0.0 else 0.0
+    if rho < 1.0:
+        residual = change * rho / (1.0 - rho) if cyc > 1 else change
+    else:
+        residual = max(change, residual if math.isfinite(residual) else change)
+    residual = max(residual, 0.0)
+    if (residual < steady_tol or change < 50.0 * rtol) and cyc + 1 >= min_cycles:
+        hits += 1
+    else:
+        hits = 0
+    return change, residual, hits
 
 
 def _specialise(fn, name: str, **constants):

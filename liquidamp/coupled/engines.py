@@ -52,6 +52,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from liquidamp.coupled._kernels import steady_rule
 from liquidamp.device.models import DeviceModel
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, ParameterError, PressureError, check_choice
@@ -165,20 +166,9 @@ class ScipyEngine(Engine):
             t = t0 + grid[:N]
             force = np.asarray(model.force(t, X[:, :N], stroke(t), params), float)
             if prev_force is not None:
-                scale = max(float(np.max(np.abs(force))), 1e-30)
-                change = float(np.sqrt(np.mean((force - prev_force) ** 2))) / scale
-                rho = change / prev_change if prev_change > 0 else 0.0
-                if rho < 1.0:
-                    residual = change * rho / (1.0 - rho) if k > 1 else change
-                else:
-                    residual = max(change, residual if math.isfinite(residual) else change)
-                residual = max(residual, 0.0)
-                floor = 50.0 * options.rtol
-                if ((residual < options.steady_tol or change < floor)
-                        and k + 1 >= options.min_cycles):
-                    hits += 1
-                else:
-                    hits = 0
+                change, residual, hits = steady_rule(force, prev_force, prev_change, residual,
+                                                     hits, k, options.rtol, options.steady_tol,
+                                                     options.min_cycles)
                 if hits >= 2:
                     return X[:, :N], k + 1, min(residual, change)
                 prev_change = change
