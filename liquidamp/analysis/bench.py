@@ -422,8 +422,8 @@ def _case_floquet(quick: bool, repeats: int) -> dict:
     W = rpm_to_rad_s(np.linspace(150.0, 350.0, n))
     def run():
         try:  # every repeat pays for the azimuth grid of coefficients (no warm cache)
-            from liquidamp.analysis.stability.ground_resonance import _coefficients_cached
-            _coefficients_cached.cache_clear()
+            from liquidamp.analysis.stability.ground_resonance import clear_coefficient_cache
+            clear_coefficient_cache()
         except ImportError:  # pragma: no cover
             pass
         return ground_resonance_sweep(rotor, W, method="floquet")

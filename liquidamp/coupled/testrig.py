@@ -29,7 +29,8 @@ from liquidamp.errors import ConvergenceError, ParameterError, PressureError
 from liquidamp.options import SolverOptions, resolve_options
 from liquidamp.structure.testmachine import HarmonicStroke
 
-__all__ = ["DeviceResponse", "simulate", "steady_state", "check_stroke"]
+__all__ = ["DeviceResponse", "simulate", "steady_state", "check_stroke", "prepare_run",
+           "march_span", "build_response"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -147,7 +148,31 @@ def check_stroke(stroke, params: DeviceParams) -> None:
         )
 
 
-def _prepare(model, params, stroke, options):
+def prepare_run(model, params, stroke, options):
+    """Resolve and check the inputs of a test-machine run.
+
+    Parameters
+    ----------
+    model : str or DeviceModel
+        A registered model name or a model.
+    params : DeviceParams
+        Device parameters (checked against the model).
+    stroke : callable
+        The stroke, ``stroke(t) -> (y [m], v [m/s], a [m/s^2])`` (checked).
+    options : SolverOptions or None
+        None resolves to the ``"default"`` preset.
+
+    Returns
+    -------
+    model : DeviceModel
+    options : SolverOptions
+
+    Raises
+    ------
+    ParameterError
+        If ``params`` is not a :class:`~liquidamp.device.params.DeviceParams` or fails the
+        model's or the stroke's checks.
+    """
     model = get_model(model)
     if not isinstance(params, DeviceParams):
         raise ParameterError(f"params must be DeviceParams, got {type(params).__name__}")
@@ -170,8 +195,41 @@ def _events(model: DeviceModel, params: DeviceParams, stroke, options: SolverOpt
     return [low_pressure]
 
 
-def _march(model, params, stroke, x0, t0, t1, t_eval, options, max_step):
-    """Integrate one span; raise clear errors on failure or on zero pressure."""
+def march_span(model, params, stroke, x0, t0, t1, t_eval, options, max_step):
+    """Integrate one span with scipy's ``solve_ivp``; clear errors on failure or zero pressure.
+
+    Parameters
+    ----------
+    model : DeviceModel
+        The resolved model (see :func:`prepare_run`).
+    params : DeviceParams
+        Device parameters.
+    stroke : callable
+        ``stroke(t) -> (y [m], v [m/s], a [m/s^2])``.
+    x0 : array
+        Initial state (units of ``model.state_units``).
+    t0, t1 : float
+        Time span [s].
+    t_eval : array or None
+        Output times within [t0, t1] [s].
+    options : SolverOptions
+        ``method``, ``rtol``, ``atol_scale`` (times the model's state scales),
+        ``pressure_floor`` [Pa].
+    max_step : float
+        Largest step [s].
+
+    Returns
+    -------
+    scipy.integrate.OdeResult
+        The ``solve_ivp`` solution (``t`` [s], ``y`` states).
+
+    Raises
+    ------
+    PressureError
+        If a chamber pressure reaches the floor (eq. 2 singular at p = 0).
+    ConvergenceError
+        If the integration fails or a state is not finite.
+    """
     scales = model.state_scales(params)
     atol = options.atol_scale * scales if scales.size else options.atol_scale
     rhs, jac = model.rhs, model.jacobian
@@ -212,8 +270,39 @@ def _add_stats(stats: dict, options, sol) -> None:
         stats[key] = stats.get(key, 0) + int(getattr(sol, key, 0))
 
 
-def _response(model, params, stroke, t, X, options, *, status, message, residual=0.0,
+def build_response(model, params, stroke, t, X, options, *, status, message, residual=0.0,
               cycles=0, warnings=(), stats=None):
+    """The :class:`DeviceResponse` of states ``X`` at times ``t``: force, pressures, checks.
+
+    Parameters
+    ----------
+    model : DeviceModel
+        The resolved model.
+    params : DeviceParams
+        Device parameters.
+    stroke : callable
+        ``stroke(t) -> (y [m], v [m/s], a [m/s^2])``.
+    t : ndarray
+        Times [s], shape (n,).
+    X : ndarray
+        States at ``t``, shape (n_states, n).
+    options : SolverOptions
+        Gives ``vapour_pressure`` [Pa] for the cavitation warning.
+    status, message : str
+        Copied to the response.
+    residual : float
+        Periodicity residual of a steady state [-].
+    cycles : int
+        Excitation cycles marched.
+    warnings : sequence of str
+        Warnings so far (pressure warnings are appended).
+    stats : dict, optional
+        Solver work counts.
+
+    Returns
+    -------
+    DeviceResponse
+    """
     y, v, a = stroke(t)
     y, v, a = (np.broadcast_to(np.asarray(q, float), t.shape).copy() for q in (y, v, a))
     u = (y, v, a)
@@ -301,7 +390,7 @@ def simulate(model, params: DeviceParams, stroke, t_end: float, *, t_start: floa
     >>> r.status, r.force.shape == r.time.shape
     ('completed', True)
     """
-    model, options = _prepare(model, params, stroke, options)
+    model, options = prepare_run(model, params, stroke, options)
     t_end = float(t_end)
     if not t_end > t_start:
         raise ParameterError(f"t_end must be > t_start = {t_start:g} s, got {t_end:g} s")
@@ -320,11 +409,11 @@ def simulate(model, params: DeviceParams, stroke, t_end: float, *, t_start: floa
         X, _, _ = march(model, params, stroke, x, t_start, t_end, t_eval, options,
                         options.max_step_fraction * period, stats=stats)
     else:
-        sol = _march(model, params, stroke, x, t_start, t_end, t_eval, options,
+        sol = march_span(model, params, stroke, x, t_start, t_end, t_eval, options,
                      options.max_step_fraction * period)
         X = sol.y
         _add_stats(stats, options, sol)
-    return _response(model, params, stroke, t_eval, X, options, status="completed",
+    return build_response(model, params, stroke, t_eval, X, options, status="completed",
                      message=f"integrated {t_end - t_start:.4g} s", stats=stats)
 
 
@@ -375,7 +464,7 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
     >>> r.status, r.residual < 1e-6, r.mass_error < 1e-9
     ('steady', True, True)
     """
-    model, options = _prepare(model, params, stroke, options)
+    model, options = prepare_run(model, params, stroke, options)
     if not isinstance(stroke, HarmonicStroke):
         raise ParameterError("steady_state needs a HarmonicStroke; use simulate() for a record")
     T = stroke.period
@@ -384,7 +473,7 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
         x0, float)
     grid = np.arange(N + 1) * (T / N)
     if model.n_states == 0:
-        return _response(model, params, stroke, grid[:N], np.zeros((0, N)), options,
+        return build_response(model, params, stroke, grid[:N], np.zeros((0, N)), options,
                          status="steady", message="algebraic model: steady at once", cycles=1)
     if options.engine == "compiled":
         from liquidamp.coupled.fast import steady_loop
@@ -393,7 +482,7 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
         Xp, cycles, residual = steady_loop(model, params, stroke, x, options, stats=stats)
         msg = (f"periodic steady state after {cycles} cycles; estimated remaining "
                f"change {residual:.2e} of peak force (compiled engine)")
-        return _response(model, params, stroke, grid[:N], Xp, options, status="steady",
+        return build_response(model, params, stroke, grid[:N], Xp, options, status="steady",
                          message=msg, residual=residual, cycles=cycles, stats=stats)
     stats = {}
     prev_force = None
@@ -402,7 +491,7 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
     residual = math.inf
     for k in range(options.max_cycles):
         t0 = k * T
-        sol = _march(model, params, stroke, x, t0, t0 + T, t0 + grid, options,
+        sol = march_span(model, params, stroke, x, t0, t0 + T, t0 + grid, options,
                      options.max_step_fraction * T)
         _add_stats(stats, options, sol)
         x = sol.y[:, -1]
@@ -426,7 +515,7 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
                 Xp = sol.y[:, :N]
                 msg = (f"periodic steady state after {k + 1} cycles; estimated remaining "
                        f"change {residual:.2e} of peak force")
-                return _response(model, params, stroke, sol.t[:N] - t0, Xp, options,
+                return build_response(model, params, stroke, sol.t[:N] - t0, Xp, options,
                                  status="steady", message=msg, residual=min(residual, change),
                                  cycles=k + 1, stats=stats)
             prev_change = change

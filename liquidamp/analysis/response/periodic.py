@@ -47,7 +47,13 @@ import math
 
 import numpy as np
 
-from liquidamp.coupled.testrig import DeviceResponse, _march, _prepare, _response, steady_state
+from liquidamp.coupled.testrig import (
+    DeviceResponse,
+    build_response,
+    march_span,
+    prepare_run,
+    steady_state,
+)
 from liquidamp.device.fluid import density_gholizadeh
 from liquidamp.device.models import DeviceModel
 from liquidamp.device.params import DeviceParams
@@ -309,7 +315,7 @@ def periodic_orbit(model, params: DeviceParams, stroke: HarmonicStroke, options=
     >>> r.residual < 1e-6, r.cycles < 40  # one-period runs (a march needs 12 cycles)
     (True, True)
     """
-    model, options = _prepare(model, params, stroke, options)
+    model, options = prepare_run(model, params, stroke, options)
     check_choice("periodic-orbit method", method, METHODS)
     if not isinstance(stroke, HarmonicStroke):
         raise ParameterError("periodic_orbit needs a HarmonicStroke")
@@ -345,7 +351,7 @@ def periodic_orbit(model, params: DeviceParams, stroke: HarmonicStroke, options=
             nonlocal runs
             runs += 1
             te = grid[-1:] if t_eval is None else t_eval
-            sol = _march(model, params, stroke, xs, 0.0, T, te, run_opts, max_step)
+            sol = march_span(model, params, stroke, xs, 0.0, T, te, run_opts, max_step)
             return sol.y[:, -1], sol.y
 
     # one marched period removes the fast (stiff) part of the transient and
@@ -414,5 +420,5 @@ def periodic_orbit(model, params: DeviceParams, stroke: HarmonicStroke, options=
            f"{res:.2e} of the state scales")
     if tightened:
         msg += f"; one-period runs tightened to rtol {run_opts.rtol:g} (residual stalled)"
-    return _response(model, params, stroke, grid[:N], X[:, :N], options, status="steady",
+    return build_response(model, params, stroke, grid[:N], X[:, :N], options, status="steady",
                      message=msg, residual=res, cycles=runs)

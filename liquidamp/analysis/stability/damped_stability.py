@@ -80,6 +80,7 @@ from liquidamp.structure.rotor import multiblade_basis
 
 __all__ = [
     "DeviceLTI",
+    "closed_loop_mbc_transform",
     "device_lti",
     "closed_loop_matrix",
     "closed_loop_interconnect",
@@ -373,8 +374,36 @@ def coupled_eigenvalues(system: CoupledSystem, ltis=None, t: float = 0.0) -> np.
 # rotor
 
 
-def _mbc_transform(N: int, nz: int, Omega: float, psi: float):
-    """P, P' for the closed-loop rotor state [zeta, hub, zeta', hub', z_1..z_N]."""
+def closed_loop_mbc_transform(N: int, nz: int, Omega: float, psi: float):
+    """Multiblade (Coleman) transformation of the closed-loop rotor state and its time derivative.
+
+    The closed-loop state is [zeta, hub, zeta', hub', z_1..z_N]: N blade lag angles and the two
+    hub displacements, their rates, then the ``nz`` states of each blade's device.  The blade
+    coordinates (and each device's states, blade by blade) go to multiblade coordinates with
+    :func:`liquidamp.structure.rotor.multiblade_basis`; the hub coordinates are unchanged.
+
+    Parameters
+    ----------
+    N : int
+        Number of blades.
+    nz : int
+        States of one device.
+    Omega : float
+        Rotor speed [rad/s].
+    psi : float
+        Azimuth of blade 1 [rad].
+
+    Returns
+    -------
+    P, Pdot : ndarray
+        x = P x_mbc, and dP/dt = Omega dP/dpsi [1/s]; square, of size 4 + 2 N + N nz.
+
+    Examples
+    --------
+    >>> P, Pd = closed_loop_mbc_transform(3, 1, 20.0, 0.0)
+    >>> P.shape, Pd.shape
+    ((13, 13), (13, 13))
+    """
     Tb, Tb1, Tb2 = multiblade_basis(N, psi)
     n = N + 2
     T, T1, T2 = np.eye(n), np.zeros((n, n)), np.zeros((n, n))
@@ -439,7 +468,7 @@ def rotor_device_floquet(rotor, Omega: float, device: Device, *, inoperative=(),
     if N >= 3:
         ref = []
         for psi in 2.0 * np.pi * np.arange(32) / 32:
-            P, Pd = _mbc_transform(N, nz, Omega, psi)
+            P, Pd = closed_loop_mbc_transform(N, nz, Omega, psi)
             ref.append(np.linalg.solve(P, loop.A(psi / Omega) @ P - Pd))
         ref = np.linalg.eigvals(np.mean(ref, axis=0))
         return resolve_frequencies(res.exponents, ref, Omega), res
@@ -476,7 +505,7 @@ def rotor_device_eigenvalues(rotor, Omega: float, device: Device, *, inoperative
                                  "blade; use method='floquet' with inoperative dampers")
         loop = rotor_closed_loop(rotor, W, device, amplitude_m=amplitude_m,
                                  frequency_hz=frequency_hz, lti=lti)
-        P, Pd = _mbc_transform(rotor.n_blades, loop.ltis[0].n_states, W, 0.0)
+        P, Pd = closed_loop_mbc_transform(rotor.n_blades, loop.ltis[0].n_states, W, 0.0)
         Am = np.linalg.solve(P, loop.A(0.0) @ P - Pd)
         return np.linalg.eig(Am) if vectors else np.linalg.eigvals(Am)
     if method != "floquet":

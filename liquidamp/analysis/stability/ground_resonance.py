@@ -63,6 +63,7 @@ from liquidamp.structure.rotor import GroundResonanceRotor
 
 __all__ = [
     "METHODS",
+    "clear_coefficient_cache",
     "GroundResonanceSweep",
     "coleman_eigenvalues",
     "rotor_floquet",
@@ -183,6 +184,20 @@ def _coefficients_cached(rotor: GroundResonanceRotor) -> _RotorCoefficients:
     c = _RotorCoefficients(rotor)
     c.check()
     return c
+
+
+def clear_coefficient_cache() -> None:
+    """Forget the cached periodic coefficients of recently swept rotors (up to 8 are kept).
+
+    The Floquet route evaluates each rotor's periodic coefficient matrices on an azimuth grid
+    once and keeps them; clear the cache to time a sweep from scratch (the benchmark does) or
+    to free their memory.
+
+    Examples
+    --------
+    >>> clear_coefficient_cache()
+    """
+    _coefficients_cached.cache_clear()
 
 
 def _coefficients(rotor: GroundResonanceRotor) -> _RotorCoefficients:

@@ -66,7 +66,7 @@ from scipy.optimize import brentq
 from scipy.signal import find_peaks
 
 from liquidamp.analysis.stability.damped_stability import (
-    _mbc_transform,
+    closed_loop_mbc_transform,
     device_lti,
     rotor_closed_loop,
     rotor_device_eigenvalues,
@@ -252,7 +252,7 @@ def critical_mode(rotor, Omega: float, device: Device, *, inoperative=(), lti=No
         up = np.flatnonzero(lam.imag > 0)
         i = up[np.argmax(lam.real[up])]
         loop = rotor_closed_loop(rotor, W, device, lti=lti)
-        P, _ = _mbc_transform(N, loop.ltis[0].n_states, W, 0.0)
+        P, _ = closed_loop_mbc_transform(N, loop.ltis[0].n_states, W, 0.0)
         v = vec[:, i]
         wf = lam[i].imag
         c = [abs(v[0]), 0.0, 0.0]
