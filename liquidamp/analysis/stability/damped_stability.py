@@ -331,7 +331,7 @@ def closed_loop_interconnect(system: CoupledSystem, ltis=None, t: float = 0.0
     A = h.A(t).copy()
     B = h.B(t).copy()
     C = h.C
-    iF = system._idx["iF"]
+    iF = system.force_inputs
     Cv = system.rate_matrix
     m = len(ltis)
     Da = np.diag([lt.D[0, 2] for lt in ltis])
