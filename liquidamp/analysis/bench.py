@@ -558,7 +558,7 @@ HIDDEN_EFFECT_RECORDS = {
 def _case_hidden_effects(quick: bool, repeats: int) -> dict:
     """Diagnosis of synthetic records holding series compliance, freeplay or cavitation.
 
-    The records and the call are those of ``tests/analysis/test_diagnosis.py`` (whole
+    The records and the call are those of ``tests/analysis/measured/test_diagnosis.py`` (whole
     catalogue, top 1, max_nfev 40, two steps); the records are made before timing.
     """
     from liquidamp.analysis.measured.diagnosis import diagnose

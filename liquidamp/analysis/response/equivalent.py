@@ -44,7 +44,7 @@ Where it fails (reported in ``valid``/``warnings`` rather than hidden):
 Measured agreement with the first harmonic of the full nonlinear model
 (eq. 10), relative error |K_eq - K_NL| / |K_NL| with ``bulk="auto"``
 (= averaged for ``full``), frequencies 0.5, 2, 5, 10, 20 Hz (issue #3
-report; spot checks in tests/analysis/test_equivalent.py; ``--`` not
+report; spot checks in tests/analysis/response/test_equivalent.py; ``--`` not
 re-measured after the amplitude continuation was added, ``inv.`` flagged
 invalid):
 
