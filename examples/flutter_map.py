@@ -1,7 +1,7 @@
 """Flutter speed of the Hodges & Pierce section against the device's parameters.
 
 The reference design on the plunge port, sized by
-:func:`liquidamp.analysis.sizing.size_flutter_damper` (damping ratio
+:func:`liquidamp.analysis.stability.sizing.size_flutter_damper` (damping ratio
 ``--zeta`` of the plunge at the bare section's flutter frequency), then
 one parameter at a time multiplied: the air ratios 1/gamma (compliance),
 the laminar loss c1 and the channel inertance S_t.  p method with
@@ -24,8 +24,8 @@ PARAMETERS = {"air ratio 1/gamma": ("inv_gamma1", "inv_gamma2"), "c1": ("c1",),
 
 def _point(item):
     """Flutter speed U_F/(b omega_theta) for one (parameter, multiplier) [-]."""
-    from liquidamp.analysis.damped_stability import damped_flutter_analysis
-    from liquidamp.analysis.sizing import flutter_damper_device
+    from liquidamp.analysis.stability.damped_stability import damped_flutter_analysis
+    from liquidamp.analysis.stability.sizing import flutter_damper_device
     from liquidamp.coupled.assembly import Device
     from liquidamp.structure.hostio import load_section
 
@@ -38,9 +38,9 @@ def _point(item):
 
 
 def main(argv=None) -> int:
-    from liquidamp.analysis.damped_stability import damped_flutter_analysis
-    from liquidamp.analysis.parallel import map_batched
-    from liquidamp.analysis.sizing import flutter_damper_device
+    from liquidamp.analysis.stability.damped_stability import damped_flutter_analysis
+    from liquidamp.analysis.stability.parallel import map_batched
+    from liquidamp.analysis.stability.sizing import flutter_damper_device
     from liquidamp.structure.hostio import load_section
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
@@ -64,7 +64,7 @@ def main(argv=None) -> int:
     s = load_section("hodges-pierce")
     dv, _ = flutter_damper_device("viscous", s, port=args.port, zeta=args.zeta)
     v_visc = damped_flutter_analysis(s, {args.port: dv}).flutter_speed
-    from liquidamp.analysis.flutter import flutter_analysis
+    from liquidamp.analysis.stability.flutter import flutter_analysis
 
     v_bare = flutter_analysis(s, "jones", "p").flutter_speed
     table = np.array([np.nan if v is None else v for v in vals]).reshape(len(PARAMETERS), -1)

@@ -5,7 +5,7 @@ Two products, written to ``--out`` as PNG and JSON:
 1. ``dampers``: largest real part against rotor speed for the viscous damper
    (Hammond's), the reference design, Device A (large inertance), Device B
    (small inertance) and an ideal Maxwell unit of the reference's stiffness,
-   each sized by :func:`liquidamp.analysis.sizing.size_lag_damper`, with all
+   each sized by :func:`liquidamp.analysis.stability.sizing.size_lag_damper`, with all
    dampers working (Coleman) and with damper 1 failed (Floquet).
 2. ``map``: largest real part over (rotor speed, channel-inertance multiplier
    S_t x m) for the sized reference design, healthy and failed; the inertance
@@ -28,8 +28,8 @@ import numpy as np
 
 def _point(item):
     """Largest real part [1/s] of one (device spec, multiplier, rpm, inoperative) point."""
-    from liquidamp.analysis.damped_stability import rotor_device_eigenvalues
-    from liquidamp.analysis.sizing import lag_damper_device
+    from liquidamp.analysis.stability.damped_stability import rotor_device_eigenvalues
+    from liquidamp.analysis.stability.sizing import lag_damper_device
     from liquidamp.coupled.assembly import Device
     from liquidamp.structure.hostio import load_rotor
 
@@ -43,7 +43,7 @@ def _point(item):
 
 
 def main(argv=None) -> int:
-    from liquidamp.analysis.parallel import map_batched
+    from liquidamp.analysis.stability.parallel import map_batched
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", default="out", help="output directory")

@@ -71,8 +71,8 @@ def plain_text(text: str) -> str:
 
     Examples
     --------
-    >>> plain_text("sized by :func:`liquidamp.analysis.sizing.size_lag_damper` (``--arm``)")
-    'sized by liquidamp.analysis.sizing.size_lag_damper (--arm)'
+    >>> plain_text("by :func:`liquidamp.analysis.stability.sizing.size_lag_damper` (``--arm``)")
+    'by liquidamp.analysis.stability.sizing.size_lag_damper (--arm)'
     """
     text = _ROLE.sub(r"\1", text)
     text = text.replace("``", "")

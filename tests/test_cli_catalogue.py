@@ -235,7 +235,7 @@ def test_output_folder_not_writable(tmp_path, capsys, monkeypatch):
 
 
 def test_data_is_written_before_the_plot(tmp_path, capsys, monkeypatch):
-    import liquidamp.analysis.plots as plots
+    import liquidamp.analysis.reports.plots as plots
 
     def broken(*args, **kwargs):
         raise OSError(28, "No space left on device", "loops.png")
@@ -451,11 +451,12 @@ def test_python_m_liquidamp_argument_error():
     (["simulate", "--frequency", "3", "--amplitude", "1mm", "--plot", "BAD"],
      "liquidamp.coupled.testrig.steady_state", "unknown figure format '(none)'"),
     (["sweep", "ground-resonance", "--rpm", "100,200", "--json", "gr.json", "--plot", "g.x"],
-     "liquidamp.analysis.ground_resonance.ground_resonance_sweep", "unknown figure format"),
+     "liquidamp.analysis.stability.ground_resonance.ground_resonance_sweep",
+     "unknown figure format"),
     (["lco", "--damper", "device_a", "--rpm", "230", "--json", "nofolder/l.json"],
-     "liquidamp.analysis.lco.critical_mode", "does not exist"),
+     "liquidamp.analysis.stability.lco.critical_mode", "does not exist"),
     (["stiffness", "--frequency", "1", "--amplitude", "1mm", "--out", "k", "--json", "k.txt"],
-     "liquidamp.analysis.stiffness.nonlinear_stiffness", "valid: .json"),
+     "liquidamp.analysis.response.stiffness.nonlinear_stiffness", "valid: .json"),
 ])
 def test_outputs_are_checked_before_any_work(tmp_path, capsys, monkeypatch, argv, target,
                                              message):
@@ -476,7 +477,7 @@ def test_outputs_are_checked_before_any_work(tmp_path, capsys, monkeypatch, argv
 def test_stiffness_points_under_the_bar_equal_the_library(tmp_path):
     import numpy as np
 
-    from liquidamp.analysis.stiffness import nonlinear_stiffness
+    from liquidamp.analysis.response.stiffness import nonlinear_stiffness
     from liquidamp.commands.stiffness import _nonlinear
     from liquidamp.device import preset
 

@@ -50,7 +50,7 @@ def test_presets_are_read_only_and_listed():
     with pytest.raises(TypeError):
         PRESETS["mine"] = SolverOptions()  # type: ignore[index]
     assert DEFAULT_OPTIONS is PRESETS["default"] == SolverOptions()
-    from liquidamp.analysis.calibration import FIT_OPTIONS
+    from liquidamp.analysis.measured.calibration import FIT_OPTIONS
 
     assert FIT_OPTIONS is PRESETS["fit"]
 
@@ -119,14 +119,14 @@ def _spy(monkeypatch, target, name="resolve_options"):
 
 
 def _record():
-    from liquidamp.analysis.records import Record
+    from liquidamp.analysis.measured.records import Record
 
     t = np.arange(0.0, 1.0, 0.005)
     return Record.from_arrays(t, 0.003 * np.sin(2 * np.pi * 3 * t), 100 * np.sin(2 * np.pi * 3 * t))
 
 
 def _rotor_device():
-    from liquidamp.analysis.sizing import size_lag_damper
+    from liquidamp.analysis.stability.sizing import size_lag_damper
     from liquidamp.coupled.assembly import Device
     from liquidamp.device import preset
     from liquidamp.structure.hostio import load_rotor
@@ -153,27 +153,28 @@ def _calls():
         "testrig.steady_state": ("coupled.testrig", "default",
                                  lambda: _fn("coupled.testrig.steady_state")("full", p, s)),
         "periodic_orbit": ("coupled.testrig", "default",
-                           lambda: _fn("analysis.periodic.periodic_orbit")("full", p, s)),
+                           lambda: _fn("analysis.response.periodic.periodic_orbit")("full", p, s)),
         "simulate_coupled": ("coupled.assembly", "default",
                              lambda: _fn("coupled.assembly.simulate_coupled")(None, 1.0)),
-        "simulate_record": ("analysis.records", "default", lambda: _fn(
-            "analysis.records.simulate_record")("full", p, _record())),
-        "equivalent_linearization": ("analysis.equivalent", "default", lambda: _fn(
-            "analysis.equivalent.equivalent_linearization")(p, 3.0, 1e-3)),
-        "run_case_study": ("analysis.casestudy", "casestudy",
-                           lambda: _fn("analysis.casestudy.run_case_study")()),
-        "predict": ("analysis.calibration", "fit",
-                    lambda: _fn("analysis.calibration.predict")("full", p, (), [])),
-        "calibrate": ("analysis.calibration", "fit",
-                      lambda: _fn("analysis.calibration.calibrate")([_record()])),
-        "diagnose": ("analysis.diagnosis", "fit",
-                     lambda: _fn("analysis.diagnosis.diagnose")([_record()], [_record()])),
+        "simulate_record": ("analysis.measured.record_model", "default", lambda: _fn(
+            "analysis.measured.record_model.simulate_record")("full", p, _record())),
+        "equivalent_linearization": ("analysis.response.equivalent", "default", lambda: _fn(
+            "analysis.response.equivalent.equivalent_linearization")(p, 3.0, 1e-3)),
+        "run_case_study": ("analysis.reports.casestudy", "casestudy",
+                           lambda: _fn("analysis.reports.casestudy.run_case_study")()),
+        "predict": ("analysis.measured.calibration", "fit",
+                    lambda: _fn("analysis.measured.calibration.predict")("full", p, (), [])),
+        "calibrate": ("analysis.measured.calibration", "fit",
+                      lambda: _fn("analysis.measured.calibration.calibrate")([_record()])),
+        "diagnose": ("analysis.measured.diagnosis", "fit",
+                     lambda: _fn("analysis.measured.diagnosis.diagnose")([_record()], [_record()])),
         "simulate_rotor": ("options", "rotor", lambda: _fn("coupled.fast.simulate_rotor")(
             *_rotor_device()[:1], W, _rotor_device()[1], 1.0)),
-        "simulate_lco": ("analysis.lco", "rotor", lambda: _fn("analysis.lco.simulate_lco")(
+        "simulate_lco": ("analysis.stability.lco", "rotor", lambda: _fn(
+            "analysis.stability.lco.simulate_lco")(
             *_rotor_device()[:1], W, _rotor_device()[1], mode=object())),
-        "simulate_section_lco": ("analysis.lco", "section", lambda: _fn(
-            "analysis.lco.simulate_section_lco")(None, 1.0, None, mode=object())),
+        "simulate_section_lco": ("analysis.stability.lco", "section", lambda: _fn(
+            "analysis.stability.lco.simulate_section_lco")(None, 1.0, None, mode=object())),
     }
 
 
@@ -263,7 +264,7 @@ def _simulate(tmp_path, name, *extra):
 
 
 def test_cli_default_is_the_library_default(tmp_path):
-    from liquidamp.analysis.harmonics import dynamic_stiffness
+    from liquidamp.analysis.response.harmonics import dynamic_stiffness
     from liquidamp.coupled.testrig import steady_state
     from liquidamp.device import preset
     from liquidamp.structure.testmachine import HarmonicStroke

@@ -28,7 +28,8 @@ Cases (keys of ``"cases"``):
     module's own API is used when it is available).
 ``floquet_sweep``
     Hammond (1974) rotor with one lag damper inoperative, 201 rotor speeds,
-    Floquet analysis (:func:`~liquidamp.analysis.ground_resonance.ground_resonance_sweep`).
+    Floquet analysis
+    (:func:`~liquidamp.analysis.stability.ground_resonance.ground_resonance_sweep`).
 ``coupled_rotor``
     Hammond rotor with a full liquid device on each of the four blades,
     260 rpm, 10 s simulated: the compiled kernel
@@ -36,15 +37,15 @@ Cases (keys of ``"cases"``):
     route :func:`~liquidamp.coupled.assembly.simulate_coupled` (same DOP853
     algorithm and tolerance); ``real_time_factor`` = simulated / wall time.
 ``diagnosis``
-    One :func:`~liquidamp.analysis.diagnosis.diagnose` of the bundled record
+    One :func:`~liquidamp.analysis.measured.diagnosis.diagnose` of the bundled record
     (first 3 cycles, as the demo loop).
 ``diagnosis_hidden_effects``
-    :func:`~liquidamp.analysis.diagnosis.diagnose` of the synthetic records of
+    :func:`~liquidamp.analysis.measured.diagnosis.diagnose` of the synthetic records of
     the diagnosis tests that hold series compliance, freeplay or cavitation
     (states that touch the fluid: before every effect was compiled these ran
     on LSODA, 10-25 s each); one time per effect.
 ``stiffness_sweep``
-    :func:`~liquidamp.analysis.stiffness.nonlinear_stiffness` of the reference
+    :func:`~liquidamp.analysis.response.stiffness.nonlinear_stiffness` of the reference
     design, full model, 30 log-spaced frequencies 0.5-20 Hz x 2 amplitudes
     (1 and 3 mm), as ``liquidamp stiffness`` runs it (default options: the
     compiled engine); the baseline is the same sweep on the Python engine
@@ -125,7 +126,7 @@ def baseline_steady_state(model, params, stroke, rtol: float, *, steady_tol: flo
     """
     from scipy.integrate import solve_ivp
 
-    from liquidamp.analysis.harmonics import first_harmonic
+    from liquidamp.analysis.response.harmonics import first_harmonic
     from liquidamp.device.models import get_model
 
     m = get_model(model)
@@ -173,7 +174,7 @@ def _baseline_at(p, s, K_ref, target, ladder):
 
 
 def _case_steady(quick: bool, repeats: int) -> dict:
-    from liquidamp.analysis.harmonics import dynamic_stiffness
+    from liquidamp.analysis.response.harmonics import dynamic_stiffness
     from liquidamp.coupled.testrig import steady_state
     from liquidamp.options import SolverOptions
 
@@ -309,10 +310,11 @@ def calibrate_multipliers(records, engine: str = "compiled", *, max_nfev: int | 
 
 
 def _as_record_objects(records, directory):
-    """The synthetic (stroke, t, F) records as :class:`~liquidamp.analysis.records.Record`."""
+    """The synthetic (stroke, t, F) records as
+    :class:`~liquidamp.analysis.measured.records.Record`."""
     from pathlib import Path
 
-    from liquidamp.analysis.records import read_record, write_record
+    from liquidamp.analysis.measured.records import read_record, write_record
 
     out = []
     for i, (stroke, t, F) in enumerate(records):
@@ -325,7 +327,7 @@ def _as_record_objects(records, directory):
 def _case_calibration(quick: bool, repeats: int) -> dict:
     recs = _records(quick)
     try:
-        from liquidamp.analysis.calibration import FIT_OPTIONS, calibrate, predict
+        from liquidamp.analysis.measured.calibration import FIT_OPTIONS, calibrate, predict
     except ImportError:  # pragma: no cover - depends on the calibration module
         calibrate = None
     if calibrate is None:
@@ -351,9 +353,9 @@ def _case_calibration(quick: bool, repeats: int) -> dict:
         "description": "calibration of the paper's 4 multipliers (inv_gamma1, inv_gamma2, c1, "
                        "c2) of the reference design to two synthetic 8-cycle records (2, 5 "
                        "Hz, 3 mm, 200 Hz, 0.5 % noise) with "
-                       "liquidamp.analysis.calibration.calibrate (default options: compiled "
-                       "engine, physics start)",
-        "api": "liquidamp.analysis.calibration.calibrate",
+                       "liquidamp.analysis.measured.calibration.calibrate (default options: "
+                       "compiled engine, physics start)",
+        "api": "liquidamp.analysis.measured.calibration.calibrate",
         "seconds": seconds,
         "repeats": reps,
         "baseline_seconds": baseline,
@@ -408,7 +410,10 @@ def _case_calibration_local(recs, quick: bool, repeats: int) -> dict:
 # ------------------------------------------------------------------ floquet
 def _case_floquet(quick: bool, repeats: int) -> dict:
     try:
-        from liquidamp.analysis.ground_resonance import ground_resonance_sweep, rpm_to_rad_s
+        from liquidamp.analysis.stability.ground_resonance import (
+            ground_resonance_sweep,
+            rpm_to_rad_s,
+        )
         from liquidamp.structure.hostio import load_rotor
     except ImportError as exc:  # pragma: no cover - depends on other modules
         return {"skipped": f"rotor/Floquet modules not available: {exc}"}
@@ -417,8 +422,8 @@ def _case_floquet(quick: bool, repeats: int) -> dict:
     W = rpm_to_rad_s(np.linspace(150.0, 350.0, n))
     def run():
         try:  # every repeat pays for the azimuth grid of coefficients (no warm cache)
-            from liquidamp.analysis.ground_resonance import _coefficients_cached
-            _coefficients_cached.cache_clear()
+            from liquidamp.analysis.stability.ground_resonance import clear_coefficient_cache
+            clear_coefficient_cache()
         except ImportError:  # pragma: no cover
             pass
         return ground_resonance_sweep(rotor, W, method="floquet")
@@ -430,7 +435,8 @@ def _case_floquet(quick: bool, repeats: int) -> dict:
         seconds, sweep = _median_time(run, reps)
     return {
         "description": f"Hammond (1974) rotor, one lag damper inoperative, {n} rotor speeds "
-                       "150-350 rpm, Floquet analysis (liquidamp.analysis.ground_resonance, "
+                       "150-350 rpm, Floquet analysis "
+                       "(liquidamp.analysis.stability.ground_resonance, "
                        "default options: all speeds batched, RK4 + Richardson with error "
                        "control at rtol 1e-10 on the monodromy; coefficient cache cleared "
                        "before each repeat)",
@@ -448,10 +454,10 @@ def _coupled_setup():
 
     rotor = load_rotor("hammond1974")
     try:
-        from liquidamp.analysis.sizing import size_lag_damper
+        from liquidamp.analysis.stability.sizing import size_lag_damper
 
         params = size_lag_damper(preset("reference"), rotor).params
-        sizing = "liquidamp.analysis.sizing.size_lag_damper(preset('reference'), rotor)"
+        sizing = "liquidamp.analysis.stability.sizing.size_lag_damper(preset('reference'), rotor)"
     except ImportError:  # pragma: no cover - depends on the sizing module
         params = preset("reference").replace(A_p=4 * preset("reference").A_p)
         sizing = "preset('reference') with 4 x A_p"
@@ -510,8 +516,8 @@ def _case_coupled(quick: bool, repeats: int) -> dict:
 
 def _case_diagnosis(quick: bool, repeats: int) -> dict:
     try:
-        from liquidamp.analysis.diagnosis import bundled_records, diagnose
-        from liquidamp.analysis.records import read_record
+        from liquidamp.analysis.measured.diagnosis import bundled_records, diagnose
+        from liquidamp.analysis.measured.records import read_record
     except ImportError as exc:  # pragma: no cover - depends on other modules
         return {"skipped": f"diagnosis module not available: {exc}"}
     files = bundled_records()
@@ -523,7 +529,7 @@ def _case_diagnosis(quick: bool, repeats: int) -> dict:
         kw = dict(top=1, max_nfev=4, max_steps=1, candidates=("smooth_friction",))
     seconds, d = _median_time(lambda: diagnose([cal], [val], **kw), 1)
     return {
-        "description": f"liquidamp.analysis.diagnosis.diagnose of the bundled record "
+        "description": f"liquidamp.analysis.measured.diagnosis.diagnose of the bundled record "
                        f"demo_3Hz_3mm (validated on demo_4Hz_2mm), first {cycles:g} cycles, "
                        + ("one candidate, one step (quick)" if quick else
                           "whole catalogue, top 1, max_nfev 40 (as demo_loop)"),
@@ -553,16 +559,17 @@ HIDDEN_EFFECT_RECORDS = {
 def _case_hidden_effects(quick: bool, repeats: int) -> dict:
     """Diagnosis of synthetic records holding series compliance, freeplay or cavitation.
 
-    The records and the calls are those of ``tests/analysis/test_diagnosis.py`` (top 1,
-    max_nfev 40; the whole catalogue over two steps for compliance and freeplay, the
-    cavitation candidate alone for cavitation, as its test); the records are made before
+    The records and the calls are those of ``tests/analysis/measured/test_diagnosis.py``
+    (top 1, max_nfev 40; the whole catalogue over two steps for compliance and freeplay,
+    the cavitation candidate alone for cavitation, as its test); the records are made before
     timing.  ``seconds_cavitation_whole_catalogue`` times the cavitation record with the
     whole catalogue over two steps as well (no goal).
     """
-    from liquidamp.analysis.diagnosis import diagnose
-    from liquidamp.analysis.synthetic import synthetic_record
+    from liquidamp.analysis.measured.diagnosis import diagnose
+    from liquidamp.analysis.measured.synthetic import synthetic_record
 
-    out = {"description": "liquidamp.analysis.diagnosis.diagnose of 3-cycle synthetic records "
+    out = {"description": "liquidamp.analysis.measured.diagnosis.diagnose of 3-cycle synthetic "
+                          "records "
                           "(200 Hz, noise) holding an undeclared effect, validated on a second "
                           "record, as the diagnosis tests call it (top 1, max_nfev 40)"
                           + (" (quick: one candidate, one step, max_nfev 4)" if quick else ""),
@@ -588,7 +595,7 @@ def _case_hidden_effects(quick: bool, repeats: int) -> dict:
 def _case_stiffness(quick: bool, repeats: int) -> dict:
     import warnings
 
-    from liquidamp.analysis.stiffness import STIFFNESS_OPTIONS, nonlinear_stiffness
+    from liquidamp.analysis.response.stiffness import STIFFNESS_OPTIONS, nonlinear_stiffness
     from liquidamp.device import preset
     from liquidamp.errors import LiquidampWarning
     from liquidamp.options import SolverOptions
@@ -637,7 +644,8 @@ _FIRST_CALL_CODE = {
                       "from liquidamp.coupled.fast import simulate_rotor; r, d, _ = "
                       "_coupled_setup(); simulate_rotor(r, 27.2, d, 0.1, {'zeta_1': 1e-3})"),
     "calibration": ("import tempfile; from liquidamp.analysis.bench import _records, "
-                    "_as_record_objects; from liquidamp.analysis.calibration import calibrate; "
+                    "_as_record_objects; "
+                    "from liquidamp.analysis.measured.calibration import calibrate; "
                     "from liquidamp.device import preset; d = tempfile.mkdtemp(); "
                     "calibrate(_as_record_objects(_records(True), d), "
                     "params=preset('reference'), max_nfev=1)"),

@@ -87,7 +87,7 @@ def check_fit_outputs(args, command: str) -> None:
 
 def _read(path, window: int, order: int):
     """read_record, with an error that names the file for a file that is not text."""
-    from liquidamp.analysis.records import read_record
+    from liquidamp.analysis.measured.records import read_record
     from liquidamp.errors import DataFileError
 
     try:
@@ -99,7 +99,7 @@ def _read(path, window: int, order: int):
 
 def load(args):
     """Records, validation records, start parameters, effects and fit spec from the arguments."""
-    from liquidamp.analysis.calibration import FitSpec
+    from liquidamp.analysis.measured.calibration import FitSpec
     from liquidamp.commands.params import device_from_args
 
     effects = effects_from_args(args)
@@ -126,7 +126,7 @@ def run(args) -> int:
     """Calibrate; exit 1 if the fit did not converge (the JSON says so)."""
     options = solver_options(args, "fit")  # the arguments first, then the outputs
     check_fit_outputs(args, "calibrate")
-    from liquidamp.analysis.calibration import calibrate
+    from liquidamp.analysis.measured.calibration import calibrate
 
     cal, val, params, effects, spec = load(args)
     res = calibrate(cal, model=args.model, params=params, effects=effects, spec=spec,
@@ -135,7 +135,7 @@ def run(args) -> int:
     write_json(args.json, d)
     print_warnings("calibrate", d)
     if args.report:
-        from liquidamp.analysis.report_calibration import write_report
+        from liquidamp.analysis.reports.report_calibration import write_report
 
         write_report(args.report, result=res, title="liquidamp calibrate")
     if not res.converged:

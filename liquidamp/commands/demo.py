@@ -32,7 +32,7 @@ def register(sub) -> None:
 def run(args) -> int:
     """Run the demo; return the exit code."""
     check_outputs([Output("--out", args.out, "dir", ("index.html",))], force=args.force)
-    from liquidamp.analysis.casestudy import run_case_study, write_case_study
+    from liquidamp.analysis.reports.casestudy import run_case_study, write_case_study
 
     start = time.perf_counter()
 
@@ -55,7 +55,7 @@ def _diagnosis_section(out: Path, progress) -> str:
     """Run the measured-data loop on the bundled records; return its HTML summary."""
     import html
 
-    from liquidamp.analysis.diagnosis import demo_loop
+    from liquidamp.analysis.measured.diagnosis import demo_loop
 
     progress("calibrate and diagnose the bundled synthetic records (undeclared effect) ...")
     summary = demo_loop(out / "diagnosis")
@@ -73,8 +73,8 @@ def _diagnosis_section(out: Path, progress) -> str:
     return f"""
 <h2>Closing the loop with measured data</h2>
 <p>Two bundled synthetic test-machine records (3 Hz 3 mm for calibration, 4 Hz 2 mm for
-validation; recipe in <code>liquidamp/analysis/data/README.md</code>) hold an effect the model
-does not declare ({html.escape(truth)}). The paper's four multipliers are calibrated, the
+validation; recipe in <code>liquidamp/analysis/measured/data/README.md</code>) hold an effect the
+model does not declare ({html.escape(truth)}). The paper's four multipliers are calibrated, the
 residual is traced to the catalogue of missing effects, and the best is added:
 <b>{html.escape(added)}</b>. Stop reason: {html.escape(str(summary['stop_reason']))}.</p>
 <table border=1 cellpadding=4 style='border-collapse:collapse'>

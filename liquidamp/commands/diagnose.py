@@ -34,7 +34,7 @@ def run(args) -> int:
                              "FILE ...]")
     options = solver_options(args, "fit")  # flags added by add_fit_arguments
     check_fit_outputs(args, "diagnose")
-    from liquidamp.analysis.diagnosis import diagnose
+    from liquidamp.analysis.measured.diagnosis import diagnose
 
     cal, val, params, effects, spec = load(args)
     d = diagnose(cal, val, model=args.model, params=params, effects=effects, spec=spec,
@@ -46,7 +46,7 @@ def run(args) -> int:
     if d.unexplained:
         print(f"liquidamp diagnose: note: {d.unexplained}", file=sys.stderr)
     if args.report:
-        from liquidamp.analysis.report_calibration import write_report
+        from liquidamp.analysis.reports.report_calibration import write_report
 
         write_report(args.report, diagnosis=d, title="liquidamp diagnose")
     added = ", ".join(d.added) or "nothing"

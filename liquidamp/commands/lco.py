@@ -2,7 +2,7 @@
 
 ``liquidamp lco --rotor hammond1974 --damper device_a --rpm 230
 [--inoperative K] [--arm M] [--model full] [--t-end S] --json FILE
-[--plot FILE]`` sizes the damper (:func:`liquidamp.analysis.sizing.size_lag_damper`),
+[--plot FILE]`` sizes the damper (:func:`liquidamp.analysis.stability.sizing.size_lag_damper`),
 puts it on every operative blade, and reports the small-signal growth rate
 of the critical mode, the growth rate of the full nonlinear time domain at
 small amplitude, the describing-function prediction of the limit-cycle lag
@@ -72,7 +72,7 @@ def analyse(rotor, Omega, device, inoperative=(), t_end=None, bar=None, options=
     stages: critical mode, small-amplitude run, describing function, limit-cycle run.
     ``options`` (SolverOptions or None: the ``"rotor"`` preset) for the time-domain runs.
     """
-    from liquidamp.analysis.lco import critical_mode, predict_lco, simulate_lco
+    from liquidamp.analysis.stability.lco import critical_mode, predict_lco, simulate_lco
 
     def step():
         if bar is not None:
@@ -137,8 +137,8 @@ def run(args) -> int:
                   file_inputs(("--rotor", args.rotor), ("--damper", args.damper)))
     if not (math.isfinite(args.rpm) and args.rpm > 0):
         raise ParameterError(f"--rpm must be finite and > 0 [rpm], got {args.rpm}")
-    from liquidamp.analysis.ground_resonance import rpm_to_rad_s
-    from liquidamp.analysis.sizing import lag_damper_device
+    from liquidamp.analysis.stability.ground_resonance import rpm_to_rad_s
+    from liquidamp.analysis.stability.sizing import lag_damper_device
     from liquidamp.structure.hostio import load_rotor
 
     rotor = load_rotor(args.rotor)

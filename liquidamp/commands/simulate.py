@@ -40,7 +40,7 @@ def register(sub) -> None:
 
 def summary(response) -> dict:
     """JSON-ready summary of a steady-state response (SI, keys 'name [unit]')."""
-    from liquidamp.analysis.harmonics import dynamic_stiffness
+    from liquidamp.analysis.response.harmonics import dynamic_stiffness
 
     K = dynamic_stiffness(response)
     return {
@@ -92,7 +92,7 @@ def run(args) -> int:
         print()
     print_warnings("simulate", data)
     if args.plot:
-        from liquidamp.analysis.plots import plot_loops
+        from liquidamp.analysis.reports.plots import plot_loops
 
         ideal = {"spring": ("spring",), "damper": ("damper",), "inerter": ("inerter",)}.get(
             params.name, ("spring", "damper", "inerter"))

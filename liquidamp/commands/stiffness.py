@@ -108,7 +108,7 @@ def _nonlinear(params, model, freqs, amps, quiet: bool, options=None):
     """``nonlinear_stiffness`` point by point under a progress bar (same numbers)."""
     import numpy as np
 
-    from liquidamp.analysis.stiffness import NonlinearStiffness, nonlinear_stiffness
+    from liquidamp.analysis.response.stiffness import NonlinearStiffness, nonlinear_stiffness
 
     shape = (amps.size, freqs.size)
     value = np.full(shape, np.nan, complex)
@@ -144,8 +144,8 @@ def run(args) -> int:
             f"frequency x amplitude grid has {freqs.size} x {amps.size} = "
             f"{freqs.size * amps.size} nonlinear points; at most {MAX_GRID} (each is a periodic "
             "steady state of 0.01-1 s)")
-    from liquidamp.analysis.linear import linearize, transfer_function
-    from liquidamp.analysis.stiffness import equivalent_sweep, linear_stiffness
+    from liquidamp.analysis.response.linear import linearize, transfer_function
+    from liquidamp.analysis.response.stiffness import equivalent_sweep, linear_stiffness
     from liquidamp.device.effects import with_effects
     from liquidamp.device.models import get_model
 
@@ -211,7 +211,7 @@ def run(args) -> int:
     print_warnings("stiffness", data)
     for msg in nl.failures:
         print(f"liquidamp stiffness: warning: point failed: {msg}", file=sys.stderr)
-    from liquidamp.analysis.stiffness_plots import plot_dynamic_stiffness
+    from liquidamp.analysis.reports.stiffness_plots import plot_dynamic_stiffness
 
     fig = plot_dynamic_stiffness(linear, nl, eq,
                                  title=f"{params.name or 'device'}: dynamic stiffness, "

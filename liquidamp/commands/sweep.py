@@ -10,7 +10,7 @@ Floquet theory whatever ``--method`` says (noted in the JSON and on stderr).
 
 With ``--damper PRESET`` (a device preset, a device file or ``maxwell``;
 default ``viscous``, the rotor's own dampers) the liquid device, sized by
-:func:`liquidamp.analysis.sizing.size_lag_damper` through the arm
+:func:`liquidamp.analysis.stability.sizing.size_lag_damper` through the arm
 ``--arm`` (default the rotor's), replaces every blade's lag damper and the
 small-signal closed loop is analysed (Coleman, or Floquet with
 ``--inoperative``).
@@ -115,12 +115,12 @@ def _ground_resonance(args) -> int:
         raise ParameterError(f"rpm values must be finite and > 0 [rpm], got {args.rpm!r}")
     if rpm.size > 1 and np.any(np.diff(rpm) <= 0.0):
         raise ParameterError(f"rpm values must be strictly increasing, got {args.rpm!r}")
-    from liquidamp.analysis.ground_resonance import (
+    from liquidamp.analysis.reports.stability_plots import plot_ground_resonance
+    from liquidamp.analysis.stability.ground_resonance import (
         METHODS,
         ground_resonance_sweep,
         rpm_to_rad_s,
     )
-    from liquidamp.analysis.stability_plots import plot_ground_resonance
     from liquidamp.structure.hostio import load_rotor
 
     method = check_choice("method", args.method, METHODS)
@@ -149,10 +149,10 @@ def _ground_resonance(args) -> int:
 
 
 def _ground_resonance_device(args, rotor, rpm, blades, method) -> int:
-    from liquidamp.analysis.damped_stability import device_ground_resonance_sweep
-    from liquidamp.analysis.ground_resonance import rpm_to_rad_s
-    from liquidamp.analysis.sizing import lag_damper_device
-    from liquidamp.analysis.stability_plots import plot_ground_resonance
+    from liquidamp.analysis.reports.stability_plots import plot_ground_resonance
+    from liquidamp.analysis.stability.damped_stability import device_ground_resonance_sweep
+    from liquidamp.analysis.stability.ground_resonance import rpm_to_rad_s
+    from liquidamp.analysis.stability.sizing import lag_damper_device
     from liquidamp.commands._args import parse_length
 
     arm = parse_length(args.arm, "arm") if args.arm else None
@@ -181,8 +181,8 @@ def _flutter(args) -> int:
         kvals = parse_list(args.reduced_frequencies, "k")
     if getattr(args, "damper", None):
         return _flutter_device(args, speeds)
-    from liquidamp.analysis.flutter import check_combination, flutter_analysis
-    from liquidamp.analysis.stability_plots import plot_flutter
+    from liquidamp.analysis.reports.stability_plots import plot_flutter
+    from liquidamp.analysis.stability.flutter import check_combination, flutter_analysis
     from liquidamp.structure.hostio import load_section
 
     args.aero = args.aero or "theodorsen"
@@ -196,10 +196,10 @@ def _flutter(args) -> int:
 
 
 def _flutter_device(args, speeds) -> int:
-    from liquidamp.analysis.damped_stability import damped_flutter_analysis
-    from liquidamp.analysis.flutter import check_combination
-    from liquidamp.analysis.sizing import flutter_damper_device
-    from liquidamp.analysis.stability_plots import plot_flutter
+    from liquidamp.analysis.reports.stability_plots import plot_flutter
+    from liquidamp.analysis.stability.damped_stability import damped_flutter_analysis
+    from liquidamp.analysis.stability.flutter import check_combination
+    from liquidamp.analysis.stability.sizing import flutter_damper_device
     from liquidamp.structure.hostio import load_section
 
     aero = args.aero or "jones"

@@ -329,6 +329,11 @@ class CoupledSystem:
         """Rows of C giving the stroke rates [m/s per state unit]."""
         return self.host.C[self._idx["iv"]]
 
+    @property
+    def force_inputs(self) -> np.ndarray:
+        """Indices of the host inputs (columns of B) that take the device forces, one per port."""
+        return self._idx["iF"]
+
     def force_matrix(self, t: float) -> np.ndarray:
         """Columns of B(t) taking the device forces [state rate per N]."""
         return self.host.B(t)[:, self._idx["iF"]]

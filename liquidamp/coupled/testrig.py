@@ -28,7 +28,8 @@ from liquidamp.errors import ParameterError
 from liquidamp.options import SolverOptions, resolve_options
 from liquidamp.structure.testmachine import HarmonicStroke
 
-__all__ = ["DeviceResponse", "simulate", "steady_state", "check_stroke"]
+__all__ = ["DeviceResponse", "simulate", "steady_state", "check_stroke", "prepare_run",
+           "build_response"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -146,7 +147,31 @@ def check_stroke(stroke, params: DeviceParams) -> None:
         )
 
 
-def _prepare(model, params, stroke, options):
+def prepare_run(model, params, stroke, options):
+    """Resolve and check the inputs of a test-machine run.
+
+    Parameters
+    ----------
+    model : str or DeviceModel
+        A registered model name or a model.
+    params : DeviceParams
+        Device parameters (checked against the model).
+    stroke : callable
+        The stroke, ``stroke(t) -> (y [m], v [m/s], a [m/s^2])`` (checked).
+    options : SolverOptions or None
+        None resolves to the ``"default"`` preset.
+
+    Returns
+    -------
+    model : DeviceModel
+    options : SolverOptions
+
+    Raises
+    ------
+    ParameterError
+        If ``params`` is not a :class:`~liquidamp.device.params.DeviceParams` or fails the
+        model's or the stroke's checks.
+    """
     model = get_model(model)
     if not isinstance(params, DeviceParams):
         raise ParameterError(f"params must be DeviceParams, got {type(params).__name__}")
@@ -155,8 +180,39 @@ def _prepare(model, params, stroke, options):
     return model, resolve_options(options, "default")
 
 
-def _response(model, params, stroke, t, X, options, *, status, message, residual=0.0,
+def build_response(model, params, stroke, t, X, options, *, status, message, residual=0.0,
               cycles=0, warnings=(), stats=None):
+    """The :class:`DeviceResponse` of states ``X`` at times ``t``: force, pressures, checks.
+
+    Parameters
+    ----------
+    model : DeviceModel
+        The resolved model.
+    params : DeviceParams
+        Device parameters.
+    stroke : callable
+        ``stroke(t) -> (y [m], v [m/s], a [m/s^2])``.
+    t : ndarray
+        Times [s], shape (n,).
+    X : ndarray
+        States at ``t``, shape (n_states, n).
+    options : SolverOptions
+        Gives ``vapour_pressure`` [Pa] for the cavitation warning.
+    status, message : str
+        Copied to the response.
+    residual : float
+        Periodicity residual of a steady state [-].
+    cycles : int
+        Excitation cycles marched.
+    warnings : sequence of str
+        Warnings so far (pressure warnings are appended).
+    stats : dict, optional
+        Solver work counts.
+
+    Returns
+    -------
+    DeviceResponse
+    """
     y, v, a = stroke(t)
     y, v, a = (np.broadcast_to(np.asarray(q, float), t.shape).copy() for q in (y, v, a))
     u = (y, v, a)
@@ -244,7 +300,7 @@ def simulate(model, params: DeviceParams, stroke, t_end: float, *, t_start: floa
     >>> r.status, r.force.shape == r.time.shape
     ('completed', True)
     """
-    model, options = _prepare(model, params, stroke, options)
+    model, options = prepare_run(model, params, stroke, options)
     t_end = float(t_end)
     if not t_end > t_start:
         raise ParameterError(f"t_end must be > t_start = {t_start:g} s, got {t_end:g} s")
@@ -263,7 +319,7 @@ def simulate(model, params: DeviceParams, stroke, t_end: float, *, t_start: floa
         engine.check(rig)
         X = engine.march(rig, x, t_start, t_end, t_eval, options,
                          options.max_step_fraction * period, stats)
-    return _response(model, params, stroke, t_eval, X, options, status="completed",
+    return build_response(model, params, stroke, t_eval, X, options, status="completed",
                      message=f"integrated {t_end - t_start:.4g} s", stats=stats)
 
 
@@ -314,7 +370,7 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
     >>> r.status, r.residual < 1e-6, r.mass_error < 1e-9
     ('steady', True, True)
     """
-    model, options = _prepare(model, params, stroke, options)
+    model, options = prepare_run(model, params, stroke, options)
     if not isinstance(stroke, HarmonicStroke):
         raise ParameterError("steady_state needs a HarmonicStroke; use simulate() for a record")
     T = stroke.period
@@ -323,7 +379,7 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
         x0, float)
     grid = np.arange(N + 1) * (T / N)
     if model.n_states == 0:
-        return _response(model, params, stroke, grid[:N], np.zeros((0, N)), options,
+        return build_response(model, params, stroke, grid[:N], np.zeros((0, N)), options,
                          status="steady", message="algebraic model: steady at once", cycles=1)
     rig = TestRig(model, params, stroke)
     engine = get_engine(options.engine)
@@ -332,5 +388,5 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
     Xp, cycles, residual = engine.steady(rig, x, options, stats)
     msg = (f"periodic steady state after {cycles} cycles; estimated remaining change "
            f"{residual:.2e} of peak force ({engine.name} engine)")
-    return _response(model, params, stroke, grid[:N], Xp, options, status="steady",
+    return build_response(model, params, stroke, grid[:N], Xp, options, status="steady",
                      message=msg, residual=residual, cycles=cycles, stats=stats)

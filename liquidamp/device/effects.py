@@ -197,7 +197,7 @@ class Effect:
         raise ParameterError(
             f"effect {self.name!r} has no equivalent linearization in parallel with the "
             f"fluid: {self.describing_reason}; use the time domain "
-            "(liquidamp.analysis.stiffness.nonlinear_stiffness)")
+            "(liquidamp.analysis.response.stiffness.nonlinear_stiffness)")
 
     def initial_state(self, params, y0: float) -> np.ndarray:
         """Initial values of the effect's states at rest with rod stroke ``y0`` [m]."""

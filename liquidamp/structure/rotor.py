@@ -25,7 +25,7 @@ blades are alike the multiblade (Coleman) transformation
 
 makes them constant (fixed-frame frequencies).  With one damper different or
 failed they stay periodic: use Floquet theory
-(:mod:`liquidamp.analysis.floquet`).
+(:mod:`liquidamp.analysis.stability.floquet`).
 
 Device ports: blade ``k`` has the port ``blade_k`` with outputs ``stroke_k``
 = ``a zeta_k`` [m], ``stroke_rate_k`` [m/s] and input ``force_k`` [N].  A

@@ -44,7 +44,7 @@ def test_unknown_case_is_an_error(capsys):
 
 def test_user_style_baseline_gives_the_paper_stiffness():
     """The baseline is a correct (if slow) steady state: same K* as the library's."""
-    from liquidamp.analysis.harmonics import dynamic_stiffness
+    from liquidamp.analysis.response.harmonics import dynamic_stiffness
     from liquidamp.coupled.testrig import steady_state
     from liquidamp.options import SolverOptions
 

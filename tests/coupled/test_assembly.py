@@ -6,14 +6,14 @@ import math
 import numpy as np
 import pytest
 
-from liquidamp.analysis.damped_stability import (
+from liquidamp.analysis.stability.damped_stability import (
     closed_loop_interconnect,
     closed_loop_matrix,
     device_lti,
     rotor_device_eigenvalues,
     section_device_eigenvalues,
 )
-from liquidamp.analysis.ground_resonance import coleman_eigenvalues, rotor_floquet
+from liquidamp.analysis.stability.ground_resonance import coleman_eigenvalues, rotor_floquet
 from liquidamp.coupled.assembly import (
     Device,
     couple,
@@ -95,7 +95,7 @@ def test_time_domain_viscous_matches_host_linear_response():
 
 
 def test_energy_balance_closes_with_full_devices_and_failed_damper():
-    from liquidamp.analysis.sizing import size_lag_damper
+    from liquidamp.analysis.stability.sizing import size_lag_damper
 
     dev = Device("full", size_lag_damper(preset("reference"), ROTOR).params)
     sys_ = rotor_system(ROTOR, 26.0, dev, inoperative=[1])

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from liquidamp.analysis.sizing import size_lag_damper
+from liquidamp.analysis.stability.sizing import size_lag_damper
 from liquidamp.coupled import fast
 from liquidamp.coupled.assembly import (
     CoupledResponse,

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from liquidamp.analysis.harmonics import dynamic_stiffness
+from liquidamp.analysis.response.harmonics import dynamic_stiffness
 from liquidamp.coupled.engines import ENGINES, TestRig, get_engine
 from liquidamp.coupled.testrig import steady_state
 from liquidamp.device import preset

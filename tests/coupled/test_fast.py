@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from liquidamp.analysis.harmonics import dynamic_stiffness
+from liquidamp.analysis.response.harmonics import dynamic_stiffness
 from liquidamp.coupled import _kernels as K
 from liquidamp.coupled.fast import COMPILED_MODELS, check_compiled, march, supports
 from liquidamp.coupled.testrig import simulate, steady_state

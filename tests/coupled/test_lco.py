@@ -14,8 +14,8 @@ import math
 
 import pytest
 
-from liquidamp.analysis.lco import critical_mode, growth_rate, predict_lco, simulate_lco
-from liquidamp.analysis.sizing import size_lag_damper
+from liquidamp.analysis.stability.lco import critical_mode, growth_rate, predict_lco, simulate_lco
+from liquidamp.analysis.stability.sizing import size_lag_damper
 from liquidamp.coupled.assembly import Device
 from liquidamp.device import preset
 from liquidamp.structure.hostio import load_rotor

@@ -24,13 +24,13 @@ import math
 
 import pytest
 
-from liquidamp.analysis.damped_stability import damped_flutter_analysis
-from liquidamp.analysis.lco import (
+from liquidamp.analysis.stability.damped_stability import damped_flutter_analysis
+from liquidamp.analysis.stability.lco import (
     predict_section_lco,
     section_critical_mode,
     simulate_section_lco,
 )
-from liquidamp.analysis.sizing import flutter_damper_device
+from liquidamp.analysis.stability.sizing import flutter_damper_device
 from liquidamp.structure.hostio import load_section
 
 SECTION = load_section("hodges-pierce")

@@ -4,7 +4,7 @@ steady-state reliability and clear errors (Titurus 2018, Sec. III.D and IV.D).""
 import numpy as np
 import pytest
 
-from liquidamp.analysis.harmonics import dynamic_stiffness
+from liquidamp.analysis.response.harmonics import dynamic_stiffness
 from liquidamp.coupled.testrig import simulate, steady_state
 from liquidamp.device import preset
 from liquidamp.errors import ParameterError, PressureError

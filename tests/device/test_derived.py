@@ -11,7 +11,7 @@ import pickle
 
 import pytest
 
-from liquidamp.analysis.harmonics import dynamic_stiffness
+from liquidamp.analysis.response.harmonics import dynamic_stiffness
 from liquidamp.coupled.testrig import steady_state
 from liquidamp.device import (
     DeviceParams,
@@ -293,8 +293,8 @@ def test_device_file_derived_table_is_checked(tmp_path):
 def test_calibration_refuses_to_fit_an_unused_input(tmp_path):
     import numpy as np
 
-    from liquidamp.analysis.calibration import FitSpec, build, calibrate
-    from liquidamp.analysis.records import read_record, write_record
+    from liquidamp.analysis.measured.calibration import FitSpec, build, calibrate
+    from liquidamp.analysis.measured.records import read_record, write_record
 
     t = np.arange(0.0, 2.0, 1 / 200)
     y = 1e-3 * np.sin(2 * np.pi * 3.0 * t)

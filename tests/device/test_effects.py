@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from liquidamp.analysis.records import integrate
+from liquidamp.analysis.measured.record_model import integrate
 from liquidamp.device import preset
 from liquidamp.device.effects import (
     EFFECTS,

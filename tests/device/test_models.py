@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from liquidamp.analysis.harmonics import dynamic_stiffness
+from liquidamp.analysis.response.harmonics import dynamic_stiffness
 from liquidamp.coupled.testrig import steady_state
 from liquidamp.device import preset
 from liquidamp.device.models import REGISTRY, get_model, model_names

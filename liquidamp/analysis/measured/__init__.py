@@ -1,0 +1,12 @@
+"""Measured data and identification: records, calibration, residual diagnosis, synthetic data.
+
+* :mod:`.records` -- read, write and check test-machine records (CSV with units in the header).
+* :mod:`.record_model` -- drive a device model with a measured stroke; force error measures.
+* :mod:`.fit_spec` -- what a calibration varies: :class:`~.fit_spec.Parameter`,
+  :class:`~.fit_spec.FitSpec` (multipliers alpha_j of Table 2, effect parameters).
+* :mod:`.calibration` -- least-squares fit of device parameters to records (Titurus 2018,
+  Sec. IV.C, eq. 10 models); :mod:`.calibration_result` -- the result it returns.
+* :mod:`.diagnosis` -- trace what a calibrated model misses to a catalogue effect, add it.
+* :mod:`.synthetic` -- realistic synthetic records from a known model, with noise and distortion.
+* ``data/`` -- bundled synthetic records (their recipe is in ``data/README.md``).
+"""

@@ -1,0 +1,315 @@
+"""The result of a calibration: fitted parameters, their errors, per-record errors, reports.
+
+:class:`CalibrationResult` is returned by
+:func:`liquidamp.analysis.measured.calibration.calibrate` (and by each step of
+:func:`liquidamp.analysis.measured.diagnosis.diagnose`); :class:`RecordError` is the NRMSE
+[-] of one record.  Standard errors and correlations come from the Jacobian at the optimum
+scaled by the residual variance, s^2 (J^T J)^-1 with s^2 = RSS / (N - p); read them as lower
+bounds (model error is correlated in time).
+
+References
+----------
+.. [1] B. Titurus, AIAA J. 56(10), 2018, Sec. IV.C and Table 2.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from liquidamp.analysis.measured.fit_spec import FitSpec
+from liquidamp.device.effects import with_effects
+from liquidamp.device.models import DeviceModel, get_model
+from liquidamp.device.params import SCALABLE, DeviceParams
+
+__all__ = ["CalibrationResult", "RecordError"]
+
+
+@dataclass(frozen=True)
+class RecordError:
+    """Error of a calibrated model on one record."""
+
+    label: str
+    role: str
+    nrmse: float
+    frequency: float
+    amplitude: float
+
+
+@dataclass(frozen=True, eq=False)
+class CalibrationResult:
+    """Named, immutable result of :func:`calibrate`.
+
+    Attributes
+    ----------
+    model : str
+        Base model name (effects listed apart).
+    params : DeviceParams
+        Calibrated device parameters.
+    start_params : DeviceParams
+        The parameters the multipliers apply to.
+    effects : tuple of Effect
+        Calibrated effects.
+    spec : FitSpec
+        The specification with the fitted values as its values.
+    values, stderr : dict
+        Fitted value and standard error of each varied parameter (multiplier
+        [-] or effect parameter [SI]).
+    correlation : ndarray
+        Correlation matrix of the varied parameters (order of ``varying``).
+    varying : tuple of str
+        Names of the varied parameters.
+    nrmse_calibration, nrmse_validation : float, float or None
+        Pooled NRMSE on each set [-].
+    record_errors : tuple of RecordError
+        NRMSE on every record.
+    converged : bool
+        True if least squares met its tolerance (status > 0).
+    status : str
+        'converged', 'max_nfev' (stopped on the evaluation budget: not
+        converged) or 'failed'.
+    message : str
+        What the optimizer reported.
+    nfev, cost : int, float
+        Model evaluations of the fit; final cost = NRMSE^2 / 2.
+    n_samples : int
+        Calibration samples N.
+    aic, bic : float
+        N ln(RSS/N) + 2 k and + k ln N on the calibration set (k varied parameters).
+    starts : tuple of (str, float)
+        The starts evaluated and their calibration NRMSE.
+    calibration, validation : tuple of Record
+    predictions_calibration, predictions_validation : tuple of ndarray
+        Model force on each record [N].
+    jacobian : ndarray
+        Jacobian of the scaled residual in the fit coordinates at the optimum.
+    data_quality : tuple of DataQuality
+        The check of every record (calibration, then validation).
+    dropped : tuple of (str, Outlier)
+        Force samples left out of the fit and the error measures
+        (``outliers="drop"``), with their record's label.
+    warnings : tuple of str
+        Not converged, failed trial points, dropped samples, noisy records;
+        also issued as :class:`~liquidamp.errors.LiquidampWarning`.
+
+    Printing the result gives a short summary; :meth:`fit_report` the
+    parameters with their errors and correlations; :meth:`plot` a figure.
+    """
+
+    model: str
+    params: DeviceParams
+    start_params: DeviceParams
+    effects: tuple
+    spec: FitSpec
+    values: dict
+    stderr: dict
+    correlation: np.ndarray
+    varying: tuple
+    nrmse_calibration: float
+    nrmse_validation: float | None
+    record_errors: tuple
+    converged: bool
+    status: str
+    message: str
+    nfev: int
+    cost: float
+    n_samples: int
+    aic: float
+    bic: float
+    starts: tuple
+    calibration: tuple
+    validation: tuple
+    predictions_calibration: tuple
+    predictions_validation: tuple
+    jacobian: np.ndarray = field(repr=False)
+    data_quality: tuple = ()
+    dropped: tuple = ()
+    warnings: tuple = ()
+
+    @property
+    def device_model(self) -> DeviceModel:
+        """The calibrated model with its effects."""
+        return with_effects(get_model(self.model), *self.effects)
+
+    def residuals(self, role: str = "calibration") -> list[np.ndarray]:
+        """Model minus measured force on each record of a set [N] (0 at dropped samples)."""
+        recs = self.calibration if role == "calibration" else self.validation
+        preds = (self.predictions_calibration if role == "calibration"
+                 else self.predictions_validation)
+        out = []
+        for p, r in zip(preds, recs, strict=True):
+            res = p - r.force
+            idx = [o.index for lab, o in self.dropped if lab == r.label]
+            res[idx] = 0.0
+            out.append(res)
+        return out
+
+    def __repr__(self) -> str:
+        nv = ("" if self.nrmse_validation is None
+              else f", validation {self.nrmse_validation:.4g}")
+        vals = ", ".join(f"{k}={v:.4g}" for k, v in self.values.items())
+        extra = f", {len(self.warnings)} warning(s)" if self.warnings else ""
+        return (f"<CalibrationResult {self.model}: {self.status}, NRMSE calibration "
+                f"{self.nrmse_calibration:.4g}{nv}; {vals}{extra}>")
+
+    def __str__(self) -> str:
+        lines = [f"CalibrationResult: model {self.model!r} from "
+                 f"{self.start_params.name or 'custom'} parameters",
+                 f"  fit: {self.status} after {self.nfev} evaluations (cost {self.cost:.4g})",
+                 f"  records: {len(self.calibration)} calibration, {len(self.validation)} "
+                 f"validation, {self.n_samples} samples fitted",
+                 f"  NRMSE: calibration {self.nrmse_calibration:.4g}"
+                 + ("" if self.nrmse_validation is None
+                    else f", validation {self.nrmse_validation:.4g}")]
+        for k, v in self.values.items():
+            lines.append(f"  {k:<34s} {v:12.5g} +/- {self.stderr.get(k, math.nan):.2g}")
+        if self.effects:
+            lines.append("  effects: " + ", ".join(e.name for e in self.effects))
+        for w in self.warnings[:5]:
+            lines.append("  warning: " + (w if len(w) < 200 else w[:197] + "..."))
+        if len(self.warnings) > 5:
+            lines.append(f"  ... {len(self.warnings) - 5} more warning(s)")
+        lines.append("  (fit_report() for errors and correlations, plot() for a figure)")
+        return "\n".join(lines)
+
+    def fit_report(self, min_correl: float = 0.5) -> str:
+        """lmfit-style text report of the fit.
+
+        Values with units, standard errors and relative errors, the
+        correlations whose magnitude exceeds ``min_correl``, and a flag on
+        every parameter within 0.1 % (of its range in the fit coordinate) of
+        a bound: its standard error is then not meaningful.  Multipliers are
+        dimensionless factors on the starting parameters (Table 2's alpha_j);
+        effect parameters are in SI with the unit in their key.
+
+        Parameters
+        ----------
+        min_correl : float
+            Smallest |correlation| listed [-] (default 0.5, as lmfit's 0.1
+            would list nearly every pair of this model family).
+
+        Returns
+        -------
+        str
+        """
+        out = ["[[Fit Statistics]]",
+               f"    model              = {self.model}"
+               + (f" + {', '.join(e.name for e in self.effects)}" if self.effects else ""),
+               f"    status             = {self.status} ({self.message})",
+               f"    function evals     = {self.nfev}",
+               f"    data points        = {self.n_samples}",
+               f"    variables          = {len(self.varying)}",
+               f"    NRMSE calibration  = {self.nrmse_calibration:.6g}"]
+        if self.nrmse_validation is not None:
+            out.append(f"    NRMSE validation   = {self.nrmse_validation:.6g}")
+        out += [f"    Akaike info crit   = {self.aic:.6g}",
+                f"    Bayesian info crit = {self.bic:.6g}"]
+        if self.dropped:
+            out.append(f"    dropped samples    = {len(self.dropped)} (force outliers)")
+        out.append("[[Variables]]")
+        at_bound = self.at_bounds()
+        for p in self.spec.parameters:
+            v = self.values.get(p.name, p.value)
+            unit = "[-] multiplier" if p.kind == "multiplier" else _effect_unit(p.name)
+            if not p.vary:
+                out.append(f"    {p.name + ':':<36s} {v:.6g} {unit} (fixed)")
+                continue
+            se = self.stderr.get(p.name, math.nan)
+            rel = f"({abs(se / v):.2%})" if v != 0 and math.isfinite(se) else "(n/a)"
+            flag = f"  AT {at_bound[p.name].upper()} BOUND" if p.name in at_bound else ""
+            out.append(f"    {p.name + ':':<36s} {v:.6g} +/- {se:.3g} {rel} {unit} "
+                       f"(bounds [{p.min:g}, {p.max:g}]){flag}")
+        pairs = []
+        names = list(self.varying)
+        for i in range(len(names)):
+            for j in range(i + 1, len(names)):
+                c = float(self.correlation[i, j])
+                if abs(c) > min_correl:
+                    pairs.append((abs(c), names[i], names[j], c))
+        out.append(f"[[Correlations]] (unreported correlations are < {min_correl:.3f})")
+        for _, a, b, c in sorted(pairs, reverse=True):
+            out.append(f"    C({a}, {b}) = {c:+.4f}")
+        if not pairs:
+            out.append("    none")
+        if self.warnings:
+            out.append("[[Warnings]]")
+            out += [f"    {w}" for w in self.warnings]
+        return "\n".join(out)
+
+    def at_bounds(self, tol: float = 1e-3) -> dict:
+        """Varied parameters within ``tol`` of a bound (fraction of the range in the fit
+        coordinate): name -> 'lower' or 'upper'."""
+        out = {}
+        for name in self.varying:
+            p = self.spec[name]
+            lo, hi = p.x_bounds()
+            x = p.to_x(self.values[name])
+            if x - lo <= tol * (hi - lo):
+                out[name] = "lower"
+            elif hi - x <= tol * (hi - lo):
+                out[name] = "upper"
+        return out
+
+    def plot(self, role: str = "calibration"):
+        """Measured and fitted force over time and force-displacement loops of every record.
+
+        Parameters
+        ----------
+        role : {'calibration', 'validation'}
+            Which set of records.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            One row per record: force [N] against time [s] (measured, model,
+            dropped samples marked) and force against displacement [mm].
+        """
+        from liquidamp.analysis.reports.report_calibration import plot_fit
+
+        return plot_fit(self, role)
+
+    def parameters_dict(self) -> dict:
+        """JSON-ready parameters: multipliers, DeviceParams values, effects."""
+        mult = {p.name: self.values.get(p.name, p.value) for p in self.spec.parameters
+                if p.kind == "multiplier"}
+        return {
+            "model": self.model,
+            "start_parameters": self.start_params.name or "custom",
+            "multipliers": mult,
+            "device": {k: getattr(self.params, k) for k in SCALABLE
+                       if getattr(self.params, k) is not None},
+            "effects": {e.name: e.parameters for e in self.effects},
+            "stderr": dict(self.stderr),
+        }
+
+    def as_dict(self) -> dict:
+        """JSON-ready summary (with ``data_quality``, ``dropped`` and ``warnings``)."""
+        return {
+            "data_quality": [q.as_dict() for q in self.data_quality],
+            "dropped": [{"record": lab, **o.__dict__} for lab, o in self.dropped],
+            "warnings": list(self.warnings),
+            "at_bounds": self.at_bounds(),
+            "parameters": self.parameters_dict(),
+            "nrmse": {"calibration": self.nrmse_calibration,
+                      "validation": self.nrmse_validation},
+            "records": [dataclasses.asdict(e) for e in self.record_errors],
+            "correlation": {"names": list(self.varying),
+                            "matrix": np.round(self.correlation, 4).tolist()},
+            "fit": {"converged": self.converged, "status": self.status,
+                    "message": self.message, "nfev": self.nfev, "cost": self.cost,
+                    "n_samples": self.n_samples, "aic": self.aic, "bic": self.bic,
+                    "starts": [{"start": s, "nrmse": v} for s, v in self.starts]},
+        }
+
+
+def _effect_unit(name: str) -> str:
+    key = name.split(".", 1)[1]
+    for suffix, unit in (("_N_per_m", "[N/m]"), ("_m3_per_s_Pa", "[m^3/(s Pa)]"),
+                         ("_Pa", "[Pa]"), ("_N", "[N]"), ("_kg", "[kg]"), ("_m", "[m]"),
+                         ("_s", "[s]")):
+        if key.endswith(suffix):
+            return unit
+    return "[SI]"

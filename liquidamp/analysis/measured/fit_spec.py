@@ -1,0 +1,237 @@
+"""What a calibration varies: fit parameters and the fit specification (lmfit-style).
+
+A :class:`FitSpec` is a tuple of :class:`Parameter` objects, each naming either a
+:class:`~liquidamp.device.params.DeviceParams` field, varied as a multiplier [-] on the
+starting parameter set (the paper's alpha_j of Table 2), or an effect parameter
+``"effect.key"`` (e.g. ``"coulomb_friction.force_N"``), varied as an absolute value [SI].
+Positive quantities are fitted in log space.  The fit itself is
+:func:`liquidamp.analysis.measured.calibration.calibrate`.
+
+References
+----------
+.. [1] B. Titurus, AIAA J. 56(10), 2018, Sec. IV.C and Table 2.
+.. [2] M. Newville et al., LMFIT, doi:10.5281/zenodo.11813 (parameters
+   kept apart from the model).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+from liquidamp.device.effects import EFFECTS
+from liquidamp.device.params import SCALABLE, DeviceParams
+from liquidamp.errors import (
+    ParameterError,
+    check_choice,
+)
+
+__all__ = ["Parameter", "FitSpec", "PAPER_FOUR", "check_spec_uses"]
+
+
+PAPER_FOUR = ("inv_gamma1", "inv_gamma2", "c1", "c2")
+"""The multipliers the paper calibrated (Table 2)."""
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One fitted quantity.
+
+    Parameters
+    ----------
+    name : str
+        A scalable DeviceParams field (fitted as a multiplier on the
+        starting parameters) or ``"effect.key"`` (absolute, SI).
+    value : float
+        Start value (multiplier [-] or the effect parameter in SI).
+    min, max : float
+        Bounds (same meaning as ``value``).
+    vary : bool
+        False holds the parameter at ``value``.
+    log : bool
+        Fit log(value) (needs min > 0).
+    scale : float
+        For linear parameters: the fit works on value / scale [unit of value].
+
+    Examples
+    --------
+    >>> Parameter("c1", 1.0, 0.05, 20.0).kind
+    'multiplier'
+    >>> Parameter("c1", 30.0, 0.05, 20.0)
+    Traceback (most recent call last):
+    ...
+    liquidamp.errors.ParameterError: parameter 'c1': start 30 outside its bounds [0.05, 20]
+    """
+
+    name: str
+    value: float
+    min: float
+    max: float
+    vary: bool = True
+    log: bool = True
+    scale: float = 1.0
+
+    def __post_init__(self):
+        if "." in self.name:
+            eff, key = self.name.split(".", 1)
+            check_choice("effect", eff, EFFECTS)
+            keys = [f.name for f in dataclasses.fields(EFFECTS[eff])]
+            check_choice(f"{eff} parameter", key, keys)
+        else:
+            check_choice("fitted device parameter", self.name, SCALABLE)
+        for k in ("value", "min", "max", "scale"):
+            v = float(getattr(self, k))
+            if not math.isfinite(v):
+                raise ParameterError(f"parameter {self.name!r}: {k} must be finite, got {v!r}")
+            object.__setattr__(self, k, v)
+        if not self.min < self.max:
+            raise ParameterError(f"parameter {self.name!r}: min {self.min:g} must be < max "
+                                 f"{self.max:g}")
+        if not self.min <= self.value <= self.max:
+            raise ParameterError(f"parameter {self.name!r}: start {self.value:g} outside its "
+                                 f"bounds [{self.min:g}, {self.max:g}]")
+        if self.log and not self.min > 0:
+            raise ParameterError(f"parameter {self.name!r}: a log-parametrized bound must be "
+                                 f"> 0, got min {self.min:g}")
+        if not self.scale > 0:
+            raise ParameterError(f"parameter {self.name!r}: scale must be > 0")
+
+    @property
+    def kind(self) -> str:
+        """'multiplier' (DeviceParams field) or 'effect'."""
+        return "effect" if "." in self.name else "multiplier"
+
+    def to_x(self, value: float) -> float:
+        """Internal fit coordinate."""
+        return math.log(value) if self.log else value / self.scale
+
+    def from_x(self, x: float) -> float:
+        """Value from the internal coordinate."""
+        return math.exp(x) if self.log else x * self.scale
+
+    def x_bounds(self) -> tuple[float, float]:
+        """Bounds in the internal coordinate."""
+        return self.to_x(self.min), self.to_x(self.max)
+
+    def replace(self, **changes) -> Parameter:
+        """Validated copy."""
+        return dataclasses.replace(self, **changes)
+
+
+@dataclass(frozen=True)
+class FitSpec:
+    """What a calibration varies: a tuple of :class:`Parameter` (names unique).
+
+    Examples
+    --------
+    >>> spec = FitSpec.default()
+    >>> spec.names
+    ('inv_gamma1', 'inv_gamma2', 'c1', 'c2')
+    >>> FitSpec.default(vary=("c1",), effects=["coulomb_friction"]).varying
+    ('c1', 'coulomb_friction.force_N')
+    """
+
+    parameters: tuple[Parameter, ...]
+
+    def __post_init__(self):
+        params = tuple(self.parameters)
+        names = [p.name for p in params]
+        dup = {n for n in names if names.count(n) > 1}
+        if dup:
+            raise ParameterError(f"fit parameter(s) given twice: {', '.join(sorted(dup))}")
+        for p in params:
+            if not isinstance(p, Parameter):
+                raise ParameterError("FitSpec holds Parameter objects")
+        object.__setattr__(self, "parameters", params)
+
+    @classmethod
+    def default(cls, vary=PAPER_FOUR, effects=(), bounds=(0.05, 20.0)) -> FitSpec:
+        """Multipliers ``vary`` (start 1, ``bounds``) and each effect's default fit keys.
+
+        ``effects`` holds Effect objects (their values are the starts) or names
+        (catalogue defaults).
+        """
+        pars = [Parameter(n, 1.0, *bounds) for n in vary]
+        spec = cls(tuple(pars))
+        for e in effects:
+            spec = spec.with_effect(e)
+        return spec
+
+    def with_effect(self, effect, start: dict | None = None) -> FitSpec:
+        """Add the effect's default fit keys (start: the effect's values or ``start``)."""
+        if isinstance(effect, str):
+            check_choice("effect", effect, EFFECTS)
+            effect = EFFECTS[effect]()
+        start = dict(start or {})
+        new = list(self.parameters)
+        for key in effect.fit_keys:
+            lo, hi = effect.bounds[key]
+            v = float(start.get(key, getattr(effect, key)))
+            log = lo > 0
+            if log:
+                v = min(max(v, lo), hi) if math.isfinite(v) else hi
+            scale = 1.0 if log else max(abs(v), 1.0)
+            new.append(Parameter(f"{effect.name}.{key}", v, lo, hi, log=log, scale=scale))
+        return FitSpec(tuple(new))
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """All parameter names."""
+        return tuple(p.name for p in self.parameters)
+
+    @property
+    def varying(self) -> tuple[str, ...]:
+        """Names of the varied parameters."""
+        return tuple(p.name for p in self.parameters if p.vary)
+
+    def __getitem__(self, name: str) -> Parameter:
+        for p in self.parameters:
+            if p.name == name:
+                return p
+        raise KeyError(name)
+
+    def with_values(self, values: dict) -> FitSpec:
+        """Copy whose start values are ``values`` (clipped into the bounds)."""
+        out = []
+        for p in self.parameters:
+            v = values.get(p.name, p.value)
+            out.append(p.replace(value=min(max(float(v), p.min), p.max)))
+        return FitSpec(tuple(out))
+
+    def effect_names(self) -> tuple[str, ...]:
+        """Effects named by the spec's parameters."""
+        seen = []
+        for p in self.parameters:
+            if p.kind == "effect":
+                e = p.name.split(".")[0]
+                if e not in seen:
+                    seen.append(e)
+        return tuple(seen)
+
+
+def check_spec_uses(base_params: DeviceParams, spec: FitSpec) -> None:
+    """Raise ParameterError if ``spec`` varies (or scales) a field ``base_params`` does not use.
+
+    A field listed by :meth:`DeviceParams.unused` (e.g. ``mu`` once ``c1`` is
+    given explicitly) enters no answer: "fitting" it would return its start
+    with standard error 0.
+
+    Examples
+    --------
+    >>> from liquidamp.device import preset
+    >>> check_spec_uses(preset("reference"), FitSpec.default(vary=("mu",)))
+    >>> check_spec_uses(preset("reference").replace(c1=1e9), FitSpec.default(vary=("mu",)))
+    Traceback (most recent call last):
+    ...
+    liquidamp.errors.ParameterError: cannot fit 'mu': the starting parameters do not use it ...
+    """
+    unused = base_params.unused()
+    for p in spec.parameters:
+        if p.kind == "multiplier" and p.name in unused and (p.vary or p.value != 1.0):
+            derived = [k for k in ("c1", "c2", "S_t") if k in base_params.explicit]
+            instead = " or ".join(derived) or "another parameter"
+            raise ParameterError(
+                f"cannot fit {p.name!r}: the starting parameters do not use it "
+                f"({unused[p.name]}); vary {instead} instead, or start from parameters "
+                f"that derive {instead} from {p.name}")

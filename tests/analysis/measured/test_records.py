@@ -1,0 +1,147 @@
+"""Reading, checking and differentiating test-machine records; driving a model with them."""
+
+import numpy as np
+import pytest
+
+from liquidamp.analysis.measured.record_model import nrmse, simulate_record
+from liquidamp.analysis.measured.record_quality import noise_floor
+from liquidamp.analysis.measured.records import Record, read_record, write_record
+from liquidamp.device import preset
+from liquidamp.errors import DataFileError
+
+
+def _sine(n=600, f=3.0, fs=200.0, Y=0.003, phase=0.4):
+    t = 2.0 + np.arange(n) / fs
+    return t, Y * np.sin(2 * np.pi * f * t + phase), 400 * np.cos(2 * np.pi * f * t)
+
+
+def _write(path, header, rows):
+    path.write_text(header + "\n" + "\n".join(",".join(str(c) for c in r) for r in rows) + "\n")
+    return path
+
+
+def test_roundtrip_units_and_inference(tmp_path):
+    t, y, F = _sine()
+    p = _write(tmp_path / "r.csv", "time [ms],displacement [mm],force [kN]",
+               zip(t * 1e3, y * 1e3, F / 1e3, strict=True))
+    r = read_record(p)
+    assert r.frequency == pytest.approx(3.0, rel=1e-6)
+    assert r.amplitude == pytest.approx(0.003, rel=1e-4)
+    assert r.force.max() == pytest.approx(400.0, rel=1e-3)
+    # SG edges dropped; velocity is the derivative of the stroke
+    assert r.time.size == t.size - 20
+    v_exact = 0.003 * 2 * np.pi * 3 * np.cos(2 * np.pi * 3 * r.time + 0.4)
+    assert np.max(np.abs(r.velocity - v_exact)) < 3e-3 * 0.0566
+    out = write_record(tmp_path / "w.csv", r)
+    r2 = read_record(out)
+    assert np.allclose(r2.force, r.force[10:-10], atol=1e-3)
+
+
+@pytest.mark.parametrize("header,rows,match", [
+    ("time [s],force [N]", [[0, 1]] * 50, "missing column"),
+    ("time [s],displacement [in],force [N]", [[0, 1, 1]] * 50, r"unknown unit \[in\]"),
+    ("time [s],stroke [mm],force [N]", [[0, 1, 1]] * 50, "unknown column 'stroke'"),
+    ("time,displacement [mm],force [N]", [[0, 1, 1]] * 50, "column 1"),
+])
+def test_bad_header(tmp_path, header, rows, match):
+    with pytest.raises(DataFileError, match=match):
+        read_record(_write(tmp_path / "b.csv", header, rows))
+
+
+def test_bad_rows_named(tmp_path):
+    t, y, F = _sine()
+    rows = [list(r) for r in zip(t, y * 1e3, F, strict=True)]
+    bad = [r[:] for r in rows]
+    bad[5][2] = "nan"
+    with pytest.raises(DataFileError, match="line 7, column 3 \\(force\\)"):
+        read_record(_write(tmp_path / "nan.csv", "time [s],displacement [mm],force [N]", bad))
+    bad = [r[:] for r in rows]
+    bad[30][0] = bad[28][0]
+    with pytest.raises(DataFileError, match="row 32.*does not increase"):
+        read_record(_write(tmp_path / "t.csv", "time [s],displacement [mm],force [N]", bad))
+    bad = [r[:] for r in rows]
+    bad[9][1] = "abc"
+    with pytest.raises(DataFileError, match="line 11, column 2 \\(displacement\\): 'abc'"):
+        read_record(_write(tmp_path / "a.csv", "time [s],displacement [mm],force [N]", bad))
+    with pytest.raises(DataFileError, match="less than one cycle"):
+        read_record(_write(tmp_path / "s.csv", "time [s],displacement [mm],force [N]",
+                           rows[:60]))
+
+
+def test_noise_floor_and_nrmse():
+    rng = np.random.default_rng(3)
+    t, y, F = _sine(n=800)
+    r = Record.from_arrays(t, y + rng.normal(0, 2e-6, t.size), F + rng.normal(0, 1.5, t.size))
+    nf = noise_floor(r)
+    assert nf.force_std == pytest.approx(1.5, rel=0.15)
+    assert nf.displacement_std == pytest.approx(2e-6, rel=0.2)
+    pooled = nrmse([np.zeros(2), np.ones(2)], [np.zeros(2), 2 * np.ones(2)])
+    assert pooled == pytest.approx(0.5 ** 0.5)
+
+
+def test_record_drive_reaches_steady_state():
+    """Pre-roll removes the start-up transient: record-driven force matches the steady state."""
+    from liquidamp.coupled.testrig import steady_state
+    from liquidamp.structure.testmachine import HarmonicStroke
+
+    p = preset("paper_calibrated")
+    t = np.arange(0, 1.2, 0.005)
+    r = Record.from_arrays(t, 0.003 * np.sin(2 * np.pi * 3 * t), 0 * t)
+    sim = simulate_record("full", p, r, preroll=2)
+    ss = steady_state("full", p, HarmonicStroke(0.003, 3.0))
+    ref = np.interp((r.time % (1 / 3)), ss.time, ss.force, period=1 / 3)
+    assert np.sqrt(np.mean((sim.force - ref) ** 2)) / np.ptp(ref) < 5e-3
+
+
+@pytest.mark.parametrize("effects", ["friction+offset", "freeplay", "compliance+cavitation"])
+def test_composed_models_run_on_the_compiled_engine_like_lsoda(effects):
+    """Every composition runs on the compiled engine with the record's stroke and gives the
+    force of the scipy route (LSODA on the same right-hand side)."""
+    from liquidamp.analysis.measured.calibration import FIT_OPTIONS
+    from liquidamp.analysis.measured.synthetic import synthetic_record
+    from liquidamp.device.effects import (
+        Cavitation,
+        ForceOffset,
+        Freeplay,
+        SeriesCompliance,
+        SmoothFriction,
+        with_effects,
+    )
+    from liquidamp.device.models import get_model
+
+    rec = synthetic_record(preset="reference", frequency=3.0, amplitude=0.003, cycles=2,
+                           seed=3)
+    chosen = {"friction+offset": (SmoothFriction(30.0, 3e5), ForceOffset(5.0)),
+              "freeplay": (Freeplay(1e-4),),
+              "compliance+cavitation": (SeriesCompliance(5e5), Cavitation(2339.0))}[effects]
+    m = with_effects(get_model("full"), *chosen)
+    p = preset("reference")
+    tight = FIT_OPTIONS.replace(rtol=1e-9)  # the freeplay's contact kinks: both engines tight
+    a = simulate_record(m, p, rec, options=tight)
+    b = simulate_record(m, p, rec, options=tight.replace(engine="scipy"))
+    assert np.max(np.abs(a.force - b.force)) < 1e-4 * np.max(np.abs(b.force))
+    if "z_friction" in m.state_names:  # the bristle state saturates at +-1 between reversals
+        z = a.state("z_friction")
+        assert 0.9 < np.max(np.abs(z)) <= 1.0 + 1e-6
+
+
+@pytest.mark.parametrize("name", ["full", "no_inertia", "constant_bulk"])
+def test_leakage_runs_alike_on_both_engines(name):
+    """Leakage (with smooth friction) on the compiled engine and on LSODA agree; it matters."""
+    from liquidamp.analysis.measured.calibration import FIT_OPTIONS
+    from liquidamp.analysis.measured.synthetic import synthetic_record
+    from liquidamp.device.effects import Leakage, SmoothFriction, with_effects
+    from liquidamp.device.models import get_model
+
+    rec = synthetic_record(preset="paper_calibrated", frequency=2.5, amplitude=0.0035,
+                           cycles=2, seed=5)
+    base = get_model(name)
+    m = with_effects(base, Leakage(2e-11), SmoothFriction(30.0, 3e5))
+    p = preset("paper_calibrated")
+    a = simulate_record(m, p, rec, options=FIT_OPTIONS)
+    b = simulate_record(m, p, rec, options=FIT_OPTIONS.replace(engine="scipy"))
+    c = simulate_record(with_effects(base, SmoothFriction(30.0, 3e5)), p, rec,
+                        options=FIT_OPTIONS)
+    peak = np.max(np.abs(b.force))
+    assert np.max(np.abs(a.force - b.force)) < 1e-4 * peak
+    assert np.max(np.abs(a.force - c.force)) > 1e-2 * peak  # the leak matters here
