@@ -25,6 +25,7 @@ from liquidamp.options import (
 
 EXPECTED = {  # preset -> (method, rtol, atol_scale, engine, compiled_method)
     "default": ("Radau", 1e-8, 1e-9, DEFAULT_ENGINE, "auto"),
+    "coupled": ("Radau", 1e-8, 1e-9, "scipy", "auto"),
     "fit": ("Radau", 1e-6, 1e-8, "compiled", "rodas4"),
     "rotor": ("DOP853", 1e-7, 1e-9, "compiled", "auto"),
     "section": ("Radau", 1e-6, 1e-9, "scipy", "auto"),
@@ -61,7 +62,7 @@ def test_default_engine_is_one_constant():
 
 
 def test_unknown_preset_and_unknown_keys_raise_listing_the_valid_ones():
-    valid = "valid: default, fit, rotor, section, casestudy"
+    valid = "valid: default, coupled, fit, rotor, section, casestudy"
     with pytest.raises(ParameterError, match=f"unknown solver preset 'fiting'; {valid}"):
         SolverOptions.preset("fiting")
     with pytest.raises(ParameterError, match=f"unknown solver preset 'stiff'; {valid}"):
@@ -154,7 +155,7 @@ def _calls():
                                  lambda: _fn("coupled.testrig.steady_state")("full", p, s)),
         "periodic_orbit": ("coupled.testrig", "default",
                            lambda: _fn("analysis.response.periodic.periodic_orbit")("full", p, s)),
-        "simulate_coupled": ("coupled.assembly", "default",
+        "simulate_coupled": ("coupled.assembly", "coupled",
                              lambda: _fn("coupled.assembly.simulate_coupled")(None, 1.0)),
         "simulate_record": ("analysis.measured.record_model", "default", lambda: _fn(
             "analysis.measured.record_model.simulate_record")("full", p, _record())),

@@ -990,7 +990,7 @@ def simulate_coupled(system: CoupledSystem, t_end: float, x0=None, *, t_eval=Non
         ``engine``, ``method``, ``rtol``, ``atol_scale`` (atol = atol_scale x
         state scale: the device's ``state_scales``, the host's largest
         initial state), ``pressure_floor``, ``vapour_pressure``; default the
-        ``"default"`` preset of :data:`liquidamp.options.PRESETS`.
+        ``"coupled"`` preset of :data:`liquidamp.options.PRESETS` (scipy).
         ``engine="scipy"``: :func:`scipy.integrate.solve_ivp`
         with ``method``.  ``engine="compiled"``: the compiled rotor kernel
         :func:`liquidamp.coupled.fast.simulate_rotor` (DOP853 with scipy's
@@ -1053,7 +1053,7 @@ def simulate_coupled(system: CoupledSystem, t_end: float, x0=None, *, t_eval=Non
 ground-resonance rotor with devices built by rotor_system(); host ... has constant \
 coefficients (a typical section or another linear StateSpace); use engine='scipy'
     """
-    opts = resolve_options(options, "default")
+    opts = resolve_options(options, "coupled")
     T_end = check_positive("t_end", t_end, "s")
     X0 = _resolve_x0(system, x0)
     period = system.host.period

@@ -28,7 +28,7 @@ from liquidamp.structure.rotor import GroundResonanceRotor
 
 ROTOR = load_rotor("hammond1974")
 W260 = 260.0 * 2.0 * math.pi / 60.0  # [rad/s]
-OPTS = SolverOptions(method="DOP853", rtol=1e-7)
+OPTS = SolverOptions(method="DOP853", rtol=1e-7, engine="scipy")
 COMPILED = OPTS.replace(engine="compiled")
 
 

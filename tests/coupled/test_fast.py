@@ -34,6 +34,8 @@ from liquidamp.options import SolverOptions
 from liquidamp.structure.testmachine import HarmonicStroke, RecordedStroke
 
 FAST = SolverOptions(engine="compiled")
+#: The reference engine, named explicitly (the default engine is the compiled one).
+REF = SolverOptions(engine="scipy")
 
 
 def _state_near_rest(model, params, rng):
@@ -103,7 +105,7 @@ def test_every_composition_runs_alike_on_both_engines(name):
     p = preset("reference")
     s = HarmonicStroke(0.002, 3.0)
     assert supports(model) is None
-    opts = SolverOptions(rtol=1e-9)
+    opts = SolverOptions(rtol=1e-9, engine="scipy")
     a = simulate(model, p, s, 0.4, options=opts)
     b = simulate(model, p, s, 0.4, options=opts.replace(engine="compiled"))
     assert a.status == b.status == "completed"
@@ -116,7 +118,7 @@ def test_compiled_run_matches_python_run(name):
     """Same tolerances: the force histories agree far below the steady-state tolerance."""
     p = preset("reference").replace(friction_N=30.0)
     s = HarmonicStroke(0.002, 3.0)
-    a = simulate(name, p, s, 0.5)
+    a = simulate(name, p, s, 0.5, options=REF)
     b = simulate(name, p, s, 0.5, options=FAST)
     assert b.status == "completed" and b.force.shape == a.force.shape
     peak = np.max(np.abs(a.force))
@@ -129,7 +131,7 @@ def test_compiled_run_matches_python_run(name):
 def test_compiled_steady_state_matches_python_dynamic_stiffness():
     p = preset("device_b")
     s = HarmonicStroke(0.003, 3.0)
-    a = steady_state("full", p, s)
+    a = steady_state("full", p, s, options=REF)
     b = steady_state("full", p, s, options=FAST)
     assert b.status == "steady" and b.cycles == a.cycles
     ka, kb = dynamic_stiffness(a).value, dynamic_stiffness(b).value
@@ -151,7 +153,7 @@ def test_recorded_stroke_is_interpolated_like_numpy():
     y = 0.002 * np.sin(2 * np.pi * 3 * t) + 0.0002 * np.sin(2 * np.pi * 9 * t + 0.3)
     s = RecordedStroke.from_displacement(t, y)
     p = preset("reference")
-    a = simulate("full", p, s, 0.7, t_eval=t[t <= 0.7])
+    a = simulate("full", p, s, 0.7, t_eval=t[t <= 0.7], options=REF)
     b = simulate("full", p, s, 0.7, t_eval=t[t <= 0.7], options=FAST)
     assert np.max(np.abs(b.force - a.force)) < 1e-5 * np.max(np.abs(a.force))
     for tq in (-1.0, 0.0123, 0.5, 3.0):  # the compiled lookup holds the end values
@@ -234,7 +236,7 @@ def test_compiled_rotor_with_devices_matches_simulate_coupled():
     dev = Device("full", preset("reference").replace(A_p=4 * 6.91e-4))
     W = 260.0 * 2 * math.pi / 60
     x0 = {"zeta_1": 2e-3, "hub_x": 2e-4}
-    opts = SolverOptions(method="DOP853", rtol=1e-7)
+    opts = SolverOptions(method="DOP853", rtol=1e-7, engine="scipy")
     run = simulate_rotor(rotor, W, dev, 0.3, x0, inoperative=[1], options=opts)
     ref = simulate_coupled(rotor_system(rotor, W, dev, inoperative=[1]), 0.3, x0,
                            t_eval=run.time, options=opts, strict=False, energy=False)
@@ -311,7 +313,7 @@ def test_padded_5x5_factorisation_solves_a_smaller_system():
 def test_every_compiled_method_matches_the_python_steady_state(method):
     """Non-stiff working point (reference, 3 Hz, 3 mm): each stepper, same |K*|."""
     p, s = preset("reference"), HarmonicStroke(0.003, 3.0)
-    a = steady_state("full", p, s)
+    a = steady_state("full", p, s, options=REF)
     b = steady_state("full", p, s, options=FAST.replace(compiled_method=method))
     ka, kb = dynamic_stiffness(a).value, dynamic_stiffness(b).value
     assert abs(kb - ka) / abs(ka) < 1e-7
@@ -350,7 +352,7 @@ def test_pressure_floor_crossing_is_located_alike_by_every_stepper():
 
     p, s = preset("reference"), HarmonicStroke(0.003, 3.0)
     times = []
-    for opts in [SolverOptions(rtol=1e-10)] + [
+    for opts in [SolverOptions(rtol=1e-10, engine="scipy")] + [
             FAST.replace(compiled_method=m, rtol=1e-10) for m in ("auto", "rodas4", "dopri5")]:
         with pytest.raises(PressureError) as info:
             simulate("full", p, s, 1.0, options=opts.replace(pressure_floor=4.2e4))

@@ -11,7 +11,7 @@ Two products, written to ``--out`` as PNG and JSON:
    S_t x m) for the sized reference design, healthy and failed; the inertance
    is the paper's frequency-selective ingredient.
 
-Run ``python examples/ground_resonance_map.py --out DIR`` (a few minutes on
+Run ``python -m liquidamp.examples.ground_resonance_map --out DIR`` (a few minutes on
 two cores).  ``--dask tcp://HOST:PORT`` sends the points to a Dask cluster
 (``pip install liquidamp[dask]``); the default is local processes.
 """
@@ -43,6 +43,7 @@ def _point(item):
 
 
 def main(argv=None) -> int:
+    """Command-line entry point: parse ``argv``, run the sweep, write PNG and JSON; 0 on success."""
     from liquidamp.analysis.stability.parallel import map_batched
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])

@@ -38,6 +38,7 @@ def _point(item):
 
 
 def main(argv=None) -> int:
+    """Command-line entry point: parse ``argv``, run the sweep, write PNG and JSON; 0 on success."""
     from liquidamp.analysis.stability.damped_stability import damped_flutter_analysis
     from liquidamp.analysis.stability.parallel import map_batched
     from liquidamp.analysis.stability.sizing import flutter_damper_device
