@@ -4,7 +4,8 @@
 (:class:`~liquidamp.analysis.measured.records.Record`) about its mean (the LVDT
 zero is arbitrary; the mean stroke is taken as the mid-position where the chambers
 hold V01 and V02); :func:`nrmse` is the normalized RMS force error used by the
-calibration; :func:`integrate` is the LSODA march under any scalar stroke.
+calibration; :func:`integrate` is the synthetic generator's LSODA march under
+any scalar stroke.
 
 Start-up transients: :func:`simulate_record` pre-rolls the model over the
 record's first cycle ``preroll`` times (each pass restarting at the record's
@@ -21,12 +22,12 @@ References
 
 from __future__ import annotations
 
-import bisect
 import math
 
 import numpy as np
 
 from liquidamp.analysis.measured.records import Record
+from liquidamp.coupled.engines import TestRig, get_engine
 from liquidamp.coupled.testrig import DeviceResponse
 from liquidamp.device.models import DeviceModel, get_model
 from liquidamp.device.params import DeviceParams
@@ -36,36 +37,34 @@ from liquidamp.options import SolverOptions, resolve_options
 __all__ = ["simulate_record", "integrate", "nrmse"]
 
 
-class _Interp:
-    """Fast scalar linear interpolation of (y, v, a) on a sample grid (clamped ends)."""
-
-    def __init__(self, t, y, v, a):
-        self.t = [float(x) for x in t]
-        self.y, self.v, self.a = (list(map(float, q)) for q in (y, v, a))
-        self.n = len(self.t)
-
-    def __call__(self, t):
-        tt = self.t
-        i = bisect.bisect_right(tt, t) - 1
-        if i < 0:
-            i = 0
-        elif i > self.n - 2:
-            i = self.n - 2
-        w = (t - tt[i]) / (tt[i + 1] - tt[i])
-        w = 0.0 if w < 0.0 else (1.0 if w > 1.0 else w)
-        y, v, a = self.y, self.v, self.a
-        return (y[i] + w * (y[i + 1] - y[i]), v[i] + w * (v[i + 1] - v[i]),
-                a[i] + w * (a[i + 1] - a[i]))
-
-
 def integrate(model: DeviceModel, params: DeviceParams, stroke, t_eval, x0, *,
               rtol: float, atol_scale: float, hmax: float = 0.0) -> np.ndarray:
-    """Integrate ``model`` under the scalar ``stroke(t) -> (y, v, a)`` with LSODA (odeint).
+    """Integrate ``model`` under any scalar ``stroke(t) -> (y, v, a)`` with LSODA (odeint).
 
-    Returns the states at ``t_eval``, shape (n_states, len(t_eval)).  LSODA
-    switches between Adams and BDF as the device's stiffness changes; its
-    Fortran driver costs far less per step than ``solve_ivp``, which is
-    what makes fitting many records affordable in pure Python.
+    The synthetic-record generator's integrator
+    (:func:`liquidamp.analysis.measured.synthetic.synthetic_record`): a third
+    algorithm (LSODA's Adams/BDF switching) on the same compiled equations,
+    for a stroke callable neither engine takes (harmonic distortion, noise);
+    records made with it test the fitting, which runs on the engines
+    (:func:`simulate_record`).  Returns the states at ``t_eval``, shape
+    (n_states, len(t_eval)).
+
+    Parameters
+    ----------
+    model : DeviceModel
+        The model (any effects).
+    params : DeviceParams
+        Its parameters.
+    stroke : callable
+        ``stroke(t) -> (y [m], v [m/s], a [m/s^2])`` for scalar t [s].
+    t_eval : array
+        Output times [s].
+    x0 : array
+        Initial state.
+    rtol, atol_scale : float
+        Relative tolerance and absolute tolerance per state scale [-].
+    hmax : float
+        Largest step [s] (0: unbounded).
 
     Raises
     ------
@@ -98,10 +97,6 @@ def integrate(model: DeviceModel, params: DeviceParams, stroke, t_eval, x0, *,
     return X.T
 
 
-def _engine(options) -> str:
-    return getattr(options, "engine", "scipy")
-
-
 def simulate_record(model, params: DeviceParams, record: Record, *,
                     options: SolverOptions | None = None, preroll: int = 2,
                     x0=None) -> DeviceResponse:
@@ -118,10 +113,9 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
         and acceleration drive the model).
     options : SolverOptions, optional
         ``rtol``, ``atol_scale``, ``max_step_fraction`` and
-        ``pressure_floor`` are used.  With ``engine="compiled"`` the model,
-        with any effects, runs on the compiled engine
-        (:func:`liquidamp.coupled.fast.march`); the ``scipy`` engine
-        integrates the same right-hand side with LSODA (:func:`integrate`).
+        ``pressure_floor`` are used; the engine named by ``options.engine``
+        runs the model with any effects (:mod:`liquidamp.coupled.engines`,
+        the same driver as :func:`liquidamp.coupled.testrig.simulate`).
         Default: the ``"default"`` preset of :data:`liquidamp.options.PRESETS`
         (the fitting functions pass ``"fit"``).
     preroll : int
@@ -168,35 +162,31 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     n_cycle = min(int(math.ceil(record.period * record.sampling_rate)) + 1, t.size)
     y0 = float(stroke.displacement[0])
     x = model.initial_state(params, y0) if x0 is None else np.asarray(x0, float)
-    engine = _engine(options)
+    # one driver for both engines (liquidamp.coupled.engines): the device on the test machine
+    # under the recorded stroke.  A bounded step: a state that rests while the input moves
+    # (freeplay in its gap, a closed cavity) gives zero derivatives at the start, and an
+    # unbounded first step could jump over the whole record without seeing the contact
+    rig = TestRig(model, params, stroke)
+    engine = get_engine(options.engine)
+    engine.check(rig)
+    max_step = max(options.max_step_fraction, 1e-4) * record.period
+    stats: dict = {}
 
-    fast = _Interp(stroke.time, stroke.displacement, stroke.velocity, stroke.acceleration)
-    # a bounded step: a state that rests while the input moves (freeplay in its gap, a
-    # closed cavity) gives zero derivatives at the start, and an unbounded first step
-    # can jump over the whole record without ever seeing the contact
-    hmax = max(options.max_step_fraction, 1e-4) * record.period
-    if engine == "compiled" and model.n_states:
-        # every model with any effects runs on the compiled engine (one copy of the physics)
-        from liquidamp.coupled.fast import march
+    def run(t_eval, xs):
+        if not model.n_states:
+            return np.zeros((0, t_eval.size))
+        return engine.march(rig, xs, float(t_eval[0]), float(t_eval[-1]), t_eval, options,
+                            max_step, stats)
 
-        def run(t_eval, xs):
-            t0, t1 = float(t_eval[0]), float(t_eval[-1])
-            X, _, _ = march(model, params, stroke, xs, t0, t1, t_eval, options,
-                            options.max_step_fraction * record.period)
-            return X
-    else:
-        def run(t_eval, xs):
-            return integrate(model, params, fast, t_eval, xs, rtol=options.rtol,
-                             atol_scale=options.atol_scale, hmax=hmax)
     t_cycle = np.append(t[:n_cycle - 1], t[0] + record.period)  # exactly one period
     for _ in range(preroll if model.n_states else 0):
         x = run(t_cycle, x)[:, -1]
     X = run(t, x)
     u = (stroke.displacement, stroke.velocity, stroke.acceleration)
-    return _response(model, params, t, X, u, options)
+    return _response(model, params, t, X, u, options, stats)
 
 
-def _response(model, params, t, X, u, options) -> DeviceResponse:
+def _response(model, params, t, X, u, options, stats=None) -> DeviceResponse:
     force = np.broadcast_to(np.asarray(model.force(t, X, u, params), float), t.shape).copy()
     p1 = p2 = None
     warn = []
@@ -227,7 +217,7 @@ def _response(model, params, t, X, u, options) -> DeviceResponse:
         state_names=model.state_names, state_units=model.state_units, p1=p1, p2=p2,
         mass_error=mass_error, status="completed",
         message=f"driven by the recorded stroke over {t[-1] - t[0]:.4g} s",
-        warnings=tuple(warn))
+        warnings=tuple(warn), solver_stats=dict(stats or {}))
 
 
 # ---------------------------------------------------------------------------
