@@ -78,6 +78,7 @@ from liquidamp.device.kernels import (
     P_FRIC,
     S_ANALYTIC,
     S_COUL,
+    S_EFFECTS,
     S_IC,
     S_IFP,
     S_IZ,
@@ -902,45 +903,73 @@ integrate_explicit = _specialise(_integrate_source, "integrate_explicit", _WITH_
 ST_STROKE_LIMIT = 5
 
 @njit(cache=True, error_model="numpy")
-def rotor_rhs(t, X, W, MH, Pout, Prate, Pin, DSPEC, doff, PRM, DEP, M, b, piv, Fk, out):
+def rotor_rhs(t, X, W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, M, b, piv, Fk, out):
     """Periodic second-order host + devices on its ports: dX/dt into ``out``.
 
     The host is ``M(psi) q'' + C(psi) q' + K(psi) q = Pin F`` with
-    ``psi = W t`` and each matrix a first harmonic of psi: ``MH`` (9, n, n)
-    holds ``M0, Mc, Ms, C0, Cc, Cs, K0, Kc, Ks`` as returned by
+    ``psi = W t`` and each matrix a first harmonic of psi, ``X0 + Xc cos(psi)
+    + Xs sin(psi)``: the non-zero entries of the nine matrices ``M0, Mc, Ms,
+    C0, Cc, Cs, K0, Kc, Ks`` of
     :meth:`liquidamp.structure.rotor.GroundResonanceRotor.harmonic_second_order`
-    (the rotor's own equations; none are written here).  Host state
-    ``[q, q']``; device j sees stroke ``Pout[j] . X[:2n]`` and rate
-    ``Prate[j] . X[:2n]``, its force F_j enters through column j of ``Pin``.
+    (the rotor's own equations; none are written here) as triplets
+    ``HI[e] = (matrix 0-8, row, column)``, ``HV[e]`` = value.  Host state
+    ``[q, q']`` (n = M.shape[0] coordinates); the port maps as triplets
+    ``PI[e] = (kind, device, index)``, ``PV[e]`` = value, kind 0: stroke of
+    device j = sum PV X[index], kind 1: its rate, kind 2: generalized force
+    on coordinate ``index`` = PV F_j.
     """
-    n = MH.shape[1]
+    n = M.shape[0]
     nh = 2 * n
     psi = W * t
     cp = math.cos(psi)
     sp = math.sin(psi)
     nd = DSPEC.shape[0]
+    for j in range(2 * nd):
+        Fk[j] = 0.0  # stroke and rate of each device
+    npi = PI.shape[0]
+    for e in range(npi):
+        kind = PI[e, 0]
+        if kind < 2:
+            Fk[2 * PI[e, 1] + kind] += PV[e] * X[PI[e, 2]]
     for j in range(nd):
-        y = 0.0
-        v = 0.0
-        for i in range(nh):
-            y += Pout[j, i] * X[i]
-            v += Prate[j, i] * X[i]
+        y = Fk[2 * j]
+        v = Fk[2 * j + 1]
         a0 = nh + doff[j]
         a1 = nh + doff[j + 1]
         z = X[a0:a1]
-        Fk[j] = model_force(DSPEC[j], z, y, v, 0.0, PRM[j], DEP[j], True)
-        if a1 > a0:
-            model_rhs(DSPEC[j], z, y, v, PRM[j], DEP[j], out[a0:a1])
+        spec = DSPEC[j]
+        prm = PRM[j]
+        if spec[S_N] == spec[S_NB] and spec[S_EFFECTS] == 0:  # the base equation alone
+            mid = spec[S_MID]
+            if a1 > a0:
+                base_rhs_inline(mid, z, y, v, prm, 0.0, out[a0:a1])
+            F = base_force(mid, z, y, v, 0.0, prm)
+            if prm[P_FRIC] > 0.0:
+                F += prm[P_FRIC] * (1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0))
+            Fk[2 * j] = F
+        else:
+            if a1 > a0:
+                model_rhs(spec, z, y, v, prm, DEP[j], out[a0:a1])
+            Fk[2 * j] = model_force(spec, z, y, v, 0.0, prm, DEP[j], True)
     for i in range(n):
-        acc = 0.0
-        for k in range(nd):
-            acc += Pin[i, k] * Fk[k]
+        b[i] = 0.0
         for k in range(n):
-            Ck = MH[3, i, k] + MH[4, i, k] * cp + MH[5, i, k] * sp
-            Kk = MH[6, i, k] + MH[7, i, k] * cp + MH[8, i, k] * sp
-            acc -= Ck * X[n + k] + Kk * X[k]
-            M[i, k] = MH[0, i, k] + MH[1, i, k] * cp + MH[2, i, k] * sp
-        b[i] = acc
+            M[i, k] = 0.0
+    for e in range(npi):
+        if PI[e, 0] == 2:
+            b[PI[e, 2]] += PV[e] * Fk[2 * PI[e, 1]]
+    for e in range(HI.shape[0]):
+        m = HI[e, 0]
+        i = HI[e, 1]
+        k = HI[e, 2]
+        h = m % 3
+        w = HV[e] if h == 0 else (HV[e] * cp if h == 1 else HV[e] * sp)
+        if m < 3:
+            M[i, k] += w
+        elif m < 6:
+            b[i] -= w * X[n + k]
+        else:
+            b[i] -= w * X[k]
     _lu(M, piv)
     _solve(M, piv, b)
     for i in range(n):
@@ -949,7 +978,7 @@ def rotor_rhs(t, X, W, MH, Pout, Prate, Pin, DSPEC, doff, PRM, DEP, M, b, piv, F
 
 
 @njit(cache=True, error_model="numpy")
-def rotor_integrate(W, MH, Pout, Prate, Pin, DSPEC, doff, PRM, DEP, fi, lim, pfloor, x0, t_end,
+def rotor_integrate(W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, fi, lim, pfloor, x0, t_end,
                     teval, rtol, atol, hmax, max_steps, RA, RB, RC, E3, E5, RAX, RCX, RD, out,
                     info):
     """DOP853 (Dormand-Prince 8(5,3), scipy's coefficients and step control) of :func:`rotor_rhs`.
@@ -961,7 +990,7 @@ def rotor_integrate(W, MH, Pout, Prate, Pin, DSPEC, doff, PRM, DEP, fi, lim, pfl
     ``info``: status, time reached, steps, rhs evaluations, samples written.
     """
     n = x0.size
-    nb = MH.shape[1]
+    nb = int(x0.size - doff[-1]) // 2
     nh = 2 * nb
     nd = DSPEC.shape[0]
     ns = 12
@@ -970,14 +999,14 @@ def rotor_integrate(W, MH, Pout, Prate, Pin, DSPEC, doff, PRM, DEP, fi, lim, pfl
     M = np.empty((nb, nb))
     b = np.empty(nb)
     piv = np.empty(nb, np.int64)
-    Fk = np.empty(max(nd, 1))
+    Fk = np.empty(max(2 * nd, 1))
     y = x0.copy()
     ynew = np.empty(n)
     ytmp = np.empty(n)
     f = np.empty(n)
     fnew = np.empty(n)
     t = 0.0
-    rotor_rhs(t, y, W, MH, Pout, Prate, Pin, DSPEC, doff, PRM, DEP, M, b, piv, Fk, f)
+    rotor_rhs(t, y, W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, M, b, piv, Fk, f)
     nfev = 1
     # initial step (Hairer, Norsett & Wanner I, II.4; as scipy)
     d0 = 0.0
@@ -992,7 +1021,7 @@ def rotor_integrate(W, MH, Pout, Prate, Pin, DSPEC, doff, PRM, DEP, fi, lim, pfl
     h0 = min(h0, t_end, hmax)
     for i in range(n):
         ytmp[i] = y[i] + h0 * f[i]
-    rotor_rhs(h0, ytmp, W, MH, Pout, Prate, Pin, DSPEC, doff, PRM, DEP, M, b, piv, Fk, K[1])
+    rotor_rhs(h0, ytmp, W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, M, b, piv, Fk, K[1])
     nfev += 1
     d2 = 0.0
     for i in range(n):
@@ -1036,14 +1065,14 @@ def rotor_integrate(W, MH, Pout, Prate, Pin, DSPEC, doff, PRM, DEP, fi, lim, pfl
                 for r in range(s):
                     acc += RA[s, r] * K[r, i]
                 ytmp[i] = y[i] + h * acc
-            rotor_rhs(t + RC[s] * h, ytmp, W, MH, Pout, Prate, Pin, DSPEC, doff, PRM, DEP, M,
+            rotor_rhs(t + RC[s] * h, ytmp, W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, M,
                       b, piv, Fk, K[s])
         for i in range(n):
             acc = 0.0
             for r in range(ns):
                 acc += RB[r] * K[r, i]
             ynew[i] = y[i] + h * acc
-        rotor_rhs(tn, ynew, W, MH, Pout, Prate, Pin, DSPEC, doff, PRM, DEP, M, b, piv, Fk, fnew)
+        rotor_rhs(tn, ynew, W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, M, b, piv, Fk, fnew)
         for i in range(n):
             K[ns, i] = fnew[i]
         nfev += ns
@@ -1077,7 +1106,7 @@ def rotor_integrate(W, MH, Pout, Prate, Pin, DSPEC, doff, PRM, DEP, fi, lim, pfl
                         for r in range(s):
                             acc += RAX[s - ns - 1, r] * K[r, i]
                         ytmp[i] = y[i] + h * acc
-                    rotor_rhs(t + RCX[s - ns - 1] * h, ytmp, W, MH, Pout, Prate, Pin, DSPEC,
+                    rotor_rhs(t + RCX[s - ns - 1] * h, ytmp, W, HI, HV, PI, PV, DSPEC,
                               doff, PRM, DEP, M, b, piv, Fk, K[s])
                 nfev += 3
                 for i in range(n):
@@ -1110,8 +1139,9 @@ def rotor_integrate(W, MH, Pout, Prate, Pin, DSPEC, doff, PRM, DEP, fi, lim, pfl
             rejected = False
             for j in range(nd):
                 ys = 0.0
-                for i in range(nh):
-                    ys += Pout[j, i] * y[i]
+                for e in range(PI.shape[0]):
+                    if PI[e, 0] == 0 and PI[e, 1] == j:
+                        ys += PV[e] * y[PI[e, 2]]
                 if abs(ys) >= lim[j]:
                     status = ST_STROKE_LIMIT
                 if fi[j, 0] >= 0:

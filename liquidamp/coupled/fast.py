@@ -480,15 +480,20 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
         c[k - 1] = 0.0
     host = rotor.with_lag_dampers(c)
     # the rotor's equations come from structure/: M, C, K as first harmonics of the azimuth
-    MH = np.ascontiguousarray(np.stack(host.harmonic_second_order(W)))
+    MH = np.stack(host.harmonic_second_order(W))
     G, Cout = host.force_matrix(), host.output_matrix()
     ins, outs = host.input_names, host.output_names
-    Pin = np.ascontiguousarray(np.column_stack(
-        [G[:, ins.index(port.force_input)] for port in system.ports]).reshape(G.shape[0], -1))
-    Pout = np.ascontiguousarray(np.array(
-        [Cout[outs.index(port.stroke_output)] for port in system.ports]).reshape(-1, nh))
-    Prate = np.ascontiguousarray(np.array(
-        [Cout[outs.index(port.rate_output)] for port in system.ports]).reshape(-1, nh))
+    # sparse triplets: the kernel visits the non-zero entries only
+    HI = np.ascontiguousarray(np.argwhere(MH != 0.0), dtype=np.int64).reshape(-1, 3)
+    HV = np.ascontiguousarray(MH[MH != 0.0])
+    trip = []
+    for j, port in enumerate(system.ports):
+        for kind, row in ((0, Cout[outs.index(port.stroke_output)]),
+                          (1, Cout[outs.index(port.rate_output)]),
+                          (2, G[:, ins.index(port.force_input)])):
+            trip += [(kind, j, int(i), float(row[i])) for i in np.flatnonzero(row)]
+    PI = np.array([t[:3] for t in trip], dtype=np.int64).reshape(-1, 3)
+    PV = np.array([t[3] for t in trip], dtype=float)
     nd = len(system.devices)
     doff = np.zeros(nd + 1, np.int64)
     DSPEC = np.zeros((nd, DK.N_SPEC), np.int64)
@@ -522,7 +527,7 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
     out = np.zeros((X0.size, t_eval.size))
     info = np.zeros(5)
     tables = _dop853_tables()
-    K.rotor_integrate(W, MH, Pout, Prate, Pin, DSPEC, doff, PRM, DEP, fi, lim,
+    K.rotor_integrate(W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, fi, lim,
                       float(opts.pressure_floor), X0, T_end, t_eval, float(opts.rtol), atol, hmax,
                       int(max_steps), *tables, out, info)
     status = int(info[0])

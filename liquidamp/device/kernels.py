@@ -110,8 +110,8 @@ N_PRM = 24
 
 # ------------------------------------------------------------ composition
 S_MID, S_N, S_NB, S_ICAV, S_IC, S_IFP, S_IZ = range(7)
-S_LEAK, S_COUL, S_MASS, S_OFF, S_ANALYTIC, S_I1, S_I2 = range(7, 14)
-N_SPEC = 14
+S_LEAK, S_COUL, S_MASS, S_OFF, S_ANALYTIC, S_I1, S_I2, S_EFFECTS = range(7, 15)
+N_SPEC = 15
 
 E_LEAK, E_PV, E_KC, E_GAP, E_SFC, E_SIG, E_VS, E_SR, E_CF, E_MASS, E_OFF = range(11)
 #: The effect slots; the state scales follow from ``ep[N_EP]`` on.
@@ -674,7 +674,7 @@ def _fluid_rhs(spec, x, y, v, prm, ep, out):
         out[ic + 1] = dc2
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", fastmath=_FM)
 def model_rhs(spec, x, y, v, prm, ep, out):
     """dx/dt of a composed model at the measured rod stroke (y [m], v [m/s]), into ``out``.
 
@@ -683,7 +683,7 @@ def model_rhs(spec, x, y, v, prm, ep, out):
     friction's bristle state follows the rod velocity.
     """
     if spec[S_N] == spec[S_NB] and spec[S_LEAK] == 0:
-        base_rhs(spec[S_MID], x, y, v, prm, 0.0, out)
+        base_rhs_inline(spec[S_MID], x, y, v, prm, 0.0, out)
         return
     yi = y
     vi = v

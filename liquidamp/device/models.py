@@ -200,6 +200,7 @@ class DeviceModel:
         fd = spec[K.S_ICAV] >= 0 or spec[K.S_IC] >= 0 or spec[K.S_IFP] >= 0 or (
             spec[K.S_LEAK] and self.base not in ("full", "no_inertia"))
         spec[K.S_ANALYTIC] = 0 if fd else 1
+        spec[K.S_EFFECTS] = len(self.effects)
         return spec
 
     def packed(self, params) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -48,6 +48,7 @@ References
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from dataclasses import dataclass
 
@@ -373,6 +374,9 @@ class GroundResonanceRotor:
         >>> bool(np.allclose(M, M0 + Mc * np.cos(0.3) + Ms * np.sin(0.3), rtol=0, atol=1e-9))
         True
         """
+        return _harmonic_second_order(self, float(Omega))
+
+    def _harmonic_uncached(self, Omega: float):
         a, b, c = (self.second_order(Omega, psi) for psi in (0.0, 0.5 * np.pi, np.pi))
         out = []
         for X0, X1, X2 in zip(a, b, c, strict=True):
@@ -387,6 +391,8 @@ class GroundResonanceRotor:
                         f"{type(self).__name__}: rotating-frame matrices are not first "
                         f"harmonics of the azimuth (error {err:.3g} at psi = {psi}); the "
                         "compiled rotor kernel cannot represent them")
+        for X in out:
+            X.flags.writeable = False
         return tuple(out)
 
     def force_matrix(self) -> np.ndarray:
@@ -532,3 +538,9 @@ class GroundResonanceRotor:
             states=list(self.multiblade_state_names), inputs=["hub_force_x", "hub_force_y"],
             outputs=["hub_x", "hub_y"], name=f"{self.name}_mbc",
         )
+
+
+@functools.lru_cache(maxsize=64)
+def _harmonic_second_order(rotor: GroundResonanceRotor, Omega: float):
+    """Memoized :meth:`GroundResonanceRotor.harmonic_second_order` (read-only arrays)."""
+    return rotor._harmonic_uncached(Omega)
