@@ -89,8 +89,10 @@ from liquidamp.device.kernels import (
     S_NB,
     S_OFF,
     base_force,
+    base_jac,
     base_rhs,
     base_rhs_inline,
+    base_rhs_t,
     full_all,
     model_force,
     model_jac,
@@ -126,6 +128,9 @@ def _drop_stale_cache() -> None:
 
 _drop_stale_cache()
 
+
+#: Compile-time flag of the plain-model kernels (see :data:`integrate_plain`).
+_PLAIN_ONLY = False
 
 #: Fast-math flags of the pure arithmetic kernels: reciprocal and contraction only
 #: (no assumption of finite values, so NaN/inf checks keep working).
@@ -400,7 +405,6 @@ def _dp5_attempt(spec, prm, ep, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, fsal,
     """
     n = x.size
     mid = spec[S_MID]
-    plain = spec[S_N] == spec[S_NB] and spec[S_LEAK] == 0
     y, v = y0, v0
     for s_i in range(1 if fsal else 0, 7):
         if s_i == 0:
@@ -421,7 +425,7 @@ def _dp5_attempt(spec, prm, ep, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, fsal,
                     acc += _EB[j] * kk[j, i]
                 xn[i] = x[i] + h * acc
                 ys[i] = xn[i]
-        if plain:  # the base equation alone: inlined
+        if _PLAIN_ONLY:  # the base equation alone (no effects): inlined
             base_rhs_inline(mid, ys, y, v, prm, 0.0, ft)
         else:
             model_rhs(spec, ys, y, v, prm, ep, ft)
@@ -471,7 +475,6 @@ def _rodas_attempt(spec, prm, ep, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, reu
     """
     n = x.size
     mid = spec[S_MID]
-    plain = spec[S_N] == spec[S_NB] and spec[S_LEAK] == 0
     nj = G.shape[0]  # 5 (padded with the identity) or the state count where larger
     fac = 1.0 / (h * _GAM)
     for i in range(nj):
@@ -498,7 +501,7 @@ def _rodas_attempt(spec, prm, ep, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, reu
                 y, v = y0, v0
             elif st_i != 5:  # stages 5 and 6 share the time t + h
                 y, v, a = stroke_eval(kind, t + _RC[st_i] * h, sp, st, sy, sv, sa)
-            if plain:
+            if _PLAIN_ONLY:
                 base_rhs(mid, ys, y, v, prm, 0.0, ft)
             else:
                 model_rhs(spec, ys, y, v, prm, ep, ft)
@@ -695,6 +698,10 @@ def _integrate_source(spec, prm, ep, kind, sp, st, sy, sv, sa, x0, t0, t1, teval
                     if full_fused:  # sharing the fluid laws
                         full_all(x, y0, v0, yd, vd, prm, kL, f0, J, fdt)
                         reuse_f0 = True
+                    elif _PLAIN_ONLY:  # analytic for every base equation
+                        base_jac(spec[S_MID], x, y0, v0, prm, 0.0, J)
+                        base_rhs_t(spec[S_MID], x, y0, v0, yd, vd, prm, 0.0, fdt)
+                        reuse_f0 = False
                     else:
                         model_jac(spec, x, y0, v0, prm, ep, J)
                         model_rhs_t(spec, x, y0, v0, yd, vd, prm, ep, fdt)
@@ -817,7 +824,15 @@ def _integrate_source(spec, prm, ep, kind, sp, st, sy, sv, sa, x0, t0, t1, teval
         for j in range(nf):
             for i in range(n):
                 ks[i] = out[i, j]
-            if force_needs_stroke:
+            if _PLAIN_ONLY:  # a force carried by the states (and the set's friction)
+                fj = base_force(spec[S_MID], ks, 0.0, 0.0, 0.0, prm)
+                if prm[P_FRIC] > 0.0:
+                    y, v, a = stroke_eval(kind, teval[j] + off, sp, st, sy, sv, sa)
+                    if v > 0.0:
+                        fj += prm[P_FRIC]
+                    elif v < 0.0:
+                        fj -= prm[P_FRIC]
+            elif force_needs_stroke:
                 y, v, a = stroke_eval(kind, teval[j] + off, sp, st, sy, sv, sa)
                 fj = model_force(spec, ks, y, v, a, prm, ep, True)
             else:  # a force carried by the states alone
@@ -892,11 +907,24 @@ def _specialise(fn, name: str, **constants):
 
 
 _WITH_RODAS = True
-#: Compiled integrator with both steppers (``meth``: auto, rodas4 or dopri5).
+#: Compiled integrator with both steppers (``meth``: auto, rodas4 or dopri5), any model
+#: with any effects.
 integrate = _specialise(_integrate_source, "integrate", _WITH_RODAS=True)
 #: The same without RODAS4 (``meth``: auto or dopri5; auto returns ``ST_STIFF``
 #: where it would switch).
 integrate_explicit = _specialise(_integrate_source, "integrate_explicit", _WITH_RODAS=False)
+# the same two for a base equation without effects: the composition code is pruned at
+# compile time (a first call on a bare model compiles about half as much)
+_dp5_plain = _specialise(_dp5_attempt.py_func, "_dp5_attempt_plain", _PLAIN_ONLY=True)
+_rodas_plain = _specialise(_rodas_attempt.py_func, "_rodas_attempt_plain", _PLAIN_ONLY=True)
+#: :data:`integrate` for a model without effects (``spec[S_EFFECTS] == 0``).
+integrate_plain = _specialise(_integrate_source, "integrate_plain", _WITH_RODAS=True,
+                              _PLAIN_ONLY=True, _dp5_attempt=_dp5_plain,
+                              _rodas_attempt=_rodas_plain)
+#: :data:`integrate_explicit` for a model without effects.
+integrate_explicit_plain = _specialise(_integrate_source, "integrate_explicit_plain",
+                                       _WITH_RODAS=False, _PLAIN_ONLY=True,
+                                       _dp5_attempt=_dp5_plain, _rodas_attempt=_rodas_plain)
 
 
 # ------------------------------------------------- rotor + devices (coupled)

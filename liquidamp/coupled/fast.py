@@ -173,12 +173,15 @@ def _run(options, args: tuple, out: np.ndarray, info: np.ndarray) -> tuple[np.nd
     Returns the final state and whether the rerun happened.
     """
     meth = _method_code(options)
+    plain = args[0][DK.S_EFFECTS] == 0  # spec: no effects, the base equation alone
+    full = K.integrate_plain if plain else K.integrate
+    explicit = K.integrate_explicit_plain if plain else K.integrate_explicit
     if meth == K.METH_RODAS4:
-        return K.integrate(*args, meth, out, info), False
-    x = K.integrate_explicit(*args, meth, out, info)
+        return full(*args, meth, out, info), False
+    x = explicit(*args, meth, out, info)
     if int(info[0]) != K.ST_STIFF:
         return x, False
-    return K.integrate(*args, meth, out, info), True
+    return full(*args, meth, out, info), True
 
 
 def _fill_stats(stats: dict | None, options, info, rerun: bool) -> None:

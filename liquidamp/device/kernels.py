@@ -836,6 +836,21 @@ def force_series(spec, X, Y, V, A, prm, ep, with_friction, out):
 
 
 @njit(cache=True, error_model="numpy")
+def base_force_series(mid, X, Y, V, A, prm, with_friction, out):
+    """:func:`base_force` (+ the set's friction) over samples, for a model without effects.
+
+    The same values as :func:`force_series` there; kept apart so that a bare
+    model's first call does not compile the composition.
+    """
+    fr = prm[P_FRIC] if with_friction else 0.0
+    for k in range(out.size):
+        f = base_force(mid, X[:, k], Y[k], V[k], A[k], prm)
+        if fr > 0.0:
+            f += fr * _sign(V[k])
+        out[k] = f
+
+
+@njit(cache=True, error_model="numpy")
 def rhs_series(spec, X, Y, V, prm, ep, out):
     """:func:`model_rhs` over samples: X (n, N), Y, V (N,); into ``out`` (n, N)."""
     n = spec[S_N]

@@ -251,7 +251,10 @@ class DeviceModel:
         X2 = np.ascontiguousarray(np.broadcast_to(X2, (n, N)))
         Y, V, A = (np.ascontiguousarray(np.broadcast_to(q, shape).reshape(-1)) for q in (y, v, a))
         out = np.empty(N)
-        K.force_series(spec, X2, Y, V, A, prm, ep, with_friction, out)
+        if self.effects:
+            K.force_series(spec, X2, Y, V, A, prm, ep, with_friction, out)
+        else:
+            K.base_force_series(int(spec[K.S_MID]), X2, Y, V, A, prm, with_friction, out)
         return np.float64(out[0]) if shape == () else out.reshape(shape)
 
     def fluid_force(self, t, x, u, params):
