@@ -74,6 +74,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from liquidamp.coupled import _kernels as K
+from liquidamp.coupled import _rotor_kernel as RK
 from liquidamp.device import kernels as DK
 from liquidamp.device.models import BASES, DeviceModel
 from liquidamp.device.params import DeviceParams
@@ -530,7 +531,7 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
     out = np.zeros((X0.size, t_eval.size))
     info = np.zeros(5)
     tables = _dop853_tables()
-    K.rotor_integrate(W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, fi, lim,
+    RK.rotor_integrate(W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, fi, lim,
                       float(opts.pressure_floor), X0, T_end, t_eval, float(opts.rtol), atol, hmax,
                       int(max_steps), *tables, out, info)
     status = int(info[0])
@@ -539,7 +540,7 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
             f"compiled rotor integration failed at t = {info[1]:.6g} s ("
             + ("step size below round-off" if status == K.ST_STEP_TOO_SMALL else
                f"more than {max_steps} steps") + ")")
-    name = {K.ST_OK: "completed", K.ST_STROKE_LIMIT: "stroke_limit",
+    name = {K.ST_OK: "completed", RK.ST_STROKE_LIMIT: "stroke_limit",
             K.ST_PRESSURE: "pressure_floor"}[status]
     m = int(info[4])
     return RotorRun(t_eval[:m], out[:, :m], system, name, int(info[2]), int(info[3]))
