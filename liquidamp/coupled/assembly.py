@@ -64,7 +64,7 @@ import control
 import numpy as np
 from scipy.integrate import cumulative_simpson, solve_ivp
 
-from liquidamp.coupled.engines import get_engine
+from liquidamp.coupled.engines import engine_for
 from liquidamp.device.models import VISCOUS, DeviceModel, ViscousParams, get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import (
@@ -1075,8 +1075,7 @@ coefficients (a typical section or another linear StateSpace); use engine='scipy
         if not float(g(X0)) > 0.0:
             raise ParameterError("x0 is at a stop condition already: "
                                  + _stop_reason(system, kind, j, opts.pressure_floor))
-    engine = get_engine(opts.engine)  # the engine contract: supported, or a clear error
-    engine.check(system)
+    engine = engine_for(system, opts)  # the engine contract: supported, or a clear error
     route = _run_compiled if engine.name == "compiled" else _run_python
     t, X, status, message = route(system, T_end, X0, t_eval, opts, max_step, conds)
     if status != "completed" and strict:

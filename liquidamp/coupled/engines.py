@@ -60,6 +60,7 @@ from liquidamp.structure.port import DevicePort
 from liquidamp.structure.testmachine import HarmonicStroke, RecordedStroke
 
 __all__ = ["TestRig", "Engine", "ScipyEngine", "CompiledEngine", "ENGINES", "get_engine",
+           "engine_for",
            "TEST_MACHINE_PORT"]
 
 #: The test machine's one port: it prescribes the rod stroke and reads the load-cell force.
@@ -270,6 +271,30 @@ def _add_scipy_stats(stats: dict, options, sol) -> None:
 
 #: The engines by name (``SolverOptions.engine``).
 ENGINES: dict[str, Engine] = {e.name: e for e in (ScipyEngine(), CompiledEngine())}
+
+
+def engine_for(system, options) -> Engine:
+    """The engine ``options.engine`` names, checked against ``system`` (contract item 5).
+
+    Parameters
+    ----------
+    system : TestRig or CoupledSystem
+        What is to be integrated.
+    options : SolverOptions
+        Gives the engine name.
+
+    Returns
+    -------
+    Engine
+
+    Raises
+    ------
+    ParameterError
+        An unknown engine, or one that does not support ``system`` (with its reason).
+    """
+    engine = get_engine(options.engine)
+    engine.check(system)
+    return engine
 
 
 def get_engine(name: str) -> Engine:

@@ -21,7 +21,7 @@ from types import MappingProxyType
 
 import numpy as np
 
-from liquidamp.coupled.engines import TestRig, get_engine
+from liquidamp.coupled.engines import TestRig, engine_for
 from liquidamp.device.models import get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ParameterError
@@ -181,7 +181,7 @@ def prepare_run(model, params, stroke, options):
 
 
 def build_response(model, params, stroke, t, X, options, *, status, message, residual=0.0,
-              cycles=0, warnings=(), stats=None):
+                   cycles=0, warnings=(), stats=None):
     """The :class:`DeviceResponse` of states ``X`` at times ``t``: force, pressures, checks.
 
     Parameters
@@ -315,8 +315,7 @@ def simulate(model, params: DeviceParams, stroke, t_end: float, *, t_start: floa
         X = np.zeros((0, t_eval.size))
     else:
         rig = TestRig(model, params, stroke)
-        engine = get_engine(options.engine)
-        engine.check(rig)
+        engine = engine_for(rig, options)
         X = engine.march(rig, x, t_start, t_end, t_eval, options,
                          options.max_step_fraction * period, stats)
     return build_response(model, params, stroke, t_eval, X, options, status="completed",
@@ -382,8 +381,7 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
         return build_response(model, params, stroke, grid[:N], np.zeros((0, N)), options,
                          status="steady", message="algebraic model: steady at once", cycles=1)
     rig = TestRig(model, params, stroke)
-    engine = get_engine(options.engine)
-    engine.check(rig)
+    engine = engine_for(rig, options)
     stats = {}
     Xp, cycles, residual = engine.steady(rig, x, options, stats)
     msg = (f"periodic steady state after {cycles} cycles; estimated remaining change "

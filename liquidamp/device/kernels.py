@@ -59,9 +59,10 @@ from numba import njit
 
 __all__ = [
     "MODEL_IDS", "BASE_STATES", "N_PRM", "N_SPEC", "N_EP", "pack_params",
-    "bulk", "bulk_dp", "loss_flow", "loss_flow_dp",
+    "bulk", "bulk_and_dp", "loss_flow", "loss_flow_dp",
     "lugre_rate", "play_rate", "compliance_rate", "cavity_width", "cavity_rates",
     "model_rhs", "model_jac", "model_rhs_t", "model_force", "force_series",
+    "base_force_series",
 ]
 
 #: Fast-math flags of the pure arithmetic kernels: reciprocal and contraction only
@@ -186,12 +187,6 @@ def bulk_and_dp(p, X0, prm):
     dnum = X0 * dr
     dden = B_l * X0 / n * (dr / p - r / (p * p))
     return B_l * num / den, B_l * (dnum * den - num * dden) / (den * den)
-
-
-@njit(cache=True, error_model="numpy", fastmath=_FM)
-def bulk_dp(p, X0, prm):
-    """dB/dp of eq. (2) (0 for the constant law or below the 1 Pa floor) [-]."""
-    return bulk_and_dp(p, X0, prm)[1]
 
 
 @njit(cache=True, error_model="numpy", fastmath=_FM)
@@ -848,14 +843,3 @@ def base_force_series(mid, X, Y, V, A, prm, with_friction, out):
         if fr > 0.0:
             f += fr * _sign(V[k])
         out[k] = f
-
-
-@njit(cache=True, error_model="numpy")
-def rhs_series(spec, X, Y, V, prm, ep, out):
-    """:func:`model_rhs` over samples: X (n, N), Y, V (N,); into ``out`` (n, N)."""
-    n = spec[S_N]
-    f = np.empty(n)
-    for k in range(Y.size):
-        model_rhs(spec, X[:, k].copy(), Y[k], V[k], prm, ep, f)
-        for i in range(n):
-            out[i, k] = f[i]

@@ -27,7 +27,7 @@ import math
 import numpy as np
 
 from liquidamp.analysis.measured.records import Record
-from liquidamp.coupled.engines import TestRig, get_engine
+from liquidamp.coupled.engines import TestRig, engine_for
 from liquidamp.coupled.testrig import DeviceResponse
 from liquidamp.device.models import DeviceModel, get_model
 from liquidamp.device.params import DeviceParams
@@ -167,8 +167,7 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     # (freeplay in its gap, a closed cavity) gives zero derivatives at the start, and an
     # unbounded first step could jump over the whole record without seeing the contact
     rig = TestRig(model, params, stroke)
-    engine = get_engine(options.engine)
-    engine.check(rig)
+    engine = engine_for(rig, options)
     max_step = max(options.max_step_fraction, 1e-4) * record.period
     stats: dict = {}
 

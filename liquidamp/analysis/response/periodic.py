@@ -47,7 +47,7 @@ import math
 
 import numpy as np
 
-from liquidamp.coupled.engines import TestRig, get_engine
+from liquidamp.coupled.engines import TestRig, engine_for
 from liquidamp.coupled.testrig import DeviceResponse, build_response, prepare_run, steady_state
 from liquidamp.device.fluid import density_gholizadeh
 from liquidamp.device.models import DeviceModel
@@ -333,8 +333,7 @@ def periodic_orbit(model, params: DeviceParams, stroke: HarmonicStroke, options=
     run_opts = options  # tightened when the residual stalls at the integration error
 
     rig = TestRig(model, params, stroke)
-    engine = get_engine(options.engine)
-    engine.check(rig)
+    engine = engine_for(rig, options)
 
     def period(xs, t_eval=None):
         nonlocal runs
