@@ -165,7 +165,7 @@ def check_records(records, params: DeviceParams | None = None, *, outliers: str 
     if disp:
         raise DataFileError(
             f"{what}: {len(disp)} displacement spike(s) (Hampel filter, check_record): "
-            + "; ".join(f"{q.source}, {o.describe()}" for q, o in disp)
+            + _listed([f"{q.source}, {o.describe()}" for q, o in disp])
             + "; the recorded stroke drives the model, so these samples cannot be dropped: "
             "correct or remove them in the file")
     force = [(r.label, o) for r, q in zip(records, qs, strict=True) for o in q.outliers
@@ -173,11 +173,17 @@ def check_records(records, params: DeviceParams | None = None, *, outliers: str 
     if force and outliers == "raise":
         raise DataFileError(
             f"{what}: {len(force)} force outlier(s) (Hampel filter, check_record): "
-            + "; ".join(f"{q.source}, {o.describe()}" for q in qs for o in q.outliers
-                        if o.column == "force")
+            + _listed([f"{q.source}, {o.describe()}" for q in qs for o in q.outliers
+                       if o.column == "force"])
             + "; correct the file, or pass outliers='drop' to leave these samples out of the "
             "fit and the error measures (the result lists them)")
     return qs, tuple(force)
+
+
+def _listed(items: list[str], first: int = 5) -> str:
+    """The first ``first`` items joined by '; ', then how many more there are."""
+    more = len(items) - first
+    return "; ".join(items[:first]) + (f"; and {more} more" if more > 0 else "")
 
 
 # ---------------------------------------------------------------------------
@@ -518,7 +524,7 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
         warns.append(f"{obj.failures} trial point(s) could not be run ({obj.last_error})")
     if dropped:
         warns.append(f"{len(dropped)} force outlier(s) dropped from the fit and the error "
-                     "measures: " + "; ".join(f"{lab}, {o.describe()}" for lab, o in dropped))
+                     "measures: " + _listed([f"{lab}, {o.describe()}" for lab, o in dropped]))
     warns += [n for q in quality for n in q.notes]
     at = {}
     for p in obj.var:

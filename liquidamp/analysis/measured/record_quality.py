@@ -188,7 +188,10 @@ def _spikes(x, A, width: int, k: float, frac: float):
     The smooth periodic part (least squares on the columns of ``A``, refitted
     without the spikes found) is removed, then a Hampel filter runs on what is
     left: a sample departing from the running median of ``width`` samples by
-    more than max(k * 1.4826 * MAD, frac * first-harmonic amplitude) is a spike;
+    more than max(k * 1.4826 * MAD, frac * first-harmonic amplitude, 3 * the 98th
+    percentile of those departures) is a spike (the last term keeps a record's own
+    high-frequency texture, e.g. rig ringing on a friction loop, from passing for
+    spikes: a spike is rare by definition);
     the largest departures are replaced by their median and the filter is rerun
     (a spike also shifts its neighbours' medians by one sample).
     """
@@ -201,7 +204,8 @@ def _spikes(x, A, width: int, k: float, frac: float):
         floor = frac * float(math.hypot(c[1], c[2]))
         d = r - median_filter(r, size=width, mode="mirror")
         sigma = 1.4826 * float(np.median(np.abs(d - np.median(d))))
-        thr = max(k * sigma, floor)
+        texture = 3.0 * float(np.percentile(np.abs(d), 98.0))
+        thr = max(k * sigma, floor, texture)
         bad = np.zeros(x.size, bool)
         rr = r.copy()
         for _ in range(50):
@@ -234,8 +238,11 @@ def check_record(record: Record, params: DeviceParams | None = None, *, k: float
     * **Spikes** (a Hampel-type filter): a force or displacement sample that
       departs from the median of its ``width`` neighbours by more than
       ``k`` robust standard deviations (1.4826 x the median absolute
-      deviation of those departures over the record) and by more than 2 %
-      of the signal's first-harmonic amplitude is an outlier.  A running
+      deviation of those departures over the record), by more than 2 %
+      of the signal's first-harmonic amplitude and by more than three times
+      the 98th percentile of the departures is an outlier (so that a record's
+      own high-frequency content, such as rig ringing, is not taken for
+      spikes).  A running
       median follows steps (friction reversals) and smooth curves exactly on
       monotone stretches, so only isolated samples stand out; up to
       ``width // 2`` adjacent ones are found.
