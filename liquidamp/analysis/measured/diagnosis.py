@@ -4,10 +4,19 @@ The loop (what the paper did by hand in Sec. IV.C, where the residual
 pointed to friction and then to friction that changes gradually near zero
 velocity):
 
+0. Condition the records
+   (:func:`liquidamp.analysis.measured.conditioning.condition`): an optional
+   zero-phase force low-pass (``force_cutoff``), then anti-alias filtering and
+   decimation to keep ``harmonics`` (30) harmonics of the stroke frequency
+   (a 200 Hz record of a 3 Hz stroke is left as it is; a 1 kHz record of a
+   0.5 Hz stroke is decimated 27x).  Every NRMSE below is on the conditioned
+   records; what the conditioning removed is reported per record, and the
+   final model's NRMSE on the records as given (``nrmse_raw``).
 1. Calibrate the model (:func:`liquidamp.analysis.measured.calibration.calibrate`).
-2. Stop if the calibration residual is noise: NRMSE below
-   ``noise_factor`` (1.5) times the noise floor estimated from the records
-   (:func:`liquidamp.analysis.measured.record_quality.noise_floor`).
+2. Stop if the calibration residual is noise: NRMSE at most ``noise_factor``
+   (1.5) times the noise floor, the force that no model driven by the stroke
+   can reproduce (:func:`liquidamp.analysis.measured.record_quality.noise_floor`:
+   the cycle-to-cycle scatter of the conditioned force at the same phase).
 3. Screen every applicable candidate effect by a score test: the model is
    run once with the effect at a probe strength scaled to the record; the
    change of force is the effect's signature s.  With J the Jacobian of the
@@ -35,14 +44,24 @@ velocity):
    refit) is continued once before it is scored or judged; fits that still
    did not converge are listed in ``warnings`` and in the JSON
    (``converged``, ``not_converged``).
-5. Accept the best refit only if it reduces the held-out (validation)
-   NRMSE by more than ``rel_threshold`` (10 %) relative AND lowers the
-   calibration BIC by more than ``bic_threshold`` (10, "very strong"
-   evidence on Kass and Raftery's scale).  If the runner-up also passes and
-   its validation NRMSE lies within ``tie_tolerance`` (10 %) of the best's,
-   the step records a tie with both sets of evidence and adds the tied
-   candidate with the lowest BIC (parsimony: Coulomb friction over a
-   smooth friction whose fitted pre-sliding stiffness is huge).
+5. Accept a refit when both hold:
+
+   * the calibration BIC, counted with the effective number of independent
+     samples, falls by more than ``bic_threshold`` (10, "very strong" evidence
+     on Kass and Raftery's scale):
+     delta BIC = N_eff ln(RSS_new / RSS_now) + (k_new - k_now) ln N_eff < -10,
+     N_eff = sum N_i / tau_i with tau_i the integrated autocorrelation time of
+     the refit's residual on record i
+     (:mod:`liquidamp.analysis.measured.selection`: a densely sampled residual is
+     correlated, so N samples are not N independent observations);
+   * the held-out (validation) NRMSE does not get worse by more than
+     ``validation_tolerance`` (2 %) relative.
+
+   Of the accepted refits the one with the lowest validation NRMSE is added;
+   if others lie within ``tie_tolerance`` (10 %) of it, the step records a tie
+   with every set of evidence and adds the tied candidate with the lowest delta
+   BIC (parsimony: Coulomb friction over a smooth friction whose fitted
+   pre-sliding stiffness is huge).
 6. Repeat from 2 with the effect included, at most ``max_steps`` times.
 
 When the loop ends with the residual above ``structure_factor`` (2) times
@@ -63,6 +82,8 @@ References
 .. [2] R. E. Kass, A. E. Raftery, "Bayes factors", JASA 90(430), 1995.
 .. [3] C. R. Rao, "Large sample tests of statistical hypotheses concerning
    several parameters...", Proc. Camb. Phil. Soc. 44, 1948 (score test).
+.. [4] C. J. Geyer, "Practical Markov chain Monte Carlo", Stat. Sci. 7(4), 1992
+   (the autocorrelation time behind N_eff).
 """
 
 from __future__ import annotations
@@ -81,8 +102,10 @@ from liquidamp.analysis.measured.calibration import (
     check_records,
     predict,
 )
-from liquidamp.analysis.measured.record_model import simulate_record
+from liquidamp.analysis.measured.conditioning import HARMONICS, condition
+from liquidamp.analysis.measured.record_model import nrmse, simulate_record
 from liquidamp.analysis.measured.record_quality import noise_floor
+from liquidamp.analysis.measured.selection import delta_bic, effective_samples
 from liquidamp.device.effects import EFFECTS, Effect, with_effects
 from liquidamp.errors import (
     ConvergenceError,
@@ -135,13 +158,16 @@ class Candidate:
     relative_reduction : float or None
         Relative drop of the validation NRMSE against the current model [-].
     delta_bic : float or None
-        Calibration BIC change (negative favours the effect).
+        Calibration BIC change counted with ``n_effective`` samples (negative favours
+        the effect; module doc, step 5).
+    n_effective : float or None
+        Effective number of independent calibration samples of the refit's residual [-].
     parameters : dict
         Fitted effect parameters (SI) after the refit.
     accepted : bool
-        Passed both thresholds.
+        Passed the selection rule (module doc, step 5).
     note : str
-        Why not applicable, or what happened in the refit.
+        Why not applicable, what happened in the refit, or which test it failed.
     """
 
     effect: str
@@ -153,6 +179,7 @@ class Candidate:
     nrmse_validation: float | None = None
     relative_reduction: float | None = None
     delta_bic: float | None = None
+    n_effective: float | None = None
     parameters: dict = field(default_factory=dict)
     accepted: bool = False
     note: str = ""
@@ -201,7 +228,7 @@ class Diagnosis:
     final : CalibrationResult
         The last calibrated model.
     noise_nrmse : float
-        Noise floor of the calibration records, as an NRMSE [-].
+        Noise floor of the (conditioned) calibration records, as an NRMSE [-].
     signatures : dict
         Simple residual signatures of the baseline (name -> correlation).
     stop_reason : str
@@ -212,6 +239,13 @@ class Diagnosis:
         Ties, non-converged fits.
     last_candidates : tuple of Candidate
         Evidence of the final, rejected round.
+    conditioning : tuple of Conditioning
+        What was done to each record before fitting (calibration, then validation).
+    noise_floors : tuple of NoiseFloor
+        The noise floor of each conditioned calibration record.
+    nrmse_raw : dict
+        ``{"calibration": ..., "validation": ...}``: the final model against the records
+        as given (empty when the conditioning changed nothing).
     """
 
     baseline: CalibrationResult
@@ -223,6 +257,9 @@ class Diagnosis:
     unexplained: str
     warnings: tuple
     last_candidates: tuple
+    conditioning: tuple = ()
+    noise_floors: tuple = ()
+    nrmse_raw: dict = field(default_factory=dict)
 
     @property
     def added(self) -> tuple[str, ...]:
@@ -244,6 +281,13 @@ class Diagnosis:
         return {"baseline": block(self.baseline), "steps": [s.as_dict() for s in self.steps],
                 "final": block(self.final), "converged": not not_conv,
                 "not_converged": not_conv, "noise_floor_nrmse": self.noise_nrmse,
+                "noise_floors": [{"record": c.source, "force_std [N]": f.force_std,
+                                  "nrmse": f.nrmse, "method": f.method,
+                                  "harmonics": f.harmonics}
+                                 for c, f in zip(self.conditioning[:len(self.noise_floors)],
+                                                 self.noise_floors, strict=True)],
+                "conditioning": [c.as_dict() for c in self.conditioning],
+                "nrmse_raw": dict(self.nrmse_raw),
                 "signatures": self.signatures, "stop_reason": self.stop_reason,
                 "unexplained": self.unexplained, "warnings": list(self.warnings),
                 "last_round": [c.as_dict() for c in self.last_candidates]}
@@ -386,7 +430,8 @@ def _applicable(name, model) -> str:
     return ""
 
 
-def _refit(cand, probe, current, validation, options, preroll, max_nfev, tol, restart=None):
+def _refit(cand, probe, current, validation, options, preroll, max_nfev, tol):
+    """Fit the model with the candidate added, from the current optimum and its estimate."""
     cls = EFFECTS[cand.effect]
     start = {}
     for key in cls.fit_keys:
@@ -405,23 +450,30 @@ def _refit(cand, probe, current, validation, options, preroll, max_nfev, tol, re
                     effects=current.effects + (effect,), spec=spec, validate=validation,
                     options=options, start="spec", max_nfev=max_nfev, preroll=preroll,
                     tol=tol, warn=False)
-    if restart is not None and res.nrmse_calibration > restart[1]:
-        # residual still structured: the continuation from the previous optimum may sit in a
-        # local minimum of the loss coefficients (the c1/c2 trade-off: least squares on the
-        # air ratios and loss coefficients has local minima); refit
-        # from the physics start of the original multipliers too and keep the better fit
-        spec2 = spec.with_values(restart[0])
-        try:
-            res2 = calibrate(current.calibration, model=current.model,
-                             params=current.start_params, effects=current.effects + (effect,),
-                             spec=spec2, validate=validation, options=options,
-                             start="physics", max_nfev=max_nfev, preroll=preroll, tol=tol,
-                             warn=False)
-        except ConvergenceError:
-            return res
-        if res2.cost < res.cost:
-            return res2
+    if res.status == "max_nfev":
+        res = _converge(res, validation, options, preroll, max_nfev, tol)
     return res
+
+
+def _restart(res, effect_name, current, validation, options, preroll, max_nfev, tol, start0):
+    """Refit from the physics start of the original multipliers; the better of the two fits.
+
+    The continuation from the previous optimum may sit in a local minimum of the loss
+    coefficients (the c1/c2 trade-off: least squares on the air ratios and loss
+    coefficients has local minima).
+    """
+    effect = next(e for e in res.effects if e.name == effect_name)
+    spec2 = FitSpec(current.spec.parameters).with_effect(effect).with_values(start0)
+    try:
+        res2 = calibrate(current.calibration, model=current.model,
+                         params=current.start_params, effects=current.effects + (effect,),
+                         spec=spec2, validate=validation, options=options, start="physics",
+                         max_nfev=max_nfev, preroll=preroll, tol=tol, warn=False)
+        if res2.status == "max_nfev":
+            res2 = _converge(res2, validation, options, preroll, max_nfev, tol)
+    except ConvergenceError:
+        return res
+    return res2 if res2.cost < res.cost else res
 
 
 def _converge(result, validation, options, preroll, max_nfev, tol):
@@ -489,12 +541,13 @@ def _harmonic_structure(result: CalibrationResult, noise_std: float) -> str:
 
 def diagnose(calibration, validation, *, model="full", params=None, effects=(),
              candidates=None, spec: FitSpec | None = None, options=None, max_steps: int = 3,
-             top: int = 2, rel_threshold: float = 0.10, bic_threshold: float = 10.0,
+             top: int = 2, bic_threshold: float = 10.0, validation_tolerance: float = 0.02,
              tie_tolerance: float = 0.10, noise_factor: float = 1.5,
              structure_factor: float = 2.0, score_ratio: float = 3.0, max_nfev: int = 60,
-             preroll: int = 1, tol: float = 1e-5,
+             preroll: int = 1, tol: float = 1e-5, force_cutoff: float | None = None,
+             decimate="auto", harmonics: float = HARMONICS,
              baseline: CalibrationResult | None = None) -> Diagnosis:
-    """Calibrate, then add catalogue effects while the held-out error improves (module doc).
+    """Calibrate, then add catalogue effects the evidence asks for (module doc).
 
     Parameters
     ----------
@@ -513,14 +566,28 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
         When the ``top`` refits leave the residual structured, the next candidate is
         refitted too if its score is at least 1/``score_ratio`` of the best
         (module doc, step 4).
-    rel_threshold, bic_threshold, tie_tolerance, noise_factor, structure_factor : float
+    bic_threshold : float
+        Least fall of the effective-sample BIC for an effect to be added [-] (step 5).
+    validation_tolerance : float
+        Largest relative rise of the held-out NRMSE an added effect may cause [-].
+    tie_tolerance, noise_factor, structure_factor : float
         Decision thresholds (module doc).
     max_nfev : int
         Evaluation budget of each fit.
     tol : float
         Fit tolerance (ftol = xtol of least squares).
+    force_cutoff : float, optional
+        Cut-off of the zero-phase force filter applied to every record [Hz] (default:
+        none); see :func:`~liquidamp.analysis.measured.conditioning.condition`.
+    decimate : 'auto' or int
+        Decimation factor of every record (``'auto'``: keep ``harmonics`` harmonics of
+        each record's stroke frequency; 1: none).
+    harmonics : float
+        Harmonics of the stroke frequency kept by ``decimate='auto'`` [-].
     baseline : CalibrationResult, optional
-        A calibration already done for the same inputs.
+        A calibration already done on the records it holds (``baseline.calibration``);
+        those records and ``validation`` are used as they are (no conditioning: condition
+        them before calibrating).
 
     Returns
     -------
@@ -536,6 +603,8 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
         ``calibrate(..., outliers="drop")`` and pass that result as ``baseline``
         only after correcting the file: the diagnosis scores effects on the
         whole record.
+    ParameterError
+        Bad conditioning options (as :func:`~.conditioning.condition`).
 
     Warns
     -----
@@ -545,6 +614,11 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
     calibration, validation = tuple(calibration), tuple(validation)
     if not validation:
         raise ParameterError("diagnose needs held-out validation records (--validate)")
+    for name, v, lo in (("bic_threshold", bic_threshold, 0.0),
+                        ("validation_tolerance", validation_tolerance, 0.0)):
+        if not (math.isfinite(v) and v >= lo):
+            raise ParameterError(f"diagnose: {name} must be a finite number >= {lo:g}, "
+                                 f"got {v!r}")
     if params is None:
         from liquidamp.device import preset
 
@@ -558,10 +632,21 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
     for n in names:
         check_choice("candidate effect", n, EFFECTS)
     options = resolve_options(options, "fit")
+    raw = (calibration, validation)
     if baseline is None:
+        conds = [condition(r, force_cutoff=force_cutoff, decimate=decimate,
+                           harmonics=harmonics) for r in calibration + validation]
+        nc = len(calibration)
+        calibration = tuple(r for r, _ in conds[:nc])
+        validation = tuple(r for r, _ in conds[nc:])
+        conditioning = tuple(c for _, c in conds)
         baseline = calibrate(calibration, model=model, params=params, effects=effects,
                              spec=spec, validate=validation, options=options,
                              max_nfev=max_nfev, preroll=preroll, tol=tol, warn=False)
+    else:
+        calibration = baseline.calibration
+        conditioning = tuple(condition(r, decimate=1)[1] for r in calibration + validation)
+        raw = (calibration, validation)
     warnings = []
     if baseline.status == "max_nfev":
         # score candidates only against a converged model: a fit stopped on its budget
@@ -572,8 +657,10 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
                         f"{baseline.message}")
     meas = np.concatenate([r.force for r in calibration])
     den = float(np.sqrt(np.mean((meas - meas.mean()) ** 2)))
-    floors = [noise_floor(r) for r in calibration]
-    noise_std = float(np.sqrt(np.mean([f.force_std ** 2 for f in floors])))
+    floors = tuple(noise_floor(r) for r in calibration)
+    noise_std = float(np.sqrt(sum(f.force_std ** 2 * r.time.size
+                                  for f, r in zip(floors, calibration, strict=True))
+                              / meas.size))
     noise_nrmse = noise_std / den
     sig = signatures(baseline)
     spec0 = baseline.spec if spec is None else spec
@@ -581,7 +668,6 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
               for p in baseline.spec.parameters if p.kind == "multiplier"}
     if spec is None:
         start0 = dict.fromkeys(start0, 1.0)
-    restart = (start0, structure_factor * noise_nrmse)
     current = baseline
     steps = []
     stop = f"max_steps = {max_steps} reached"
@@ -616,41 +702,59 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
         # it scores within ``score_ratio`` of the best
         extra = [c for c in scored[top:top + 1] if c.score * score_ratio >= scored[0].score]
         queue = scored[:top]
+        rss_now = _rss(current)
+        level = structure_factor * noise_nrmse
         while queue:
             for cand in queue:
                 try:
-                    res = _refit(cand, probes[cand.effect], current, validation, options,
-                                 preroll, max_nfev, tol, restart)
-                    if res.status == "max_nfev":
-                        res = _converge(res, validation, options, preroll, max_nfev, tol)
+                    refits[cand.effect] = _refit(cand, probes[cand.effect], current,
+                                                 validation, options, preroll, max_nfev, tol)
                 except (ConvergenceError, ParameterError) as exc:
                     i = ranked.index(cand)
                     ranked[i] = _with(cand, refitted=True, note=f"refit failed: {exc}")
-                    continue
-                rel = 1.0 - res.nrmse_validation / current.nrmse_validation
-                dbic = res.bic - current.bic
-                acc = bool(rel > rel_threshold and dbic < -bic_threshold)
-                note = "" if res.converged else f"refit: {res.message}"
-                i = ranked.index(cand)
-                ranked[i] = _with(cand, refitted=True,
-                                  nrmse_calibration=res.nrmse_calibration,
-                                  nrmse_validation=res.nrmse_validation,
-                                  relative_reduction=rel, delta_bic=dbic, accepted=acc,
-                                  note=note, parameters=next(e.parameters for e in res.effects
-                                                             if e.name == cand.effect))
-                refits[cand.effect] = res
-            explained = any(r.nrmse_calibration <= structure_factor * noise_nrmse
-                            for r in refits.values())
-            queue, extra = ([], []) if explained else (extra, [])
+            # a refit that leaves the residual structured is tried once more from the
+            # physics start, unless another candidate of the round already explains it
+            for cand in queue:
+                if cand.effect in refits and not _explained(refits, level):
+                    refits[cand.effect] = _restart(refits[cand.effect], cand.effect, current,
+                                                   validation, options, preroll, max_nfev,
+                                                   tol, start0)
+            queue, extra = ([], []) if _explained(refits, level) else (extra, [])
+        for cand in [c for c in ranked if c.effect in refits]:
+            res = refits[cand.effect]
+            rel = 1.0 - res.nrmse_validation / current.nrmse_validation
+            n_eff, _ = effective_samples(res.residuals("calibration"))
+            dbic = delta_bic(rss_now, _rss(res), len(res.varying) - len(current.varying),
+                             n_eff)
+            val_ok = (res.nrmse_validation
+                      <= (1.0 + validation_tolerance) * current.nrmse_validation)
+            why = []
+            if not res.converged:
+                why.append(f"refit: {res.message}")
+            if dbic >= -bic_threshold:
+                why.append(f"delta BIC {dbic:.3g} (N_eff {n_eff:.4g}) not below "
+                           f"-{bic_threshold:g}")
+            if not val_ok:
+                why.append(f"held-out NRMSE {res.nrmse_validation:.4g} worse than "
+                           f"{current.nrmse_validation:.4g} by more than "
+                           f"{validation_tolerance:.0%}")
+            ranked[ranked.index(cand)] = _with(
+                cand, refitted=True, nrmse_calibration=res.nrmse_calibration,
+                nrmse_validation=res.nrmse_validation, relative_reduction=rel,
+                delta_bic=dbic, n_effective=n_eff,
+                accepted=bool(dbic < -bic_threshold and val_ok), note="; ".join(why),
+                parameters=next(e.parameters for e in res.effects if e.name == cand.effect))
         last_round = tuple(ranked)
         passed = sorted([c for c in ranked if c.accepted], key=lambda c: c.nrmse_validation)
         if not passed:
-            best = next((c for c in ranked if c.refitted), None)
-            stop = ("no candidate improves the held-out error meaningfully"
-                    + (f" (best: {best.effect}, validation NRMSE change "
-                       f"{-(best.relative_reduction or 0):+.1%}, dBIC "
-                       f"{best.delta_bic if best.delta_bic is not None else float('nan'):.3g})"
-                       if best else ""))
+            best = min((c for c in ranked if c.refitted and c.delta_bic is not None),
+                       key=lambda c: c.delta_bic, default=None)
+            stop = ("no candidate passes the selection rule (delta BIC with N_eff < "
+                    f"-{bic_threshold:g} and held-out NRMSE not worse by more than "
+                    f"{validation_tolerance:.0%})"
+                    + (f"; best: {best.effect}, delta BIC {best.delta_bic:.4g} (N_eff "
+                       f"{best.n_effective:.4g}), validation NRMSE change "
+                       f"{-best.relative_reduction:+.1%}" if best else ""))
             break
         tied = [c for c in passed
                 if c.nrmse_validation <= (1 + tie_tolerance) * passed[0].nrmse_validation]
@@ -668,32 +772,10 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
         if not res.converged:
             warnings.append(f"NOT CONVERGED: fit with {chosen.effect} ({res.status}): "
                             f"{res.message}")
-        conf = _confounding(chosen.effect, current, res)
-        for partner, ev in conf.items():
-            if not ev["partner_fitted"]:
-                warnings.append(
-                    f"confounded: {chosen.effect} with {partner} (held fixed): {ev['reason']}; "
-                    f"if {partner} is wrong, the {chosen.effect} parameter absorbs its error")
-                continue
-            moved = ", ".join(f"{n} {ev['multipliers_before'][n]:.3g} -> "
-                              f"{ev['multipliers_after'][n]:.3g}"
-                              for n in ev["multipliers_before"])
-            cc = ", ".join(f"{n} {c:+.2f}" for n, c in ev["correlation_with_effect"].items())
-            # a tie only where the effect does not clearly beat its partner on held-out data
-            separated = (ev["validation_nrmse_with_effect"]
-                         <= 0.5 * ev["validation_nrmse_partner_only"])
-            verdict = (f"separated: {chosen.effect} and {partner} (fitted) can mimic each "
-                       "other, but the held-out records tell them apart"
-                       if separated else
-                       f"tie: {chosen.effect} and {partner} (fitted) may explain the residual "
-                       "about equally")
-            warnings.append(
-                f"{verdict}: {ev['reason']}; evidence: validation NRMSE "
-                f"{ev['validation_nrmse_partner_only']:.4g} with {partner} alone, "
-                f"{ev['validation_nrmse_with_effect']:.4g} with {chosen.effect}; "
-                f"{moved}; correlation with the effect's parameter: {cc or 'n/a'}")
+        warnings += _confounding_warnings(chosen.effect, current, res)
         steps.append(Step(chosen.effect, chosen.parameters, res.nrmse_calibration,
-                          res.nrmse_validation, tuple(ranked), tie, res, conf))
+                          res.nrmse_validation, tuple(ranked), tie, res,
+                          _confounding(chosen.effect, current, res)))
         current = res
         last_round = ()
     unexplained = ""
@@ -706,12 +788,60 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
                        f"{noise_nrmse:.3g}, more than {structure_factor:g} x): "
                        + (h or "no single harmonic of the excitation stands out (broadband "
                           "or non-periodic misfit)"))
+    raw_nrmse = {}
+    if any(c.changed for c in conditioning):
+        m = current.device_model
+        raw_nrmse = {role: nrmse([simulate_record(m, current.params, r, options=options,
+                                                  preroll=preroll).force for r in recs],
+                                 [r.force for r in recs])
+                     for role, recs in zip(("calibration", "validation"), raw, strict=True)}
     for w in warnings:
         _warnings.warn(f"diagnose: {w}", LiquidampWarning, stacklevel=2)
     return Diagnosis(baseline=baseline, steps=tuple(steps), final=current,
                      noise_nrmse=noise_nrmse, signatures=sig, stop_reason=stop,
                      unexplained=unexplained, warnings=tuple(warnings),
-                     last_candidates=last_round)
+                     last_candidates=last_round, conditioning=conditioning,
+                     noise_floors=floors, nrmse_raw=raw_nrmse)
+
+
+def _explained(refits: dict, level: float) -> bool:
+    """Whether a refit of the round brought the calibration NRMSE down to ``level``."""
+    return any(r.nrmse_calibration <= level for r in refits.values())
+
+
+def _rss(result: CalibrationResult) -> float:
+    """Calibration residual sum of squares [N^2] (dropped samples count 0)."""
+    return float(sum(float(r @ r) for r in result.residuals("calibration")))
+
+
+def _confounding_warnings(effect: str, before: CalibrationResult,
+                          after: CalibrationResult) -> list[str]:
+    """The warnings of :func:`_confounding`'s evidence: a tie, or separated by held-out data."""
+    out = []
+    for partner, ev in _confounding(effect, before, after).items():
+        if not ev["partner_fitted"]:
+            out.append(
+                f"confounded: {effect} with {partner} (held fixed): {ev['reason']}; "
+                f"if {partner} is wrong, the {effect} parameter absorbs its error")
+            continue
+        moved = ", ".join(f"{n} {ev['multipliers_before'][n]:.3g} -> "
+                          f"{ev['multipliers_after'][n]:.3g}"
+                          for n in ev["multipliers_before"])
+        cc = ", ".join(f"{n} {c:+.2f}" for n, c in ev["correlation_with_effect"].items())
+        # a tie only where the effect does not clearly beat its partner on held-out data
+        separated = (ev["validation_nrmse_with_effect"]
+                     <= 0.5 * ev["validation_nrmse_partner_only"])
+        verdict = (f"separated: {effect} and {partner} (fitted) can mimic each "
+                   "other, but the held-out records tell them apart"
+                   if separated else
+                   f"tie: {effect} and {partner} (fitted) may explain the residual "
+                   "about equally")
+        out.append(
+            f"{verdict}: {ev['reason']}; evidence: validation NRMSE "
+            f"{ev['validation_nrmse_partner_only']:.4g} with {partner} alone, "
+            f"{ev['validation_nrmse_with_effect']:.4g} with {effect}; "
+            f"{moved}; correlation with the effect's parameter: {cc or 'n/a'}")
+    return out
 
 
 def _with(c: Candidate, **changes) -> Candidate:

@@ -127,7 +127,9 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     Returns
     -------
     DeviceResponse
-        ``time`` = record time, ``force`` the model's load-cell force [N],
+        ``time`` = record time, ``force`` the model's load-cell force [N] (for a record
+        made by :func:`liquidamp.analysis.measured.conditioning.condition`: computed on
+        the fine grid and conditioned as the record's force was),
         ``status = "completed"``; warnings for pressures below the vapour
         pressure.
 
@@ -180,13 +182,27 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     t_cycle = np.append(t[:n_cycle - 1], t[0] + record.period)  # exactly one period
     for _ in range(preroll if model.n_states else 0):
         x = run(t_cycle, x)[:, -1]
+    cond = record.meta.get("conditioning")
+    if cond is not None and cond.changed:
+        # a filtered or decimated record: the model force is conditioned as the record's was
+        # (liquidamp.analysis.measured.conditioning, "like with like")
+        tf = cond.fine_times(t)
+        sub = cond.factor // cond.fine_step
+        Xf = run(tf, x)
+        uf = stroke(tf)
+        ff = np.broadcast_to(np.asarray(model.force(tf, Xf, uf, params), float), tf.shape)
+        X = np.ascontiguousarray(Xf[:, ::sub])
+        u = (stroke.displacement, stroke.velocity, stroke.acceleration)
+        return _response(model, params, t, X, u, options, stats, force=cond.model_force(ff))
     X = run(t, x)
     u = (stroke.displacement, stroke.velocity, stroke.acceleration)
     return _response(model, params, t, X, u, options, stats)
 
 
-def _response(model, params, t, X, u, options, stats=None) -> DeviceResponse:
-    force = np.broadcast_to(np.asarray(model.force(t, X, u, params), float), t.shape).copy()
+def _response(model, params, t, X, u, options, stats=None, force=None) -> DeviceResponse:
+    if force is None:
+        force = np.broadcast_to(np.asarray(model.force(t, X, u, params), float), t.shape)
+    force = np.array(force, float)
     p1 = p2 = None
     warn = []
     if model.pressures is not None:

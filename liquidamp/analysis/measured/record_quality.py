@@ -1,7 +1,8 @@
 """Quality of a measured record: noise floor, outliers, spikes, before any model run.
 
-:func:`noise_floor` estimates the load-cell and LVDT noise from the high-frequency
-content of a record (and the NRMSE a perfect model would reach);
+:func:`noise_floor` estimates the force a model driven by the stroke cannot reproduce
+(cycle-to-cycle scatter; load-cell noise from the high-frequency content where the
+stroke is not periodic) and the NRMSE a perfect model would reach;
 :func:`check_record` finds isolated force spikes and other outliers
 (:class:`Outlier`) and summarizes them (:class:`DataQuality`).
 
@@ -31,16 +32,28 @@ class NoiseFloor:
     Attributes
     ----------
     force_std : float
-        Standard deviation of the load-cell noise [N].
+        Standard deviation of the force that no model driven by the stroke can
+        reproduce [N] (see ``method``).
     displacement_std : float
         Standard deviation of the LVDT noise [m].
     nrmse : float
         The NRMSE a perfect model would reach against this force noise [-].
+    method : str
+        ``"cycle scatter"``: the force less its best periodic fit (all harmonics of
+        the stroke frequency up to 0.45 x the sampling rate, at most 64), variance
+        divided by the residual degrees of freedom: the cycle-to-cycle scatter at the
+        same phase plus what lies above the harmonics fitted; ``"high band"``: the
+        4th differences of the force less its first 12 harmonics (a stroke that is
+        not periodic, or fewer than two cycles).
+    harmonics : int
+        Harmonics fitted by the cycle-scatter estimate (0 for ``"high band"``).
     """
 
     force_std: float
     displacement_std: float
     nrmse: float
+    method: str = "high band"
+    harmonics: int = 0
 
 
 def _hf_std(t, s, f, harmonics=12):
@@ -58,13 +71,41 @@ def _hf_std(t, s, f, harmonics=12):
     return 1.4826 * mad / math.sqrt(70.0)
 
 
-def noise_floor(record: Record) -> NoiseFloor:
-    """Estimate the force and displacement noise of a record from its high-frequency content.
+def _periodic_scatter(record: Record, max_harmonics: int = 64):
+    """(std of the force about its periodic fit [N], harmonics) or None if not applicable."""
+    t = record.time - record.time[0]
+    f, n = record.frequency, record.time.size
+    H = min(int(0.45 * record.sampling_rate / f), max_harmonics)
+    if record.cycles < 2.0 or H < 1:
+        return None
+    w = 2 * math.pi * f * t
+    A = np.empty((n, 2 * H + 1))
+    A[:, 0] = 1.0
+    for k in range(1, H + 1):
+        A[:, 2 * k - 1], A[:, 2 * k] = np.sin(k * w), np.cos(k * w)
+    coef, _, rank, _ = np.linalg.lstsq(A, np.column_stack((record.displacement,
+                                                           record.force)), rcond=None)
+    res = np.column_stack((record.displacement, record.force)) - A @ coef
+    dof = n - int(rank)
+    # the stroke must repeat: a tapered or broadband stroke has no phase to compare at
+    if dof < max(20, n // 4) or np.sqrt(np.mean(res[:, 0] ** 2)) > 0.05 * record.amplitude:
+        return None
+    return float(np.sqrt(res[:, 1] @ res[:, 1] / dof)), H
 
-    The first 12 harmonics of the excitation are removed by least squares;
-    the median absolute deviation of the 4th differences of what is left
-    (variance 70 sigma^2 for white noise) is robust to the few samples
-    around friction jumps.
+
+def noise_floor(record: Record) -> NoiseFloor:
+    """Estimate the force noise a model driven by the stroke cannot reproduce.
+
+    For a periodic stroke over at least two cycles (``method = "cycle scatter"``)
+    the force is fitted by least squares with a constant and every harmonic of the
+    stroke frequency up to 0.45 x the sampling rate (at most 64); the residual
+    variance over its degrees of freedom (samples less the fitted columns) is the
+    cycle-to-cycle scatter of the force at the same phase, plus the content above
+    the harmonics fitted: load-cell noise, rig vibration that is not locked to the
+    stroke, drift.  Otherwise (``"high band"``) the first 12 harmonics are removed
+    and the median absolute deviation of the 4th differences of what is left
+    (variance 70 sigma^2 for white noise) is used, which sees only the white part.
+    The displacement noise is always the high-band estimate.
 
     Examples
     --------
@@ -72,15 +113,21 @@ def noise_floor(record: Record) -> NoiseFloor:
     >>> t = np.arange(0, 3.0, 0.005)
     >>> F = 500 * np.sin(2 * np.pi * 3 * t) + rng.normal(0, 2.0, t.size)
     >>> rec = Record.from_arrays(t, 0.003 * np.sin(2 * np.pi * 3 * t), F)
-    >>> bool(abs(noise_floor(rec).force_std / 2.0 - 1) < 0.1)
-    True
+    >>> nf = noise_floor(rec)
+    >>> bool(abs(nf.force_std / 2.0 - 1) < 0.1), nf.method, nf.harmonics
+    (True, 'cycle scatter', 29)
     """
     t = record.time
-    fs = _hf_std(t, record.force, record.frequency)
     ys = _hf_std(t, record.displacement, record.frequency)
+    scatter = _periodic_scatter(record)
+    if scatter is None:
+        fs, method, H = _hf_std(t, record.force, record.frequency), "high band", 0
+    else:
+        (fs, H), method = scatter, "cycle scatter"
     F = record.force
     return NoiseFloor(force_std=fs, displacement_std=ys,
-                      nrmse=fs / float(np.sqrt(np.mean((F - F.mean()) ** 2))))
+                      nrmse=fs / float(np.sqrt(np.mean((F - F.mean()) ** 2))), method=method,
+                      harmonics=H)
 
 
 # ---------------------------------------------------------------------------

@@ -1,0 +1,137 @@
+"""Model selection on densely sampled records: BIC with the effective number of samples.
+
+A record sampled at tens of samples per cycle gives a residual that is correlated in time:
+a misfit that lasts a tenth of a cycle spans many samples.  The Bayesian information
+criterion
+
+    BIC = N ln(RSS / N) + k ln N
+
+assumes N independent residuals; with N samples of a correlated residual the evidence
+N ln(RSS_1 / RSS_0) for an extra parameter is overstated by the correlation time tau (in
+samples), and any parameter that absorbs a little systematic misfit passes (an offset that
+lowers the held-out error by 9 % came out at delta-BIC -3860 on a 6 000-sample record).
+The comparison therefore uses the effective number of independent samples
+
+    N_eff = sum over records of N_i / tau_i,
+
+tau_i the integrated autocorrelation time of record i's residual, estimated by Geyer's
+initial positive sequence: with rho_k the sample autocorrelation at lag k and
+Gamma_m = rho_2m + rho_2m+1, tau = -1 + 2 sum_{m <= M} Gamma_m, summed while Gamma_m > 0
+(and made non-increasing), clipped to [1, N_i] (an anti-correlated residual is not credited
+with more than N_i samples).  White noise gives tau = 1 (N_eff = N); an AR(1) residual
+with coefficient a gives (1 + a) / (1 - a).  Then
+
+    delta BIC = N_eff ln(RSS_1 / RSS_0) + (k_1 - k_0) ln N_eff,
+
+with RSS over the calibration samples and tau taken from the residual of the larger model
+(the model under test: under its hypothesis, that residual is the noise; the residual of the
+smaller model also holds the missing effect's deterministic signature, which is not noise).
+
+BIC rather than AICc: the diagnosis asks which physical effects are present, not which
+model predicts best; BIC is consistent (it picks the true model among the candidates as the
+data grow) and its differences read on the Bayes-factor scale of Kass and Raftery (a
+difference of 10 is "very strong" evidence), while AIC's penalty 2 per parameter keeps a
+fixed chance of adding a spurious parameter however long the record.
+
+References
+----------
+.. [1] G. Schwarz, "Estimating the dimension of a model", Ann. Stat. 6(2), 1978.
+.. [2] R. E. Kass, A. E. Raftery, "Bayes factors", JASA 90(430), 1995.
+.. [3] C. J. Geyer, "Practical Markov chain Monte Carlo", Stat. Sci. 7(4), 1992, Sec. 3.3
+   (initial positive and monotone sequence estimators).
+.. [4] C. S. Bretherton et al., "The effective number of spatial degrees of freedom of a
+   time-varying field", J. Climate 12(7), 1999 (effective sample size of correlated series).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from liquidamp.errors import ParameterError
+
+__all__ = ["correlation_time", "effective_samples", "delta_bic"]
+
+
+def correlation_time(residual) -> float:
+    """Integrated autocorrelation time tau of a residual [samples] (Geyer's estimator).
+
+    Parameters
+    ----------
+    residual : array
+        One record's residual, uniformly sampled (at least 4 samples).
+
+    Returns
+    -------
+    float
+        tau in [1, N]: N / tau independent samples carry the same information.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> e = rng.normal(size=20000)
+    >>> round(correlation_time(e), 1)
+    1.0
+    >>> x = np.zeros_like(e)
+    >>> for i in range(1, e.size):
+    ...     x[i] = 0.8 * x[i - 1] + e[i]
+    >>> bool(abs(correlation_time(x) / 9.0 - 1) < 0.15)   # (1 + 0.8) / (1 - 0.8)
+    True
+    """
+    r = np.asarray(residual, float)
+    n = r.size
+    if r.ndim != 1 or n < 4:
+        raise ParameterError(f"correlation_time needs a 1-D residual of at least 4 samples, "
+                             f"got shape {r.shape}")
+    if not np.all(np.isfinite(r)):
+        raise ParameterError("correlation_time: the residual holds NaN or inf")
+    r = r - r.mean()
+    var = float(r @ r)
+    if var == 0.0:
+        return 1.0
+    m = 1 << int(math.ceil(math.log2(2 * n)))
+    spec = np.fft.rfft(r, m)
+    acf = np.fft.irfft(spec * np.conj(spec), m)[:n] / var  # biased estimator, rho_0 = 1
+    pairs = acf[: 2 * (n // 2)].reshape(-1, 2).sum(axis=1)  # Gamma_m = rho_2m + rho_2m+1
+    neg = np.flatnonzero(pairs <= 0.0)
+    pairs = pairs[: neg[0]] if neg.size else pairs
+    pairs = np.minimum.accumulate(pairs)  # initial monotone sequence
+    tau = -1.0 + 2.0 * float(pairs.sum())
+    return float(min(max(tau, 1.0), n))
+
+
+def effective_samples(residuals) -> tuple[float, tuple[float, ...]]:
+    """N_eff = sum N_i / tau_i over records, and each record's tau_i (module docstring).
+
+    Parameters
+    ----------
+    residuals : sequence of array
+        The residual of each record (records are independent of each other).
+
+    Returns
+    -------
+    (float, tuple of float)
+        N_eff [-] and tau_i [samples].
+    """
+    taus = tuple(correlation_time(r) for r in residuals)
+    if not taus:
+        raise ParameterError("effective_samples needs at least one residual")
+    return float(sum(np.size(r) / t for r, t in zip(residuals, taus, strict=True))), taus
+
+
+def delta_bic(rss_before: float, rss_after: float, k_added: int, n_eff: float) -> float:
+    """BIC change N_eff ln(RSS_after / RSS_before) + k_added ln N_eff (negative favours after).
+
+    Examples
+    --------
+    >>> round(delta_bic(100.0, 50.0, 1, 200.0), 3)   # 200 ln(0.5) + ln(200)
+    -133.331
+    """
+    for name, v in (("rss_before", rss_before), ("rss_after", rss_after)):
+        if not (math.isfinite(v) and v > 0):
+            raise ParameterError(f"delta_bic: {name} must be a positive finite sum of squares, "
+                                 f"got {v!r}")
+    if not (math.isfinite(n_eff) and n_eff > 1):
+        raise ParameterError(f"delta_bic: n_eff must be > 1, got {n_eff!r}")
+    return float(n_eff * math.log(rss_after / rss_before) + k_added * math.log(n_eff))
