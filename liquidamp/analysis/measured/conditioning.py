@@ -1,8 +1,9 @@
-"""Condition a record before fitting: zero-phase force filter, anti-alias filter and decimation.
+"""Condition a record before fitting: force filter, anti-alias decimation, cycle average.
 
 A test machine samples at 1-3 kHz while a damper loop at 0.5-10 Hz is described by a few
-tens of harmonics of the stroke frequency; fitting every sample costs time and fits rig
-ringing and load-cell noise as if it were the device.  :func:`condition` returns a new
+tens of harmonics of the stroke frequency, and a steady record repeats the same cycle many
+times; fitting every sample of every cycle costs time and fits rig ringing and load-cell
+noise as if it were the device.  :func:`condition` returns a new
 :class:`~liquidamp.analysis.measured.records.Record` and a :class:`Conditioning` that states
 what was done and what it removed:
 
@@ -11,38 +12,47 @@ what was done and what it removed:
    phase, so the loop is not distorted in time; the magnitude response is |H|^2 of the
    Butterworth (-6 dB at the cut-off, flat below).  Only the force is filtered.  Use it to
    keep rig ringing out of the fit (e.g. the 10-50 Hz ringing of the friction-damper
-   records); the model's force is not filtered, so keep the cut-off well above the
-   harmonics that carry the loop's shape.
+   records).
 2. **Decimation** (``decimate``, default ``"auto"``): the factor q is the largest integer
    with fs / q >= 2.5 ``harmonics`` f (f the stroke frequency), so that at least
    ``harmonics`` (30) harmonics lie below the anti-alias cut-off; before every q-th sample
    is kept, every channel (force, displacement and its Savitzky-Golay smoothing, velocity
    and acceleration, which were computed at the full rate) passes the same zero-phase
    Butterworth low-pass of order 8 at 0.8 x the new Nyquist frequency (0.4 fs / q), as
-   :func:`scipy.signal.decimate` places its cut-off.  The same linear filter on all
-   channels keeps them aligned and keeps v = dy/dt.  A record already sampled at fewer
-   than 2.5 ``harmonics`` f x 2 samples per second is left as it is (q = 1: nothing is
+   :func:`scipy.signal.decimate` places its cut-off.  A record sampled at fewer than
+   2 x 2.5 ``harmonics`` f samples per second is left as it is (q = 1: nothing is
    filtered).
+3. **Cycle average** (``average``, default ``"auto"``: a stroke that repeats, over at
+   least :data:`AVERAGE_MIN_CYCLES` (4) whole cycles): the force at M phases of a cycle (M
+   samples per cycle at the fitted rate) is interpolated linearly between the samples of
+   every whole cycle and averaged; the stroke is the periodic least-squares fit of the
+   displacement and its exact derivatives.  For a model at its periodic steady state, least
+   squares on the average is least squares on every cycle (the two sums of squares differ
+   by the scatter about the average, a constant), at the cost of one simulated cycle
+   instead of all; the noise floor of the average is the record's divided by about the
+   square root of the cycles.  The partial cycle at the end is left out.
 
 What the conditioning removed is measured on the force at the kept samples: the RMS of
 (recorded - conditioned) [N] and its share of the recorded force's variance [-], in total
-and by stage.
+and by stage ("cycle average": the scatter of the cycles about their average).
 
 **Like with like.**  A model is compared with a conditioned record only after its force
 has been conditioned the same way: :func:`liquidamp.analysis.measured.record_model.simulate_record`
-computes the model force on a fine grid (every ``fine_step``-th sample of the record given,
-at least 8 fine samples per kept one, so that the model's own content above the cut-off is
-resolved), applies the same filters there and keeps the same samples
-(:meth:`Conditioning.model_force`).  Without it a Coulomb friction jump in the model, sharp,
-met a recorded jump rounded by the filter, and the residual kept a ringing edge at every
-reversal (a 1 Hz record at 3 kHz with 30 N of Coulomb friction: calibration NRMSE 0.05
-against a noise floor of 0.002, and smooth friction, Coulomb friction and a series spring
-were added where Coulomb friction alone was true).
+takes the model force at every sample instant of the record given (averaged: at the phases
+of those instants, over one steady cycle), applies the same filters, keeps the same samples
+and averages them the same way (:meth:`Conditioning.model_force`).  So a force jump falls
+between the same two samples in both.  Without it, a Coulomb friction jump in the model,
+sharp, met a recorded jump rounded by the filter, and the residual kept a ringing edge at
+every reversal (a 1 Hz record at 3 kHz with 30 N of Coulomb friction: calibration NRMSE
+0.05 against a noise floor of 0.002, and smooth friction, Coulomb friction and a series
+spring were added where Coulomb friction alone was true); on a model grid 8x coarser than
+the record's the jump's time was off by up to 4 samples (1.3 N of residual at each 60 N
+jump filtered at 30 Hz).
 
-Sample i of a conditioned record is sample ``i * factor`` of the record given (its
-``line`` numbers refer to the record given only when ``factor`` is 1); samples after the
-last kept one are dropped before filtering, so that record and model are filtered over the
-same span.  The record's ``meta["conditioning"]`` holds the :class:`Conditioning`.
+Sample i of a decimated record is sample ``i * factor`` of the record given (its ``line``
+numbers refer to the record given only when ``factor`` is 1); samples after the last kept
+one are dropped before filtering, so that record and model are filtered over the same span.
+The record's ``meta["conditioning"]`` holds the :class:`Conditioning`.
 
 References
 ----------
@@ -51,23 +61,31 @@ References
    IEEE Trans. Signal Process. 44(4), 1996 (zero-phase filtering, as ``sosfiltfilt``).
 .. [3] A. V. Oppenheim, R. W. Schafer, Discrete-Time Signal Processing, 3rd ed., 2010,
    Sec. 4.6 (anti-alias filtering before downsampling).
+.. [4] S. Braun, "The extraction of periodic waveforms by time domain averaging",
+   Acustica 32(2), 1975 (synchronous averaging of a periodic record).
 """
 
 from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from liquidamp.analysis.measured.record_quality import NoiseFloor, noise_floor
 from liquidamp.analysis.measured.records import Record
-from liquidamp.errors import ParameterError, check_finite
+from liquidamp.errors import ParameterError, check_choice, check_finite
 
-__all__ = ["Conditioning", "condition", "decimation_factor", "lowpass", "HARMONICS"]
+__all__ = ["Conditioning", "condition", "decimation_factor", "lowpass", "HARMONICS",
+           "AVERAGE_MIN_CYCLES"]
 
 #: Default number of harmonics of the stroke frequency kept below the anti-alias cut-off.
 HARMONICS = 30.0
+
+#: Whole cycles from which a periodic record is averaged into one by default (fewer: the
+#: partial cycle left out would be a large share of the record).
+AVERAGE_MIN_CYCLES = 4
 
 #: New rate over (harmonics x stroke frequency) for the automatic factor: 2.5 puts the
 #: anti-alias cut-off (0.4 x the new rate) at or above the last harmonic kept.
@@ -111,9 +129,12 @@ class Conditioning:
     removed_by_stage : dict
         ``{"force filter": (rms [N], share [-]), "anti-alias": (rms, share)}`` for the
         stages applied.
-    fine_step : int
-        The model force is computed on every ``fine_step``-th sample of the record given
-        (a divisor of ``factor``) before it is conditioned like the record [-].
+    cycles_averaged : int
+        Whole stroke cycles averaged into the conditioned record (1: not averaged) [-].
+    noise : NoiseFloor or None
+        Noise floor of the conditioned record
+        (:func:`~liquidamp.analysis.measured.record_quality.noise_floor` before averaging,
+        its standard deviations divided by sqrt(``cycles_averaged``) after).
     """
 
     source: str
@@ -128,12 +149,14 @@ class Conditioning:
     removed_rms: float
     removed_share: float
     removed_by_stage: dict
-    fine_step: int = 1
+    cycles_averaged: int = 1
+    noise: NoiseFloor | None = None
+    _average: dict | None = field(default=None, repr=False, compare=False)
 
     @property
     def changed(self) -> bool:
-        """Whether the record was filtered or decimated."""
-        return self.force_cutoff is not None or self.factor > 1
+        """Whether the record was filtered, decimated or averaged."""
+        return self.force_cutoff is not None or self.factor > 1 or self.cycles_averaged > 1
 
     def describe(self) -> str:
         """One line: what was done and what it removed."""
@@ -144,36 +167,60 @@ class Conditioning:
         if self.factor > 1:
             parts.append(f"decimated {self.factor}x to {self.fitted_rate:.4g} Hz after a "
                          f"zero-phase anti-alias low-pass at {self.anti_alias_cutoff:.4g} Hz")
+        if self.cycles_averaged > 1:
+            parts.append(f"{self.cycles_averaged} whole cycles averaged into one of "
+                         f"{self._average['points']} samples")
         if not parts:
             return f"{self.source}: as recorded ({self.sampling_rate:.4g} Hz)"
         return (f"{self.source}: " + "; ".join(parts) + f"; removed {self.removed_rms:.4g} N "
                 f"RMS ({self.removed_share:.2%} of the force variance), "
                 f"{self.harmonics_kept:.3g} harmonics of {self.stroke_frequency:.4g} Hz kept")
 
-    def fine_times(self, time) -> np.ndarray:
-        """The fine grid [s] on which a model force is conditioned, for kept samples ``time``.
+    def model_times(self, time) -> tuple[np.ndarray, np.ndarray]:
+        """Times [s] to run a model over for a conditioned record with samples ``time``, and
+        the indices of those samples among them.
 
-        Uniform at ``sampling_rate / fine_step`` from ``time[0]`` to ``time[-1]``; every
-        ``factor // fine_step``-th point is a kept sample.
+        Not averaged: every sample of the record given from ``time[0]`` to ``time[-1]``
+        (the kept samples every ``factor``-th).  Averaged: the phases of every sample of
+        the record given and of the averaged samples, within one cycle from ``time[0]``
+        (the model is run over one steady cycle).
         """
         time = np.asarray(time, float)
-        sub = self.factor // self.fine_step
-        n = (time.size - 1) * sub + 1
-        return time[0] + np.arange(n) * (self.fine_step / self.sampling_rate)
+        if self._average is not None:
+            a = self._average
+            return a["t_start"] + a["period"] * a["grid"], a["record_index"]
+        n = (time.size - 1) * self.factor + 1
+        return (time[0] + np.arange(n) / self.sampling_rate,
+                np.arange(time.size) * self.factor)
 
-    def model_force(self, force_fine) -> np.ndarray:
-        """Condition a model force given on :meth:`fine_times` as the record's was [N].
+    def model_stroke(self) -> tuple:
+        """(time [s], y [m], v [m/s], a [m/s^2]) of the stroke driving a model over one
+        averaged cycle (its periodic fit at 8 points per fitted sample, both ends of the
+        period included); only for an averaged record."""
+        if self._average is None:
+            raise ParameterError(f"{self.source}: the record was not averaged over cycles")
+        return self._average["stroke"]
+
+    def model_force(self, force) -> np.ndarray:
+        """Condition a model force given at :meth:`model_times` as the record's was [N].
 
         The force filter and the anti-alias filter, with the record's cut-offs and orders,
-        then every ``factor // fine_step``-th sample.
+        then the record's samples; averaged: the force of the steady cycle is first laid
+        out at every sample of the record given, and the average over cycles follows.
         """
-        f = np.asarray(force_fine, float)
-        rate = self.sampling_rate / self.fine_step
+        f = np.asarray(force, float)
+        a = self._average
+        if a is not None:
+            f = f[a["sample_index"]]
         if self.force_cutoff is not None:
-            f = lowpass(f, rate, self.force_cutoff, self.filter_order)
+            f = lowpass(f, self.sampling_rate, self.force_cutoff, self.filter_order)
         if self.anti_alias_cutoff is not None:
-            f = lowpass(f, rate, self.anti_alias_cutoff, _AA_ORDER)
-        return f[::self.factor // self.fine_step]
+            f = lowpass(f, self.sampling_rate, self.anti_alias_cutoff, _AA_ORDER)
+        f = f[::self.factor]
+        if a is not None:
+            i, w = a["i"], a["a"]
+            f = ((1.0 - w) * f[i] + w * f[i + 1]).mean(axis=0)
+        return f
 
     def as_dict(self) -> dict:
         """JSON-ready summary (units in the keys)."""
@@ -186,7 +233,11 @@ class Conditioning:
                 "removed_rms [N]": self.removed_rms, "removed_share": self.removed_share,
                 "removed_by_stage": {k: {"rms [N]": v[0], "share": v[1]}
                                      for k, v in self.removed_by_stage.items()},
-                "model_force_fine_step": self.fine_step,
+                "cycles_averaged": self.cycles_averaged,
+                "noise_floor": (None if self.noise is None else
+                                {"force_std [N]": self.noise.force_std,
+                                 "rate_force_std [N]": self.noise.rate_force_std,
+                                 "nrmse": self.noise.nrmse, "method": self.noise.method}),
                 "description": self.describe()}
 
 
@@ -269,7 +320,8 @@ def _removed(raw, kept) -> tuple[float, float]:
 
 
 def condition(record: Record, *, force_cutoff: float | None = None, filter_order: int = 4,
-              decimate="auto", harmonics: float = HARMONICS) -> tuple[Record, Conditioning]:
+              decimate="auto", harmonics: float = HARMONICS,
+              average="auto") -> tuple[Record, Conditioning]:
     """Filter and decimate a record for fitting (module docstring); say what was removed.
 
     Parameters
@@ -287,6 +339,11 @@ def condition(record: Record, *, force_cutoff: float | None = None, filter_order
         would fall below 5 harmonics of the stroke frequency.
     harmonics : float
         Harmonics of the stroke frequency to keep with ``'auto'`` [-] (default 30).
+    average : 'auto', True or False
+        Average the whole cycles into one (module docstring, step 3): ``'auto'``
+        (default) where the stroke repeats and at least :data:`AVERAGE_MIN_CYCLES` (4)
+        whole cycles are recorded; True: always (refused for a stroke that does not repeat
+        or fewer than two cycles); False: never.
 
     Returns
     -------
@@ -359,26 +416,150 @@ def condition(record: Record, *, force_cutoff: float | None = None, filter_order
     sl = slice(None, None, q)
     cut = min(c for c in (force_cutoff, aa) if c is not None) if stages else 0.5 * fs / q
     rms, share = _removed(F0[sl], force[sl]) if stages else (0.0, 0.0)
-    # the fine grid of the model force: at least 8 fine samples per kept one where the
-    # record allows (a divisor of q, so that the kept samples lie on it)
-    fine = max((d for d in range(1, q + 1) if q % d == 0 and q // d >= min(8, q)), default=1)
+    n0 = record.time.size
+    meta = {k: (v[:n][sl] if isinstance(v, np.ndarray) and v.shape == (n0,) else v)
+            for k, v in record.meta.items()}
+    ch = {k: v[sl] for k, v in channels.items()}
+    dec = Record(time=record.time[:n][sl], displacement=ch["displacement"], force=force[sl],
+                 velocity=ch["velocity"], acceleration=ch["acceleration"],
+                 smoothed=ch["smoothed"], frequency=f, amplitude=record.amplitude,
+                 phase=record.phase, offset=record.offset, source=record.source,
+                 window=record.window, order=record.order, meta=meta,
+                 first_line=record.first_line)
+    nf = noise_floor(dec)
+    cycles = int(math.floor((dec.time[-1] - dec.time[0]) * f + 1e-9))
+    check_choice("average", average, ("auto", True, False))
+    periodic = nf.method == "cycle scatter"
+    if average is True and (not periodic or cycles < 2):
+        raise ParameterError(
+            f"{record.label} cannot be averaged over cycles: "
+            + (f"it holds {cycles} whole cycle(s), at least 2 needed" if periodic else
+               "its stroke does not repeat from cycle to cycle (or it holds fewer than two "
+               "cycles)"))
+    avg = (average is True) or (average == "auto" and periodic
+                                and cycles >= AVERAGE_MIN_CYCLES)
     cond = Conditioning(
         source=record.label, sampling_rate=fs, stroke_frequency=f,
         force_cutoff=None if force_cutoff is None else float(force_cutoff),
         filter_order=int(filter_order), factor=q, anti_alias_cutoff=aa,
         fitted_rate=fs / q, harmonics_kept=float(cut / f), removed_rms=rms,
-        removed_share=share, removed_by_stage=stages, fine_step=fine)
+        removed_share=share, removed_by_stage=stages, noise=nf)
+    if avg:
+        return _average(dec, cond, cycles, meta, record.time[:n])
     if not cond.changed:
         return record, cond
-    n0 = record.time.size
-    meta = {k: (v[:n][sl] if isinstance(v, np.ndarray) and v.shape == (n0,) else v)
-            for k, v in record.meta.items()}
     meta["conditioning"] = cond
-    out = Record(time=record.time[:n][sl], displacement=channels["displacement"][sl],
-                 force=force[sl], velocity=channels["velocity"][sl],
-                 acceleration=channels["acceleration"][sl], smoothed=channels["smoothed"][sl],
-                 frequency=f, amplitude=record.amplitude, phase=record.phase,
-                 offset=record.offset, source=record.source, window=record.window,
-                 order=record.order, meta=meta, first_line=record.first_line)
+    out = replace(dec, meta=meta)
     return out, cond
 
+
+
+def _average(dec: Record, cond: Conditioning, cycles: int, meta: dict, t_orig):
+    """Average the whole cycles of a (filtered, decimated) record into one; the model map.
+
+    Phase points j / M (M samples per cycle at the fitted rate) of every whole cycle c are
+    interpolated linearly between the record's force samples and averaged over c.  The
+    stroke is the periodic least-squares fit of the displacement over the whole record (the
+    harmonics that stand above 4 standard errors) with its exact derivatives, so that the
+    model is driven without the Savitzky-Golay derivative's attenuation (0.26 % on the
+    rate of a 3 Hz stroke at 200 Hz) or the sample-to-sample interpolation.  The model is
+    run over one steady cycle and its force taken at the phases of every sample of the
+    record given (``t_orig``), so that a force jump falls between the same two samples as
+    the record's; laid out in the record's order, that force goes through the record's
+    filters, decimation and average (:meth:`Conditioning.model_force`).
+    """
+    f = dec.frequency
+    T = 1.0 / f
+    td = dec.time
+    ts = float(td[0])
+    M = int(round(T * dec.sampling_rate))
+    tau = ts + (np.arange(cycles)[:, None] + np.arange(M)[None, :] / M) * T
+    i = np.clip(np.searchsorted(td, tau, side="right") - 1, 0, td.size - 2)
+    a = (tau - td[i]) / (td[i + 1] - td[i])
+
+    def at_tau(x):
+        return (1.0 - a) * x[i] + a * x[i + 1]
+
+    # the stroke: its periodic fit (significant harmonics) and the exact derivatives of it,
+    # on the record's phases and, for the model, on 8 M phases of one cycle
+    series, y0, rate_std = _stroke_series(dec)
+    phases = np.arange(M) / M
+    y, v, acc = _evaluate(series, phases, f)
+    ch = {"displacement": y0 + y, "smoothed": y0 + y, "velocity": v, "acceleration": acc,
+          "force": at_tau(dec.force).mean(axis=0)}
+    fine_phases = np.arange(8 * M + 1) / (8 * M)  # the last point closes the cycle
+    stroke = (ts + fine_phases * T, *_evaluate(series, fine_phases, f))
+    per_cycle = at_tau(dec.force)
+    dev = per_cycle - ch["force"]
+    var = float(np.var(per_cycle))
+    stages = dict(cond.removed_by_stage)
+    stages["cycle average"] = (float(np.sqrt(np.mean(dev * dev))),
+                               float(np.var(dev)) / var if var > 0 else 0.0)
+    psi = np.mod((np.asarray(t_orig) - ts) * f, 1.0)
+    grid = np.unique(np.concatenate((psi, phases)))
+    # each averaged point's noise: sigma^2 mean((1 - a)^2 + a^2) / cycles
+    shrink = math.sqrt(float(np.mean((1.0 - a) ** 2 + a ** 2)) / cycles)
+    nf = cond.noise
+    F = ch["force"]
+    den = float(np.sqrt(np.mean((F - F.mean()) ** 2)))
+    # the rate now comes from the stroke's periodic fit: its error reaches the force
+    # through c_eq as in noise_floor (c_eq = rate_force_std / the rate's scatter there)
+    c_eq = nf.rate_force_std / nf.rate_std if nf.rate_std > 0 else 0.0
+    force_std = nf.force_std * shrink
+    noise = replace(nf, force_std=force_std, displacement_std=nf.displacement_std * shrink,
+                    rate_force_std=c_eq * rate_std,
+                    nrmse=math.hypot(force_std, c_eq * rate_std) / den,
+                    method=nf.method + f", averaged over {cycles}")
+    cond = replace(cond, cycles_averaged=cycles, noise=noise, removed_by_stage=stages,
+                   _average={"t_start": ts, "period": T, "grid": grid, "stroke": stroke,
+                             "points": M, "sample_index": np.searchsorted(grid, psi),
+                             "record_index": np.searchsorted(grid, phases),
+                             "i": i, "a": a})
+    meta = {k: (at_tau(v).mean(axis=0) if isinstance(v, np.ndarray) and v.shape == td.shape
+                else v) for k, v in meta.items()}
+    meta["conditioning"] = cond
+    out = Record(time=ts + np.arange(M) / M * T, displacement=ch["displacement"],
+                 force=F, velocity=ch["velocity"], acceleration=ch["acceleration"],
+                 smoothed=ch["smoothed"], frequency=f, amplitude=dec.amplitude,
+                 phase=dec.phase, offset=dec.offset, source=dec.source, window=dec.window,
+                 order=dec.order, meta=meta, first_line=dec.first_line)
+    return out, cond
+
+
+def _stroke_series(rec: Record, max_harmonics: int = 64):
+    """Periodic fit of the displacement: ([(k, a_k, b_k)], mean [m], rate error std [m/s]).
+
+    Harmonics k f up to 0.45 x the sampling rate are fitted by least squares; those whose
+    amplitude exceeds 4 standard errors (sigma sqrt(2 / N), sigma the residual's standard
+    deviation) are kept, the fundamental always.  The rate error is the standard deviation
+    of the kept harmonics' noise, w sigma sqrt(2 / N sum k^2).
+    """
+    t = rec.time - rec.time[0]
+    f, n = rec.frequency, rec.time.size
+    H = max(1, min(int(0.45 * rec.sampling_rate / f), max_harmonics))
+    w = 2 * math.pi * f * t
+    A = np.empty((n, 2 * H + 1))
+    A[:, 0] = 1.0
+    for k in range(1, H + 1):
+        A[:, 2 * k - 1], A[:, 2 * k] = np.sin(k * w), np.cos(k * w)
+    c, _, rank, _ = np.linalg.lstsq(A, rec.displacement, rcond=None)
+    r = rec.displacement - A @ c
+    sigma = float(np.sqrt(r @ r / max(n - int(rank), 1)))
+    se = sigma * math.sqrt(2.0 / n)
+    keep = [(k, float(c[2 * k - 1]), float(c[2 * k])) for k in range(1, H + 1)
+            if k == 1 or math.hypot(c[2 * k - 1], c[2 * k]) > 4.0 * se]
+    rate_std = 2 * math.pi * f * se * math.sqrt(sum(k * k for k, _, _ in keep))
+    return keep, float(c[0]), rate_std
+
+
+def _evaluate(series, phases, f):
+    """(y, v, a) of a harmonic series at phases (fractions of a cycle) [m, m/s, m/s^2]."""
+    y, v, acc = (np.zeros(np.shape(phases)) for _ in range(3))
+    w = 2 * math.pi * f
+    for k, a_k, b_k in series:
+        arg = 2 * math.pi * k * np.asarray(phases)
+        s, co = np.sin(arg), np.cos(arg)
+        y += a_k * s + b_k * co
+        v += k * w * (a_k * co - b_k * s)
+        acc -= (k * w) ** 2 * (a_k * s + b_k * co)
+    return y, v, acc

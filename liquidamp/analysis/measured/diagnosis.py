@@ -59,9 +59,11 @@ velocity):
 
    Of the accepted refits the one with the lowest validation NRMSE is added;
    if others lie within ``tie_tolerance`` (10 %) of it, the step records a tie
-   with every set of evidence and adds the tied candidate with the lowest delta
-   BIC (parsimony: Coulomb friction over a smooth friction whose fitted
-   pre-sliding stiffness is huge).
+   with every set of evidence and adds the tied candidate with the fewest
+   parameters, unless one with more lowers delta BIC by more than
+   ``bic_threshold`` further (parsimony: Coulomb friction over a smooth friction
+   whose fitted pre-sliding stiffness is huge; the extra parameter needs the
+   evidence an effect of its own would need); among equals the lowest delta BIC.
 6. Repeat from 2 with the effect included, at most ``max_steps`` times.
 
 When the loop ends with the residual above ``structure_factor`` (2) times
@@ -282,6 +284,7 @@ class Diagnosis:
                 "final": block(self.final), "converged": not not_conv,
                 "not_converged": not_conv, "noise_floor_nrmse": self.noise_nrmse,
                 "noise_floors": [{"record": c.source, "force_std [N]": f.force_std,
+                                  "rate_force_std [N]": f.rate_force_std,
                                   "nrmse": f.nrmse, "method": f.method,
                                   "harmonics": f.harmonics}
                                  for c, f in zip(self.conditioning[:len(self.noise_floors)],
@@ -657,8 +660,10 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
                         f"{baseline.message}")
     meas = np.concatenate([r.force for r in calibration])
     den = float(np.sqrt(np.mean((meas - meas.mean()) ** 2)))
-    floors = tuple(noise_floor(r) for r in calibration)
-    noise_std = float(np.sqrt(sum(f.force_std ** 2 * r.time.size
+    # the floor of each record as conditioned (an averaged cycle: the scatter over its cycles)
+    floors = tuple(c.noise if c.noise is not None else noise_floor(r)
+                   for c, r in zip(conditioning, calibration, strict=False))
+    noise_std = float(np.sqrt(sum(f.std ** 2 * r.time.size
                                   for f, r in zip(floors, calibration, strict=True))
                               / meas.size))
     noise_nrmse = noise_std / den
@@ -758,7 +763,7 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
             break
         tied = [c for c in passed
                 if c.nrmse_validation <= (1 + tie_tolerance) * passed[0].nrmse_validation]
-        chosen = min(tied, key=lambda c: c.delta_bic)  # parsimony among the tied
+        chosen = _parsimonious(tied, refits, bic_threshold)
         tie = ()
         if len(tied) > 1:
             tie = tuple(c.effect for c in tied)
@@ -767,7 +772,8 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
                     f"{c.effect} (validation NRMSE {c.nrmse_validation:.4g}, dBIC "
                     f"{c.delta_bic:.4g})" for c in tied)
                 + f" explain the residual about equally (validation NRMSE within "
-                f"{tie_tolerance:.0%}); {chosen.effect} was added (lowest BIC)")
+                f"{tie_tolerance:.0%}); {chosen.effect} was added (fewest parameters unless "
+                f"more lower delta BIC by over {bic_threshold:g})")
         res = refits[chosen.effect]
         if not res.converged:
             warnings.append(f"NOT CONVERGED: fit with {chosen.effect} ({res.status}): "
@@ -802,6 +808,21 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
                      unexplained=unexplained, warnings=tuple(warnings),
                      last_candidates=last_round, conditioning=conditioning,
                      noise_floors=floors, nrmse_raw=raw_nrmse)
+
+
+def _parsimonious(tied: list, refits: dict, bic_threshold: float) -> Candidate:
+    """The tied candidate to add: the fewest parameters, unless one with more lowers the
+    effective-sample BIC by more than ``bic_threshold`` below it (its extra parameters need
+    the same evidence as an effect of their own); the lowest delta BIC among equals."""
+    def size(c):
+        return len(refits[c.effect].varying)
+
+    order = sorted(tied, key=lambda c: (size(c), c.delta_bic))
+    chosen = order[0]
+    for c in order[1:]:
+        if size(c) > size(chosen) and c.delta_bic < chosen.delta_bic - bic_threshold:
+            chosen = c
+    return chosen
 
 
 def _explained(refits: dict, level: float) -> bool:

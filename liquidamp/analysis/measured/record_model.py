@@ -33,6 +33,7 @@ from liquidamp.device.models import DeviceModel, get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, ParameterError, PressureError
 from liquidamp.options import SolverOptions, resolve_options
+from liquidamp.structure.testmachine import RecordedStroke
 
 __all__ = ["simulate_record", "integrate", "nrmse"]
 
@@ -156,6 +157,11 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
         raise ParameterError(f"params must be DeviceParams, got {type(params).__name__}")
     model.check_params(params)
     stroke = record.stroke()
+    cond = record.meta.get("conditioning")
+    if cond is not None and cond.cycles_averaged > 1:
+        # one averaged cycle: the stroke is the periodic fit of the record's, on a fine grid
+        # over one whole period (liquidamp.analysis.measured.conditioning)
+        stroke = RecordedStroke(*cond.model_stroke())
     if stroke.max_abs >= params.stroke_limit:
         raise ParameterError(
             f"record stroke reaches |y| = {stroke.max_abs:.4g} m about its mean, past the "
@@ -182,18 +188,16 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     t_cycle = np.append(t[:n_cycle - 1], t[0] + record.period)  # exactly one period
     for _ in range(preroll if model.n_states else 0):
         x = run(t_cycle, x)[:, -1]
-    cond = record.meta.get("conditioning")
     if cond is not None and cond.changed:
-        # a filtered or decimated record: the model force is conditioned as the record's was
-        # (liquidamp.analysis.measured.conditioning, "like with like")
-        tf = cond.fine_times(t)
-        sub = cond.factor // cond.fine_step
+        # a filtered, decimated or averaged record: the model force is conditioned as the
+        # record's was (liquidamp.analysis.measured.conditioning, "like with like")
+        tf, at_record = cond.model_times(t)
         Xf = run(tf, x)
         uf = stroke(tf)
         ff = np.broadcast_to(np.asarray(model.force(tf, Xf, uf, params), float), tf.shape)
-        X = np.ascontiguousarray(Xf[:, ::sub])
-        u = (stroke.displacement, stroke.velocity, stroke.acceleration)
-        return _response(model, params, t, X, u, options, stats, force=cond.model_force(ff))
+        X = np.ascontiguousarray(Xf[:, at_record])
+        return _response(model, params, t, X, stroke(t), options, stats,
+                         force=cond.model_force(ff))
     X = run(t, x)
     u = (stroke.displacement, stroke.velocity, stroke.acceleration)
     return _response(model, params, t, X, u, options, stats)
