@@ -280,11 +280,21 @@ def lowpass(x, sampling_rate: float, cutoff: float, order: int = 4) -> np.ndarra
         raise ParameterError(f"low-pass order must be an integer 1-20, got {order!r}")
     sos = _butter(int(order), fc / (0.5 * fs)).copy()  # sosfilt needs it writable
     x = np.asarray(x, float)
+    n = x.size
+    if n < 4:
+        raise ParameterError(f"low-pass needs at least 4 samples, got {n}")
     # odd extension over 6 / cutoff seconds (or the whole record): the start-up transient of
     # a low cut-off outlasts scipy's default pad of 3 x the filter length by far and would
-    # bend the ends (2 mm at the end of a 0.25 Hz stroke decimated 54x)
-    padlen = min(int(math.ceil(6.0 * fs / fc)), x.size - 1)
-    return sosfiltfilt(sos, x, padlen=padlen)
+    # bend the ends (2 mm at the end of a 0.25 Hz stroke decimated 54x); the pivot is a
+    # straight line fitted over half a cut-off period at each end, not the end sample,
+    # whose noise the odd extension would otherwise carry into the ends
+    pad = min(int(math.ceil(6.0 * fs / fc)), n - 1)
+    m = min(max(int(math.ceil(0.5 * fs / fc)), 3), n)
+    k = np.arange(m, dtype=float)
+    left = np.polyval(np.polyfit(k, x[:m], 1), 0.0)
+    right = np.polyval(np.polyfit(k, x[n - m:], 1), m - 1.0)
+    ext = np.concatenate((2.0 * left - x[pad:0:-1], x, 2.0 * right - x[n - 2:n - 2 - pad:-1]))
+    return sosfiltfilt(sos, ext, padlen=0)[pad:pad + n]
 
 
 @functools.lru_cache(maxsize=64)
@@ -420,12 +430,11 @@ def condition(record: Record, *, force_cutoff: float | None = None, filter_order
     meta = {k: (v[:n][sl] if isinstance(v, np.ndarray) and v.shape == (n0,) else v)
             for k, v in record.meta.items()}
     ch = {k: v[sl] for k, v in channels.items()}
-    dec = Record(time=record.time[:n][sl], displacement=ch["displacement"], force=force[sl],
-                 velocity=ch["velocity"], acceleration=ch["acceleration"],
-                 smoothed=ch["smoothed"], frequency=f, amplitude=record.amplitude,
-                 phase=record.phase, offset=record.offset, source=record.source,
-                 window=record.window, order=record.order, meta=meta,
-                 first_line=record.first_line)
+    # dataclasses.replace keeps every other attribute of the record (frequency, amplitude,
+    # source, ...) as it was
+    dec = replace(record, time=record.time[:n][sl], displacement=ch["displacement"],
+                  force=force[sl], velocity=ch["velocity"], acceleration=ch["acceleration"],
+                  smoothed=ch["smoothed"], meta=meta)
     nf = noise_floor(dec)
     cycles = int(math.floor((dec.time[-1] - dec.time[0]) * f + 1e-9))
     check_choice("average", average, ("auto", True, False))
@@ -518,11 +527,9 @@ def _average(dec: Record, cond: Conditioning, cycles: int, meta: dict, t_orig):
     meta = {k: (at_tau(v).mean(axis=0) if isinstance(v, np.ndarray) and v.shape == td.shape
                 else v) for k, v in meta.items()}
     meta["conditioning"] = cond
-    out = Record(time=ts + np.arange(M) / M * T, displacement=ch["displacement"],
-                 force=F, velocity=ch["velocity"], acceleration=ch["acceleration"],
-                 smoothed=ch["smoothed"], frequency=f, amplitude=dec.amplitude,
-                 phase=dec.phase, offset=dec.offset, source=dec.source, window=dec.window,
-                 order=dec.order, meta=meta, first_line=dec.first_line)
+    out = replace(dec, time=ts + np.arange(M) / M * T, displacement=ch["displacement"],
+                  force=F, velocity=ch["velocity"], acceleration=ch["acceleration"],
+                  smoothed=ch["smoothed"], meta=meta)
     return out, cond
 
 

@@ -1,0 +1,353 @@
+"""Evidence for the residual diagnosis: signatures, score test, confounded pairs.
+
+What :func:`liquidamp.analysis.measured.diagnosis.diagnose` weighs before it refits a
+candidate (steps 3 and 5 of its algorithm): :func:`signatures` (correlations of the
+calibration residual with simple effect signatures), the score test of one candidate
+(:func:`score`: the model run once with the effect at a probe strength, the part of its
+signature the fitted parameters cannot mimic, the linearized drop of the residual sum of
+squares), the :class:`Candidate` record of that evidence, and :data:`CONFOUNDED`, the pairs
+of effects and device parameters a record may not separate, with the evidence gathered when
+such an effect is added.
+
+References
+----------
+.. [1] B. Titurus, AIAA J. 56(10), 2018, Sec. IV.C.
+.. [2] C. R. Rao, "Large sample tests of statistical hypotheses concerning
+   several parameters...", Proc. Camb. Phil. Soc. 44, 1948 (score test).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from liquidamp.analysis.measured.calibration import (
+    FIT_OPTIONS,
+    CalibrationResult,
+    predict,
+)
+from liquidamp.analysis.measured.record_model import simulate_record
+from liquidamp.device.effects import EFFECTS, Effect, with_effects
+from liquidamp.errors import LiquidampError, ParameterError
+
+__all__ = ["Candidate", "CONFOUNDED", "signatures", "score", "probe_effect", "applicable",
+           "confounding", "confounding_warnings", "harmonic_structure"]
+
+CONFOUNDED = {
+    ("series_compliance", "inv_gamma"): "a series spring and the air in the chambers are both "
+    "springs in series with the channel; with the air ratios free only the pressure dependence "
+    "of the air's stiffness separates them, which is weak at small strokes",
+    ("leakage", "c1"): "a laminar bypass and the channel's laminar loss are both conductances "
+    "between the chambers; with c1 free only the channel's inertance and quadratic loss, which "
+    "the bypass skips, separate them",
+    ("moving_mass", "S_t"): "a moving mass (F += m a) and the channel inertance b_L = rho_l "
+    "S_t A_p^2 both give a force in phase with the acceleration while the air spring is stiff; "
+    "S_t is not among the paper's fitted multipliers, so a wrong S_t is absorbed by the mass "
+    "(damper preset, 1/10 of paper_initial's S_t, diagnosed from paper_initial: mass fitted at "
+    "twice its value)",
+    ("cavitation", "inv_gamma"): "a vapour cavity and a little more entrained air both soften "
+    "the low-pressure chamber; the force waveforms can be nearly identical",
+}
+"""Pairs an experiment may not separate, and why."""
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """Evidence for one candidate effect at one step.
+
+    Attributes
+    ----------
+    effect : str
+        Catalogue name.
+    score : float
+        Linearized relative drop of the calibration RSS (score test) [-].
+    signature_correlation : float
+        Correlation of the residual with the effect's signature [-].
+    estimate : dict
+        Linearized strength (parameter key -> value, SI).
+    refitted : bool
+        Whether the candidate was refitted.
+    nrmse_calibration, nrmse_validation : float or None
+        After the refit [-].
+    relative_reduction : float or None
+        Relative drop of the validation NRMSE against the current model [-].
+    delta_bic : float or None
+        Calibration BIC change counted with ``n_effective`` samples (negative favours
+        the effect; module doc, step 5).
+    n_effective : float or None
+        Effective number of independent calibration samples of the refit's residual [-].
+    parameters : dict
+        Fitted effect parameters (SI) after the refit.
+    accepted : bool
+        Passed the selection rule (module doc, step 5).
+    note : str
+        Why not applicable, what happened in the refit, or which test it failed.
+    """
+
+    effect: str
+    score: float
+    signature_correlation: float
+    estimate: dict
+    refitted: bool = False
+    nrmse_calibration: float | None = None
+    nrmse_validation: float | None = None
+    relative_reduction: float | None = None
+    delta_bic: float | None = None
+    n_effective: float | None = None
+    parameters: dict = field(default_factory=dict)
+    accepted: bool = False
+    note: str = ""
+
+    def as_dict(self) -> dict:
+        """JSON-ready evidence."""
+        return {k: getattr(self, k) for k in self.__dataclass_fields__}
+
+
+# ---------------------------------------------------------------------------
+# evidence
+
+
+def _corr(a, b) -> float:
+    a = a - a.mean()
+    b = b - b.mean()
+    den = math.sqrt(float(a @ a) * float(b @ b))
+    return float(a @ b / den) if den > 0 else 0.0
+
+
+def signatures(result: CalibrationResult) -> dict:
+    """Correlations of the calibration residual with simple effect signatures [-].
+
+    sign(v) (Coulomb friction), a (a moving mass), a constant (the share of
+    the residual's RMS in its mean: a load-cell offset), the dead-band
+    indicator sign(v) * exp(-|y - y_reversal| / (0.05 Y)) (freeplay and
+    pre-sliding after each reversal), and the low-pressure phases
+    (where the lower chamber pressure is within 20 % of its minimum).
+    """
+    recs = result.calibration
+    r = np.concatenate(result.residuals("calibration"))
+    v = np.concatenate([rec.velocity for rec in recs])
+    a = np.concatenate([rec.acceleration for rec in recs])
+    dead = []
+    for rec in recs:
+        y = rec.smoothed - rec.offset
+        rev = np.where(rec.velocity > 0, y.min(), y.max())
+        dead.append(np.sign(rec.velocity) * np.exp(-np.abs(y - rev) / (0.05 * rec.amplitude)))
+    out = {"sign(v)": _corr(r, np.sign(v)), "acceleration": _corr(r, a),
+           "constant": float(r.mean() / max(np.sqrt(np.mean(r * r)), 1e-300)),
+           "dead band": _corr(r, np.concatenate(dead))}
+    m = result.device_model
+    if m.pressures is not None:
+        low = []
+        for rec in recs:
+            resp = simulate_record(m, result.params, rec, options=FIT_OPTIONS)
+            pl = np.minimum(resp.p1, resp.p2)
+            span = max(float(np.ptp(pl)), 1e-9)
+            low.append(((pl - pl.min()) < 0.2 * span).astype(float))
+        out["low pressure"] = _corr(np.abs(r), np.concatenate(low))
+    return out
+
+
+def probe_effect(name: str, result: CalibrationResult) -> Effect:
+    """The effect at a probe strength scaled to the records and the calibrated model."""
+    recs = result.calibration
+    F = np.concatenate([r.force for r in recs])
+    Fa = math.sqrt(2.0) * float(np.sqrt(np.mean((F - F.mean()) ** 2)))
+    Y = float(np.mean([r.amplitude for r in recs]))
+    w = 2 * math.pi * float(np.mean([r.frequency for r in recs]))
+    p = result.params
+    cls = EFFECTS[name]
+    if name == "coulomb_friction":
+        return cls(force_N=0.05 * Fa)
+    if name == "smooth_friction":
+        return cls(force_N=0.05 * Fa, stiffness_N_per_m=0.05 * Fa / (0.05 * Y))
+    if name == "force_offset":
+        return cls(offset_N=0.02 * Fa)
+    if name == "moving_mass":
+        return cls(mass_kg=0.05 * Fa / (w * w * Y))
+    if name == "series_compliance":
+        return cls(stiffness_N_per_m=10.0 * Fa / Y)
+    if name == "freeplay":
+        return cls(gap_m=0.03 * Y)
+    if name == "leakage":
+        Q = p.A_p * w * Y
+        return cls(coefficient_m3_per_s_Pa=0.3 / (p.c1 + 8.0 / (3.0 * math.pi) * p.c2 * Q))
+    if name == "cavitation":
+        resp = simulate_record(result.device_model, p, recs[0], options=FIT_OPTIONS)
+        pmin = float(min(resp.p1.min(), resp.p2.min()))
+        return cls(vapour_pressure_Pa=max(pmin + 0.3 * (p.p0 - pmin), 1.0))
+    raise ParameterError(f"no probe for effect {name!r}")  # pragma: no cover
+
+
+def _free_columns(result, r, tol: float = 1e-3):
+    """Jacobian columns of the fitted parameters that can still move to mimic an effect.
+
+    A parameter held at a bound by the residual (within ``tol`` of it in the fit
+    coordinate, with the descent direction -J^T r pointing out of the bounds) is
+    effectively fixed at the constrained optimum (Kuhn-Tucker): the fit cannot move it
+    to absorb an effect's signature, so its column must not be projected out of the
+    signature.  Otherwise a parameter stuck at its bound in the direction the missing
+    effect pulls it (c1 at its lower bound for a bypass leak) hides the effect from the
+    score test.
+    """
+    J = result.jacobian
+    if not J.size:
+        return J
+    g = J.T @ r
+    keep = []
+    for i, name in enumerate(result.varying):
+        p = result.spec[name]
+        lo, hi = p.x_bounds()
+        x = p.to_x(result.values[name])
+        pinned = (x - lo < tol and g[i] > 0) or (hi - x < tol and g[i] < 0)
+        if not pinned:
+            keep.append(i)
+    return J[:, keep]
+
+
+def score(name: str, result: CalibrationResult, options, preroll: int):
+    """Score test of one candidate effect against a calibrated model.
+
+    Parameters
+    ----------
+    name : str
+        Catalogue effect.
+    result : CalibrationResult
+        The current calibrated model.
+    options : SolverOptions
+        Solver options of the probe run.
+    preroll : int
+        Pre-roll passes of the probe run.
+
+    Returns
+    -------
+    (Candidate, Effect)
+        The evidence (linearized relative drop of the calibration RSS, correlation with the
+        residual, linearized strength) and the probe effect it was computed with.
+    """
+    probe = probe_effect(name, result)
+    try:
+        Fp = predict(result.model, result.params, result.effects + (probe,),
+                     result.calibration, options=options, preroll=preroll)
+    except LiquidampError as exc:
+        return Candidate(name, 0.0, 0.0, {}, note=f"probe run failed: {exc}"), probe
+    meas = np.concatenate([r.force for r in result.calibration])
+    scale = float(np.sqrt(np.mean((meas - meas.mean()) ** 2))) * math.sqrt(meas.size)
+    r = (np.concatenate(result.predictions_calibration) - meas) / scale
+    s = (np.concatenate(Fp) - np.concatenate(result.predictions_calibration)) / scale
+    J = _free_columns(result, r)
+    s_perp = s - J @ (np.linalg.pinv(J) @ s) if J.size else s
+    ss = float(s_perp @ s_perp)
+    rss = float(r @ r)
+    if ss <= 1e-30 * max(float(s @ s), 1e-300):
+        return Candidate(name, 0.0, _corr(r, s), {}, note="signature fully mimicked by the "
+                         "fitted parameters"), probe
+    beta = -float(s_perp @ r) / ss
+    drop = (float(s_perp @ r) ** 2 / ss) / rss if rss > 0 else 0.0
+    key = probe.fit_keys[0]
+    signed_ok = beta > 0 or name == "force_offset"
+    est = {key: getattr(probe, key) * beta} if signed_ok else {}
+    note = "" if signed_ok else "the residual asks for a negative strength"
+    return Candidate(name, drop if signed_ok else 0.0, -_corr(r, s), est, note=note), probe
+
+
+def applicable(name: str, model) -> str:
+    """Why effect ``name`` cannot be composed with ``model`` ('' when it can)."""
+    try:
+        with_effects(model, EFFECTS[name]())
+    except ParameterError as exc:
+        return str(exc)
+    return ""
+
+
+_PARTNERS = {"inv_gamma": ("inv_gamma1", "inv_gamma2"), "c1": ("c1",), "S_t": ("S_t",)}
+
+
+def confounding(effect: str, before: CalibrationResult, after: CalibrationResult) -> dict:
+    """Evidence that a fitted device parameter mimics ``effect`` (CONFOUNDED pairs).
+
+    For each pair listed in :data:`CONFOUNDED`: the partner multipliers before and
+    after the effect was added (how far the fit moved them to make room), the
+    correlation of the effect's parameter with them in the refit, and the validation
+    NRMSE of the partner alone (the model before) and with the effect.
+    """
+    out = {}
+    for (eff, partner), why in CONFOUNDED.items():
+        if eff != effect:
+            continue
+        names = [n for n in _PARTNERS.get(partner, (partner,)) if n in after.varying]
+        keys = [f"{effect}.{k}" for k in EFFECTS[effect].fit_keys if
+                f"{effect}.{k}" in after.varying]
+        corr = {}
+        for k in keys:
+            i = after.varying.index(k)
+            for n in names:
+                corr[n] = float(after.correlation[i, after.varying.index(n)])
+        out[partner] = {
+            "reason": why,
+            "partner_fitted": bool(names),
+            "multipliers_before": {n: before.values.get(n) for n in names},
+            "multipliers_after": {n: after.values.get(n) for n in names},
+            "correlation_with_effect": corr,
+            "validation_nrmse_partner_only": before.nrmse_validation,
+            "validation_nrmse_with_effect": after.nrmse_validation,
+        }
+    return out
+
+
+def harmonic_structure(result: CalibrationResult, noise_std: float) -> str:
+    """The residual's harmonics of the excitation (1-10) above 10x their noise level [N].
+
+    ``noise_std`` is the residual noise per sample [N]; a harmonic amplitude's noise
+    level is noise_std sqrt(2 / N).  Returns '' when none stands out.
+    """
+    parts = []
+    for rec, res in zip(result.calibration, result.residuals("calibration"), strict=True):
+        t = rec.time - rec.time[0]
+        w = 2 * math.pi * rec.frequency
+        amps = []
+        for k in range(1, 11):
+            if k * rec.frequency > 0.4 * rec.sampling_rate:
+                break
+            A = np.column_stack((np.sin(k * w * t), np.cos(k * w * t)))
+            c, *_ = np.linalg.lstsq(A, res - res.mean(), rcond=None)
+            amps.append(float(np.hypot(*c)))
+        level = noise_std * math.sqrt(2.0 / t.size)
+        big = [(k + 1, a) for k, a in enumerate(amps) if a > 10.0 * level]
+        if big:
+            parts.append(f"{rec.label}: residual harmonics " + ", ".join(
+                f"{k}x: {a:.3g} N" for k, a in big) + f" (noise level {level:.2g} N)")
+    return "; ".join(parts)
+
+
+def confounding_warnings(effect: str, before: CalibrationResult,
+                         after: CalibrationResult) -> list[str]:
+    """The warnings of :func:`confounding`'s evidence: a tie, or separated by held-out data."""
+    out = []
+    for partner, ev in confounding(effect, before, after).items():
+        if not ev["partner_fitted"]:
+            out.append(
+                f"confounded: {effect} with {partner} (held fixed): {ev['reason']}; "
+                f"if {partner} is wrong, the {effect} parameter absorbs its error")
+            continue
+        moved = ", ".join(f"{n} {ev['multipliers_before'][n]:.3g} -> "
+                          f"{ev['multipliers_after'][n]:.3g}"
+                          for n in ev["multipliers_before"])
+        cc = ", ".join(f"{n} {c:+.2f}" for n, c in ev["correlation_with_effect"].items())
+        # a tie only where the effect does not clearly beat its partner on held-out data
+        separated = (ev["validation_nrmse_with_effect"]
+                     <= 0.5 * ev["validation_nrmse_partner_only"])
+        verdict = (f"separated: {effect} and {partner} (fitted) can mimic each "
+                   "other, but the held-out records tell them apart"
+                   if separated else
+                   f"tie: {effect} and {partner} (fitted) may explain the residual "
+                   "about equally")
+        out.append(
+            f"{verdict}: {ev['reason']}; evidence: validation NRMSE "
+            f"{ev['validation_nrmse_partner_only']:.4g} with {partner} alone, "
+            f"{ev['validation_nrmse_with_effect']:.4g} with {effect}; "
+            f"{moved}; correlation with the effect's parameter: {cc or 'n/a'}")
+    return out
+
+
