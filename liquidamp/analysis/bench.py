@@ -44,6 +44,12 @@ Cases (keys of ``"cases"``):
     the diagnosis tests that hold series compliance, freeplay or cavitation
     (states that touch the fluid: before every effect was compiled these ran
     on LSODA, 10-25 s each); one time per effect.
+``diagnosis_3khz_20s``, ``diagnosis_200hz_10_cycles``
+    :func:`~liquidamp.analysis.measured.diagnosis.diagnose` with its defaults (as
+    ``liquidamp diagnose`` runs it) of a 20 s record at 3 kHz (1 Hz stroke; decimated and
+    averaged over its cycles) and of a 10-cycle record at 200 Hz (3 Hz), synthetic, each
+    with one hidden effect; one time per effect (issue #12 item 5: at most 10 s and 3 s on
+    two cores).
 ``stiffness_sweep``
     :func:`~liquidamp.analysis.response.stiffness.nonlinear_stiffness` of the reference
     design, full model, 30 log-spaced frequencies 0.5-20 Hz x 2 amplitudes
@@ -68,7 +74,8 @@ import numpy as np
 __all__ = ["run_bench", "GOALS", "CASES"]
 
 CASES = ("steady_state_loop", "calibration", "floquet_sweep", "coupled_rotor", "diagnosis",
-         "stiffness_sweep", "diagnosis_hidden_effects")
+         "stiffness_sweep", "diagnosis_hidden_effects", "diagnosis_3khz_20s",
+         "diagnosis_200hz_10_cycles")
 
 #: The issue's goals: case -> (quantity, comparison, target).
 GOALS = {
@@ -80,6 +87,11 @@ GOALS = {
     "diagnosis_hidden_effects": [("seconds_series_compliance", "<", 3.0),
                                  ("seconds_freeplay", "<", 3.0),
                                  ("seconds_cavitation", "<", 3.0)],
+    "diagnosis_3khz_20s": [("seconds_coulomb_friction", "<", 10.0),
+                           ("seconds_smooth_friction", "<", 10.0)],
+    "diagnosis_200hz_10_cycles": [("seconds_smooth_friction", "<", 3.0),
+                                  ("seconds_freeplay", "<", 3.0),
+                                  ("seconds_series_compliance", "<", 3.0)],
     "first_call": [("cold_cache_seconds", "<", 10.0)],
 }
 
@@ -632,10 +644,22 @@ def _case_stiffness(quick: bool, repeats: int) -> dict:
     return out
 
 
+def _real_rates(name: str):
+    """Runner of a real-sampling-rate diagnosis case
+    (:func:`liquidamp.analysis.bench_diagnosis.case_real_rates`)."""
+    def run(quick: bool, repeats: int) -> dict:
+        from liquidamp.analysis.bench_diagnosis import case_real_rates
+
+        return case_real_rates(name, quick, repeats)
+    return run
+
+
 _RUNNERS = {"steady_state_loop": _case_steady, "calibration": _case_calibration,
             "floquet_sweep": _case_floquet, "coupled_rotor": _case_coupled,
             "diagnosis": _case_diagnosis, "stiffness_sweep": _case_stiffness,
-            "diagnosis_hidden_effects": _case_hidden_effects}
+            "diagnosis_hidden_effects": _case_hidden_effects,
+            "diagnosis_3khz_20s": _real_rates("diagnosis_3khz_20s"),
+            "diagnosis_200hz_10_cycles": _real_rates("diagnosis_200hz_10_cycles")}
 
 # ------------------------------------------------------------ first calls
 _FIRST_CALL_CODE = {

@@ -12,6 +12,7 @@ from liquidamp.commands._args import (
     count_type,
     effects_from_args,
     file_inputs,
+    float_type,
     print_warnings,
     write_json,
 )
@@ -46,12 +47,57 @@ def add_fit_arguments(p) -> None:
                                                  "model evaluations per fit"),
                    default=80,
                    help="model evaluations per fit, 1-100000 (default %(default)s)")
+    add_conditioning_arguments(p)
     p.add_argument("--json", required=True, help="output JSON file (.json)")
     p.add_argument("--report", default=None,
                    help="folder for an HTML report (index.html and PNGs, written after the "
                    "JSON); an existing report is replaced only with --force")
     add_force_argument(p)
     add_solver_arguments(p, "fit")
+
+
+def _decimate(text: str):
+    """argparse type of --decimate: 'auto' or an integer factor 1-10000."""
+    import argparse
+
+    if text.strip().lower() == "auto":
+        return "auto"
+    try:
+        q = int(text)
+    except ValueError:
+        q = 0
+    if not 1 <= q <= 10_000:
+        raise argparse.ArgumentTypeError(f"--decimate must be 'auto' or an integer factor "
+                                         f"1-10000 (1: none), got {text!r}")
+    return q
+
+
+def add_conditioning_arguments(p) -> None:
+    """Record conditioning before the fit (liquidamp.analysis.measured.conditioning)."""
+    p.add_argument("--force-filter", type=float_type("--force-filter", "Hz"), default=None,
+                   metavar="HZ", help="zero-phase Butterworth low-pass of the force at HZ "
+                   "(order 4, forward and backward) before fitting; the model's force is "
+                   "filtered the same way; the JSON states what it removed (default: none)")
+    p.add_argument("--decimate", type=_decimate, default="auto",
+                   help="decimation factor of each record after a zero-phase anti-alias "
+                   "low-pass at 0.8 x the new Nyquist frequency: auto (default) keeps "
+                   "--harmonics harmonics of the stroke frequency; 1: none")
+    p.add_argument("--harmonics", type=float_type("--harmonics", "-", low=2.0, high=1e4,
+                                                  low_open=False),
+                   default=30.0, help="harmonics of the stroke frequency kept by --decimate "
+                   "auto (default %(default)s)")
+    p.add_argument("--average", choices=("auto", "yes", "no"), default="auto",
+                   help="average the whole cycles of a periodic record into one before "
+                   "fitting (auto, default: at least 4 whole cycles; least squares on the "
+                   "average is least squares on every cycle at a steady state)")
+
+
+def conditioning_options(args) -> dict:
+    """Keyword arguments of :func:`~liquidamp.analysis.measured.conditioning.condition` from
+    the conditioning arguments."""
+    return {"force_cutoff": args.force_filter, "decimate": args.decimate,
+            "harmonics": args.harmonics,
+            "average": {"auto": "auto", "yes": True, "no": False}[args.average]}
 
 
 def check_fit_outputs(args, command: str) -> None:
@@ -115,8 +161,10 @@ def register(sub) -> None:
     p = sub.add_parser(
         "calibrate", help="fit device multipliers to measured records",
         description="Least-squares fit of the device model, driven by each record's stroke, "
-        "to the recorded force; JSON holds the calibrated parameters, standard errors, "
-        "correlations, fit status and the NRMSE on calibration and validation records. "
+        "to the recorded force (records conditioned first: --force-filter, --decimate, "
+        "--average); JSON holds the calibrated parameters, standard errors, "
+        "correlations, fit status, the NRMSE on calibration and validation records "
+        "(conditioned) and what the conditioning did and removed. "
         "Exit code 1 if the fit did not converge (the JSON says so).")
     add_fit_arguments(p)
     p.set_defaults(func=run)
@@ -127,11 +175,16 @@ def run(args) -> int:
     options = solver_options(args, "fit")  # the arguments first, then the outputs
     check_fit_outputs(args, "calibrate")
     from liquidamp.analysis.measured.calibration import calibrate
+    from liquidamp.analysis.measured.conditioning import condition
 
     cal, val, params, effects, spec = load(args)
+    kw = conditioning_options(args)
+    cal, cc = zip(*(condition(r, **kw) for r in cal), strict=True)
+    val, vc = zip(*(condition(r, **kw) for r in val), strict=True) if val else ((), ())
     res = calibrate(cal, model=args.model, params=params, effects=effects, spec=spec,
                     validate=val, max_nfev=args.max_nfev, options=options)
     d = res.as_dict()
+    d["conditioning"] = [c.as_dict() for c in cc + vc]
     write_json(args.json, d)
     print_warnings("calibrate", d)
     if args.report:

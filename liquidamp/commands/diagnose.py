@@ -6,17 +6,24 @@ import sys
 
 from liquidamp.commands._args import count_type, print_warnings, write_json
 from liquidamp.commands._solver import solver_options
-from liquidamp.commands.calibrate import add_fit_arguments, check_fit_outputs, load
+from liquidamp.commands.calibrate import (
+    add_fit_arguments,
+    check_fit_outputs,
+    conditioning_options,
+    load,
+)
 
 
 def register(sub) -> None:
     """Add the ``diagnose`` sub-command."""
     p = sub.add_parser(
         "diagnose", help="calibrate and add the catalogue effects the residual asks for",
-        description="Calibrate on the records, rank the catalogue effects by the evidence in "
-        "the residual, refit the best, keep one only if the held-out NRMSE falls by more than "
-        "10% and the BIC by more than 10; repeat. JSON: baseline, steps, final. Needs "
-        "--validate.")
+        description="Condition the records (--force-filter, --decimate, --average), "
+        "calibrate, rank the catalogue effects by the evidence in the residual, refit the "
+        "best, keep one only if the calibration BIC counted with the effective number of "
+        "independent samples falls by more than 10 and the held-out NRMSE does not rise by "
+        "more than 2%; repeat until the residual is at the noise floor. JSON: conditioning, "
+        "noise floors, baseline, steps, final. Needs --validate.")
     add_fit_arguments(p)
     p.add_argument("--max-steps", type=count_type("--max-steps", 0, 8, "effects added at most"),
                    default=3, help="effects added at most, 0-8 (default %(default)s)")
@@ -39,7 +46,7 @@ def run(args) -> int:
     cal, val, params, effects, spec = load(args)
     d = diagnose(cal, val, model=args.model, params=params, effects=effects, spec=spec,
                  max_steps=args.max_steps, top=args.top, max_nfev=args.max_nfev,
-                 options=options)
+                 options=options, **conditioning_options(args))
     nr = d.as_dict()
     write_json(args.json, nr)
     print_warnings("diagnose", nr)
@@ -50,6 +57,9 @@ def run(args) -> int:
 
         write_report(args.report, diagnosis=d, title="liquidamp diagnose")
     added = ", ".join(d.added) or "nothing"
+    raw = (f", {d.nrmse_raw['validation']:.4g} on the records as given"
+           if d.nrmse_raw else "")
     print(f"added: {added}; validation NRMSE {nr['baseline']['nrmse']['validation']:.4g} -> "
-          f"{nr['final']['nrmse']['validation']:.4g} ({d.stop_reason}); wrote {args.json}")
+          f"{nr['final']['nrmse']['validation']:.4g}{raw} ({d.stop_reason}); noise floor "
+          f"{d.noise_nrmse:.3g}; wrote {args.json}")
     return 0

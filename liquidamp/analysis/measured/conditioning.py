@@ -193,6 +193,11 @@ class Conditioning:
         return (time[0] + np.arange(n) / self.sampling_rate,
                 np.arange(time.size) * self.factor)
 
+    def model_inputs(self):
+        """(y, v, a) of :meth:`model_stroke` at :meth:`model_times` for an averaged record
+        (computed once), else None."""
+        return None if self._average is None else self._average["inputs"]
+
     def model_stroke(self) -> tuple:
         """(time [s], y [m], v [m/s], a [m/s^2]) of the stroke driving a model over one
         averaged cycle (its periodic fit at 8 points per fitted sample, both ends of the
@@ -290,10 +295,11 @@ def lowpass(x, sampling_rate: float, cutoff: float, order: int = 4) -> np.ndarra
     # whose noise the odd extension would otherwise carry into the ends
     pad = min(int(math.ceil(6.0 * fs / fc)), n - 1)
     m = min(max(int(math.ceil(0.5 * fs / fc)), 3), n)
-    k = np.arange(m, dtype=float)
-    left = np.polyval(np.polyfit(k, x[:m], 1), 0.0)
-    right = np.polyval(np.polyfit(k, x[n - m:], 1), m - 1.0)
-    ext = np.concatenate((2.0 * left - x[pad:0:-1], x, 2.0 * right - x[n - 2:n - 2 - pad:-1]))
+    k = np.arange(m, dtype=float) - 0.5 * (m - 1)  # centred: slope = sum k x / sum k^2
+    kk = float(k @ k)
+    left = float(np.mean(x[:m]) - 0.5 * (m - 1) * (k @ x[:m]) / kk)
+    right = float(np.mean(x[n - m:]) + 0.5 * (m - 1) * (k @ x[n - m:]) / kk)
+    ext = np.concatenate((2.0 * left - x[1:pad + 1][::-1], x, 2.0 * right - x[::-1][1:pad + 1]))
     return sosfiltfilt(sos, ext, padlen=0)[pad:pad + n]
 
 
@@ -506,6 +512,8 @@ def _average(dec: Record, cond: Conditioning, cycles: int, meta: dict, t_orig):
                                float(np.var(dev)) / var if var > 0 else 0.0)
     psi = np.mod((np.asarray(t_orig) - ts) * f, 1.0)
     grid = np.unique(np.concatenate((psi, phases)))
+    # the stroke at the model's phases, as the model's interpolated stroke gives it
+    inputs = tuple(np.interp(ts + grid * T, stroke[0], q) for q in stroke[1:])
     # each averaged point's noise: sigma^2 mean((1 - a)^2 + a^2) / cycles
     shrink = math.sqrt(float(np.mean((1.0 - a) ** 2 + a ** 2)) / cycles)
     nf = cond.noise
@@ -521,6 +529,7 @@ def _average(dec: Record, cond: Conditioning, cycles: int, meta: dict, t_orig):
                     method=nf.method + f", averaged over {cycles}")
     cond = replace(cond, cycles_averaged=cycles, noise=noise, removed_by_stage=stages,
                    _average={"t_start": ts, "period": T, "grid": grid, "stroke": stroke,
+                             "inputs": inputs,
                              "points": M, "sample_index": np.searchsorted(grid, psi),
                              "record_index": np.searchsorted(grid, phases),
                              "i": i, "a": a})

@@ -119,7 +119,7 @@ from liquidamp.analysis.measured.diagnosis_evidence import (
 )
 from liquidamp.analysis.measured.record_model import nrmse, simulate_record
 from liquidamp.analysis.measured.record_quality import noise_floor
-from liquidamp.analysis.measured.selection import delta_bic, effective_samples
+from liquidamp.analysis.measured.selection import judge
 from liquidamp.device.effects import EFFECTS
 from liquidamp.errors import (
     ConvergenceError,
@@ -462,7 +462,6 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
         # it scores within ``score_ratio`` of the best
         extra = [c for c in scored[top:top + 1] if c.score * score_ratio >= scored[0].score]
         queue = scored[:top]
-        rss_now = _rss(current)
         level = structure_factor * noise_nrmse
         while queue:
             for cand in queue:
@@ -482,27 +481,16 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
             queue, extra = ([], []) if _explained(refits, level) else (extra, [])
         for cand in [c for c in ranked if c.effect in refits]:
             res = refits[cand.effect]
-            rel = 1.0 - res.nrmse_validation / current.nrmse_validation
-            n_eff, _ = effective_samples(res.residuals("calibration"))
-            dbic = delta_bic(rss_now, _rss(res), len(res.varying) - len(current.varying),
-                             n_eff)
-            val_ok = (res.nrmse_validation
-                      <= (1.0 + validation_tolerance) * current.nrmse_validation)
-            why = []
-            if not res.converged:
-                why.append(f"refit: {res.message}")
-            if dbic >= -bic_threshold:
-                why.append(f"delta BIC {dbic:.3g} (N_eff {n_eff:.4g}) not below "
-                           f"-{bic_threshold:g}")
-            if not val_ok:
-                why.append(f"held-out NRMSE {res.nrmse_validation:.4g} worse than "
-                           f"{current.nrmse_validation:.4g} by more than "
-                           f"{validation_tolerance:.0%}")
+            v = judge(current.residuals("calibration"), res.residuals("calibration"),
+                      len(res.varying) - len(current.varying), current.nrmse_validation,
+                      res.nrmse_validation, bic_threshold=bic_threshold,
+                      validation_tolerance=validation_tolerance)
+            why = ([f"refit: {res.message}"] if not res.converged else []) + list(v.reasons)
             ranked[ranked.index(cand)] = _with(
                 cand, refitted=True, nrmse_calibration=res.nrmse_calibration,
-                nrmse_validation=res.nrmse_validation, relative_reduction=rel,
-                delta_bic=dbic, n_effective=n_eff,
-                accepted=bool(dbic < -bic_threshold and val_ok), note="; ".join(why),
+                nrmse_validation=res.nrmse_validation, relative_reduction=v.relative_reduction,
+                delta_bic=v.delta_bic, n_effective=v.n_effective, accepted=v.accepted,
+                note="; ".join(why),
                 parameters=next(e.parameters for e in res.effects if e.name == cand.effect))
         last_round = tuple(ranked)
         passed = sorted([c for c in ranked if c.accepted], key=lambda c: c.nrmse_validation)
@@ -583,11 +571,6 @@ def _parsimonious(tied: list, refits: dict, bic_threshold: float) -> Candidate:
 def _explained(refits: dict, level: float) -> bool:
     """Whether a refit of the round brought the calibration NRMSE down to ``level``."""
     return any(r.nrmse_calibration <= level for r in refits.values())
-
-
-def _rss(result: CalibrationResult) -> float:
-    """Calibration residual sum of squares [N^2] (dropped samples count 0)."""
-    return float(sum(float(r @ r) for r in result.residuals("calibration")))
 
 
 def _with(c: Candidate, **changes) -> Candidate:

@@ -193,7 +193,7 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
         # record's was (liquidamp.analysis.measured.conditioning, "like with like")
         tf, at_record = cond.model_times(t)
         Xf = run(tf, x)
-        uf = stroke(tf)
+        uf = cond.model_inputs() or stroke(tf)
         ff = np.broadcast_to(np.asarray(model.force(tf, Xf, uf, params), float), tf.shape)
         X = np.ascontiguousarray(Xf[:, at_record])
         return _response(model, params, t, X, stroke(t), options, stats,

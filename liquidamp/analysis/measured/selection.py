@@ -46,12 +46,13 @@ References
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from liquidamp.errors import ParameterError
 
-__all__ = ["correlation_time", "effective_samples", "delta_bic"]
+__all__ = ["correlation_time", "effective_samples", "delta_bic", "Verdict", "judge"]
 
 
 def correlation_time(residual) -> float:
@@ -135,3 +136,82 @@ def delta_bic(rss_before: float, rss_after: float, k_added: int, n_eff: float) -
     if not (math.isfinite(n_eff) and n_eff > 1):
         raise ParameterError(f"delta_bic: n_eff must be > 1, got {n_eff!r}")
     return float(n_eff * math.log(rss_after / rss_before) + k_added * math.log(n_eff))
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """The selection rule's decision on one candidate (:func:`judge`).
+
+    Attributes
+    ----------
+    accepted : bool
+        Both tests passed.
+    delta_bic : float
+        BIC change counted with ``n_effective`` samples (negative favours the candidate).
+    n_effective : float
+        Effective number of independent calibration samples of the candidate's residual.
+    relative_reduction : float
+        1 - (held-out NRMSE with the candidate) / (without) [-].
+    reasons : tuple of str
+        The tests failed, in words (empty when accepted).
+    """
+
+    accepted: bool
+    delta_bic: float
+    n_effective: float
+    relative_reduction: float
+    reasons: tuple
+
+
+def judge(residuals_now, residuals_new, k_added: int, validation_now: float,
+          validation_new: float, *, bic_threshold: float = 10.0,
+          validation_tolerance: float = 0.02) -> Verdict:
+    """Accept a candidate model over the current one (the diagnosis' selection rule).
+
+    Accepted when delta BIC (module docstring; N_eff from ``residuals_new``) is below
+    ``-bic_threshold`` and the held-out NRMSE does not rise by more than
+    ``validation_tolerance`` relative: validation_new <= (1 + tol) validation_now.
+
+    Parameters
+    ----------
+    residuals_now, residuals_new : sequence of array
+        Calibration residual of each record [N], current model and candidate.
+    k_added : int
+        Parameters the candidate adds.
+    validation_now, validation_new : float
+        Held-out NRMSE of the two models [-].
+    bic_threshold : float
+        Least fall of the BIC (10: "very strong" evidence, Kass and Raftery) [-].
+    validation_tolerance : float
+        Largest relative rise of the held-out NRMSE [-].
+
+    Returns
+    -------
+    Verdict
+
+    Examples
+    --------
+    A fit that halves the residual of 200 white-noise samples with one parameter more and
+    keeps the held-out error: accepted; the same with a held-out error 5 % worse: not.
+
+    >>> rng = np.random.default_rng(0)
+    >>> e = rng.normal(size=200)
+    >>> v = judge([2 * e], [e], 1, 0.30, 0.27)
+    >>> v.accepted, round(v.relative_reduction, 2), v.delta_bic < -100
+    (True, 0.1, True)
+    >>> judge([2 * e], [e], 1, 0.30, 0.315).reasons
+    ('held-out NRMSE 0.315 worse than 0.3 by more than 2%',)
+    """
+    rss_now = float(sum(float(np.dot(r, r)) for r in residuals_now))
+    rss_new = float(sum(float(np.dot(r, r)) for r in residuals_new))
+    n_eff, _ = effective_samples(residuals_new)
+    dbic = delta_bic(rss_now, rss_new, k_added, n_eff)
+    reasons = []
+    if not dbic < -bic_threshold:
+        reasons.append(f"delta BIC {dbic:.3g} (N_eff {n_eff:.4g}) not below -{bic_threshold:g}")
+    if not validation_new <= (1.0 + validation_tolerance) * validation_now:
+        reasons.append(f"held-out NRMSE {validation_new:.4g} worse than {validation_now:.4g} "
+                       f"by more than {validation_tolerance:.0%}")
+    return Verdict(accepted=not reasons, delta_bic=dbic, n_effective=n_eff,
+                   relative_reduction=1.0 - validation_new / validation_now,
+                   reasons=tuple(reasons))

@@ -319,6 +319,13 @@ def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibrat
         parts.append("<h2>Diagnosis</h2>")
         parts.append(f"<p>Noise floor (NRMSE): {diagnosis.noise_nrmse:.4g}. Stop: "
                      f"{html.escape(diagnosis.stop_reason)}</p>")
+        if diagnosis.conditioning:
+            parts.append("<p>Records as fitted (conditioning; every NRMSE above is on these; "
+                         "the final model on the records as given: "
+                         + (", ".join(f"{k} {v:.4g}" for k, v in diagnosis.nrmse_raw.items())
+                            or "same records") + "):</p><ul>"
+                         + "".join(f"<li>{html.escape(c.describe())}</li>"
+                                   for c in diagnosis.conditioning) + "</ul>")
         nc = diagnosis.as_dict()["not_converged"]
         if nc:
             parts.append("<p><b>Fits that did NOT converge (their parameters are where the "
