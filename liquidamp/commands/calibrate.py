@@ -174,10 +174,13 @@ def run(args) -> int:
     """Calibrate; exit 1 if the fit did not converge (the JSON says so)."""
     options = solver_options(args, "fit")  # the arguments first, then the outputs
     check_fit_outputs(args, "calibrate")
-    from liquidamp.analysis.measured.calibration import calibrate
+    from liquidamp.analysis.measured.calibration import calibrate, check_records
     from liquidamp.analysis.measured.conditioning import condition
 
     cal, val, params, effects, spec = load(args)
+    # spikes, noise-only records and strokes past the chamber end are found in the records
+    # as given (the conditioned ones are checked again by calibrate)
+    check_records(tuple(cal) + tuple(val), params)
     kw = conditioning_options(args)
     cal, cc = zip(*(condition(r, **kw) for r in cal), strict=True)
     val, vc = zip(*(condition(r, **kw) for r in val), strict=True) if val else ((), ())

@@ -218,9 +218,10 @@ class Conditioning:
         if a is not None:
             f = f[a["sample_index"]]
         if self.force_cutoff is not None:
-            f = lowpass(f, self.sampling_rate, self.force_cutoff, self.filter_order)
+            f = lowpass(f, self.sampling_rate, self.force_cutoff, self.filter_order,
+                        pad="even")
         if self.anti_alias_cutoff is not None:
-            f = lowpass(f, self.sampling_rate, self.anti_alias_cutoff, _AA_ORDER)
+            f = lowpass(f, self.sampling_rate, self.anti_alias_cutoff, _AA_ORDER, pad="even")
         f = f[::self.factor]
         if a is not None:
             i, w = a["i"], a["a"]
@@ -246,7 +247,8 @@ class Conditioning:
                 "description": self.describe()}
 
 
-def lowpass(x, sampling_rate: float, cutoff: float, order: int = 4) -> np.ndarray:
+def lowpass(x, sampling_rate: float, cutoff: float, order: int = 4, *,
+            pad: str = "odd") -> np.ndarray:
     """Zero-phase Butterworth low-pass: ``sosfiltfilt`` of an order-``order`` design.
 
     Parameters
@@ -260,6 +262,13 @@ def lowpass(x, sampling_rate: float, cutoff: float, order: int = 4) -> np.ndarra
         1/2, -6 dB, there: the Butterworth's -3 dB applied twice).
     order : int
         Butterworth order (1-20) [-].
+    pad : {'odd', 'even'}
+        How the ends are extended over 6 / cutoff seconds before filtering: ``'odd'``
+        (default) point-symmetric about a straight line fitted over half a cut-off period
+        at each end, which continues a smooth signal with its slope (the stroke);
+        ``'even'`` mirror-symmetric, which never puts a step at the ends (a force whose
+        friction jump lies next to an end: the odd extension about a line fitted across the
+        jump leaves a spike at the end).
 
     Returns
     -------
@@ -293,14 +302,19 @@ def lowpass(x, sampling_rate: float, cutoff: float, order: int = 4) -> np.ndarra
     # bend the ends (2 mm at the end of a 0.25 Hz stroke decimated 54x); the pivot is a
     # straight line fitted over half a cut-off period at each end, not the end sample,
     # whose noise the odd extension would otherwise carry into the ends
-    pad = min(int(math.ceil(6.0 * fs / fc)), n - 1)
+    check_choice("pad", pad, ("odd", "even"))
+    npad = min(int(math.ceil(6.0 * fs / fc)), n - 1)
+    if pad == "even":
+        ext = np.concatenate((x[1:npad + 1][::-1], x, x[::-1][1:npad + 1]))
+        return sosfiltfilt(sos, ext, padlen=0)[npad:npad + n]
     m = min(max(int(math.ceil(0.5 * fs / fc)), 3), n)
     k = np.arange(m, dtype=float) - 0.5 * (m - 1)  # centred: slope = sum k x / sum k^2
     kk = float(k @ k)
     left = float(np.mean(x[:m]) - 0.5 * (m - 1) * (k @ x[:m]) / kk)
     right = float(np.mean(x[n - m:]) + 0.5 * (m - 1) * (k @ x[n - m:]) / kk)
-    ext = np.concatenate((2.0 * left - x[1:pad + 1][::-1], x, 2.0 * right - x[::-1][1:pad + 1]))
-    return sosfiltfilt(sos, ext, padlen=0)[pad:pad + n]
+    ext = np.concatenate((2.0 * left - x[1:npad + 1][::-1], x,
+                          2.0 * right - x[::-1][1:npad + 1]))
+    return sosfiltfilt(sos, ext, padlen=0)[npad:npad + n]
 
 
 @functools.lru_cache(maxsize=64)
@@ -420,7 +434,7 @@ def condition(record: Record, *, force_cutoff: float | None = None, filter_order
     stages = {}
     force = F0
     if force_cutoff is not None:
-        force = lowpass(F0, fs, force_cutoff, filter_order)
+        force = lowpass(F0, fs, force_cutoff, filter_order, pad="even")
         stages["force filter"] = _removed(F0, force)
     channels = {k: getattr(record, k)[:n] for k in ("displacement", "smoothed", "velocity",
                                                        "acceleration")}
@@ -428,7 +442,7 @@ def condition(record: Record, *, force_cutoff: float | None = None, filter_order
     if q > 1:
         aa = 0.4 * fs / q
         before = force
-        force = lowpass(force, fs, aa, _AA_ORDER)
+        force = lowpass(force, fs, aa, _AA_ORDER, pad="even")
         stages["anti-alias"] = _removed(before, force)
         channels = {k: lowpass(v, fs, aa, _AA_ORDER) for k, v in channels.items()}
     sl = slice(None, None, q)
