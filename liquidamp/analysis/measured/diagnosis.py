@@ -32,8 +32,10 @@ velocity):
    strength scores zero.  Simple signatures (correlation of the residual
    with sign(v), a, a constant, the dead-band indicator and the low-pressure
    phases) are reported too.
-4. Refit the ``top`` candidates with everything free, starting from the
-   linearized strength (cavitation: from the probe's vapour pressure, a
+4. Refit the ``top`` candidates with everything free (only those whose linearized
+   evidence pays their BIC penalty: N_eff ln(1 - score) + k ln N_eff < 0, N_eff of the
+   current residual, k the effect's fitted parameters), starting
+   from the linearized strength (cavitation: from the probe's vapour pressure, a
    threshold); when none of these refits brings the calibration
    residual down to ``structure_factor`` times the noise floor, refit also the
    next candidate if its score is within a factor ``score_ratio`` (3) of the best
@@ -119,7 +121,7 @@ from liquidamp.analysis.measured.diagnosis_evidence import (
 )
 from liquidamp.analysis.measured.record_model import nrmse, simulate_record
 from liquidamp.analysis.measured.record_quality import noise_floor
-from liquidamp.analysis.measured.selection import judge
+from liquidamp.analysis.measured.selection import effective_samples, judge
 from liquidamp.device.effects import EFFECTS
 from liquidamp.errors import (
     ConvergenceError,
@@ -462,6 +464,18 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
         # it scores within ``score_ratio`` of the best
         extra = [c for c in scored[top:top + 1] if c.score * score_ratio >= scored[0].score]
         queue = scored[:top]
+        # candidate pruning: a candidate whose linearized evidence does not even pay its
+        # BIC penalty is not refitted (its note says so)
+        n_now, _ = effective_samples(current.residuals("calibration"))
+        for cand in queue + extra:
+            lin = _linear_delta_bic(cand, n_now)
+            if lin > 0:
+                i = ranked.index(cand)
+                ranked[i] = _with(cand, note=(
+                    f"not refitted: its score {cand.score:.3g} over N_eff {n_now:.4g} "
+                    f"predicts delta BIC {lin:+.3g}, not even its penalty"))
+        queue = [c for c in queue if _linear_delta_bic(c, n_now) <= 0]
+        extra = [c for c in extra if _linear_delta_bic(c, n_now) <= 0]
         level = structure_factor * noise_nrmse
         while queue:
             for cand in queue:
@@ -502,7 +516,10 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
                     f"{validation_tolerance:.0%})"
                     + (f"; best: {best.effect}, delta BIC {best.delta_bic:.4g} (N_eff "
                        f"{best.n_effective:.4g}), validation NRMSE change "
-                       f"{-best.relative_reduction:+.1%}" if best else ""))
+                       f"{-best.relative_reduction:+.1%}" if best else "")
+                    + (f"; best score: {scored[0].effect} {scored[0].score:.3g}, linearized "
+                       f"delta BIC {_linear_delta_bic(scored[0], n_now):+.3g}, not refitted"
+                       if scored and not best else ""))
             break
         tied = [c for c in passed
                 if c.nrmse_validation <= (1 + tie_tolerance) * passed[0].nrmse_validation]
@@ -566,6 +583,12 @@ def _parsimonious(tied: list, refits: dict, bic_threshold: float) -> Candidate:
         if size(c) > size(chosen) and c.delta_bic < chosen.delta_bic - bic_threshold:
             chosen = c
     return chosen
+
+
+def _linear_delta_bic(cand: Candidate, n_eff: float) -> float:
+    """delta BIC the score test predicts: N_eff ln(1 - score) + k ln N_eff (k fit keys)."""
+    k = len(EFFECTS[cand.effect].fit_keys)
+    return n_eff * math.log(max(1.0 - cand.score, 1e-300)) + k * math.log(n_eff)
 
 
 def _explained(refits: dict, level: float) -> bool:
