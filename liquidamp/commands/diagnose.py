@@ -49,7 +49,11 @@ def run(args) -> int:
         from liquidamp.analysis.reports.report_calibration import write_report
 
         write_report(args.report, diagnosis=d, title="liquidamp diagnose")
+    if d.final.flags:
+        print(f"liquidamp diagnose: warning: final fit: {d.final.flags.short()}",
+              file=sys.stderr)
     added = ", ".join(d.added) or "nothing"
     print(f"added: {added}; validation NRMSE {nr['baseline']['nrmse']['validation']:.4g} -> "
-          f"{nr['final']['nrmse']['validation']:.4g} ({d.stop_reason}); wrote {args.json}")
+          f"{nr['final']['nrmse']['validation']:.4g} ({d.stop_reason}); final fit "
+          f"{d.final.summary()}; wrote {args.json}")
     return 0
