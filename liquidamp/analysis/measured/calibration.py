@@ -57,8 +57,9 @@ record whose force shows no first harmonic above the noise, whose loop delivers
 energy (a flipped force sign), whose sampling is too coarse for the velocity,
 or whose stroke reaches the chamber end of the starting device, is refused;
 isolated spikes (a Hampel filter) in the displacement are refused (the stroke
-drives the model), and in the force either refused (default) or, with ``outliers="drop"``, left out of the
-residual and of every error measure and listed in ``CalibrationResult.dropped``.
+drives the model), and in the force either refused (default) or, with
+``outliers="drop"``, left out of the residual and of every error measure and
+listed in ``CalibrationResult.dropped``.
 
 References
 ----------
@@ -337,15 +338,22 @@ class _Objective:
 # the starting device and the start trials
 
 
-def _trial(obj: _Objective, label: str, values: dict) -> StartTrial:
-    """Run the objective's model at ``values`` once: a StartTrial (errors recorded)."""
-    try:
-        _, _, F = obj.forces(values)
-    except (PressureError, ConvergenceError, ParameterError) as exc:
-        F = exc
+def _trial(obj: _Objective, label: str, values: dict, forces=None,
+           params: DeviceParams | None = None) -> StartTrial:
+    """Run the objective's model at ``values`` once: a StartTrial (errors recorded).
+
+    ``forces`` given: the trial of those forces (no run) on device ``params``."""
+    F = forces
+    if F is None:
+        try:
+            _, _, F = obj.forces(values)
+        except (PressureError, ConvergenceError, ParameterError) as exc:
+            F = exc
     shown = {k: v for k, v in values.items() if k in obj.spec.varying}
-    return StartTrial.evaluate(label, shown, obj.base.name or "custom", F, obj.records,
-                               _split(obj.keep, obj.records))
+    dev = (obj.base if params is None else params).name or "custom"
+    trial = StartTrial.evaluate(label, shown, dev, F, obj.records, _split(obj.keep, obj.records))
+    object.__setattr__(trial, "_forces", None if isinstance(F, BaseException) else F)
+    return trial
 
 
 def _split(keep, records):
@@ -369,7 +377,10 @@ def _scaled_values(spec: FitSpec, values: dict, force: float, stroke: float) -> 
 
 def _start_device(obj: _Objective, records, validate, sizing: str) -> Sizing:
     """The device the fit starts from: the given one when the records are near it, else
-    similar to it and sized to the records (module docstring of start)."""
+    similar to it and sized to the records (module docstring of start).
+
+    A similar device's force is exactly its factor times the original's (same pressures), so
+    the sized candidates' trials are the runs of the unsized device scaled, not new runs."""
     base, effects = obj.base, obj.effects
     t0 = _trial(obj, f"preset {base.name}" if base.name else "given device", obj.fixed)
     ratio0 = 1.0 / t0.rms_ratio if t0.ran and t0.rms_ratio else None
@@ -397,53 +408,72 @@ def _start_device(obj: _Objective, records, validate, sizing: str) -> Sizing:
     if s > 1.0:
         why.append(f"peak stroke {share:.0%} of its chamber length V0/A_p "
                    f"({base.stroke_limit * 1e3:.4g} mm; at most {NEAR_STROKE_SHARE:.0%})")
+
+    def objective(p, e):
+        return _Objective(obj.model, p, e, obj.spec, obj.records, obj.options, obj.preroll,
+                          keep=_split(obj.keep, obj.records))
+
     trials = [t0]
     t1, a = t0, ratio0
     if s > 1.0:
         p1, e1 = similar_device(base, effects, stroke=s)
-        o1 = _Objective(obj.model, p1, e1, obj.spec, obj.records, obj.options, obj.preroll,
-                        keep=_split(obj.keep, obj.records))
-        t1 = _trial(o1, f"stroke x{s:.3g}", _scaled_values(obj.spec, obj.fixed, 1.0, s))
+        t1 = _trial(objective(p1, e1), f"stroke x{s:.3g}",
+                    _scaled_values(obj.spec, obj.fixed, 1.0, s))
         trials.append(t1)
         a = 1.0 / t1.rms_ratio if t1.ran and t1.rms_ratio else None
     how = "RMS force of one run"
     if a is None:  # the run failed: the linear model's |K*| at each record's stroke
         p1 = similar_device(base, effects, stroke=s)[0]
-        pred = [abs(linear_stiffness(p1, r.frequency, r.stroke_scale)) * r.shape.rms
-                if r.shape else abs(linear_stiffness(p1, r.frequency, r.amplitude))
-                * r.amplitude / math.sqrt(2) for r in records]
+        pred = [abs(linear_stiffness(p1, r.frequency, r.stroke_scale)) * r.stroke_scale
+                / math.sqrt(2) for r in records]
         a = obj.den / float(np.sqrt(np.mean(np.square(pred))))
         how = "first-harmonic |K*| of the linear model (the run failed)"
     a = float(a)
-    # the loop's shape: air ratios and losses matched to K', K'' (physics_factors), then the
-    # force level corrected once more (exactly: a similar device of that force factor)
-    p2, e2 = similar_device(base, effects, force=a, stroke=s)
-    f_air, f_loss = physics_factors(records, p2)
+    vals = _scaled_values(obj.spec, obj.fixed, a, s)
+    # candidate 1: the similar device (its force: a x the run above)
+    p_sim, e_sim = similar_device(base, effects, force=a, stroke=s)
+    f1 = getattr(t1, "_forces", None)
+    t_sim = _trial(objective(p_sim, e_sim), "similar device", vals,
+                   None if f1 is None else [a * f for f in f1])
+    trials.append(t_sim)
+    cands = [(t_sim, p_sim, e_sim, a, None, None)]
+    # candidate 2: its air ratios and losses matched to K', K'' (physics_factors), the force
+    # level then corrected (exactly: a similar device of factor rho)
+    f_air, f_loss = physics_factors(records, p_sim)
     mult = {**(dict.fromkeys(("inv_gamma1", "inv_gamma2"), f_air) if f_air else {}),
             **(dict.fromkeys(("c1", "c2"), f_loss) if f_loss else {})}
-    rho = 1.0
+    def named(p, force, fa, fl):
+        return p.replace(name=f"{base.name or 'device'} sized (force x{force:.4g}, stroke "
+                         f"x{s:.4g}" + (f", air x{fa:.3g}" if fa else "")
+                         + (f", losses x{fl:.3g}" if fl else "") + ")")
+
+    p_sim = named(p_sim, a, None, None)
     if mult:
-        p2 = p2.scaled(**mult)
-        o2 = _Objective(obj.model, p2, e2, obj.spec, obj.records, obj.options, obj.preroll,
-                        keep=_split(obj.keep, obj.records))
-        t2 = _trial(o2, "air and losses from K*", _scaled_values(obj.spec, obj.fixed, a, s))
+        p2 = named(p_sim.scaled(**mult), a, f_air, f_loss)
+        t2 = _trial(objective(p2, e_sim), "air and losses from K*", vals)
         trials.append(t2)
         if t2.ran and t2.rms_ratio:
             rho = 1.0 / t2.rms_ratio
-        else:  # the matched shape cannot be run: the similar device alone
-            p2, e2, mult = *similar_device(base, effects, force=a, stroke=s), {}
-    params, eff = similar_device(p2, e2, force=rho)
-    a *= rho
-    name = (f"{base.name or 'device'} sized (force x{a:.4g}, stroke x{s:.4g}"
-            + (f", air x{f_air:.3g}" if "inv_gamma1" in mult else "")
-            + (f", losses x{f_loss:.3g}" if "c1" in mult else "") + ")")
-    how += (f"; air ratios x{f_air:.3g}" if "inv_gamma1" in mult else "") + (
-        f", loss coefficients x{f_loss:.3g} from the records' K', K''" if "c1" in mult else "")
-    return Sizing(params.replace(name=name), eff, True, force_scale=a, stroke_scale=s,
-                  rms_ratio=ratio0, trials=tuple(trials), reason="; ".join(why)
-                  + f"; force x{a:.4g} from the {how}; stroke x{s:.4g}",
-                  air_factor=f_air if "inv_gamma1" in mult else 1.0,
-                  loss_factor=f_loss if "c1" in mult else 1.0)
+            p3, e3 = similar_device(p2, e_sim, force=rho)
+            p3 = named(p3, a * rho, f_air, f_loss)
+            vals3 = _scaled_values(obj.spec, vals, rho, 1.0)
+            t3 = _trial(objective(p3, e3), "air and losses, level corrected", vals3,
+                        [rho * f for f in t2._forces], params=p3)
+            trials.append(t3)
+            cands.append((t3, p3, e3, a * rho, f_air, f_loss))
+    ran = [c for c in cands if c[0].ran]
+    t_best, params, eff, a_best, fa, fl = min(ran, key=lambda c: c[0].nrmse) if ran else cands[0]
+    name = params.name
+    if mult:
+        got = ", ".join(([f"air ratios x{f_air:.3g}"] if f_air else [])
+                        + ([f"loss coefficients x{f_loss:.3g}"] if f_loss else []))
+        how += (f"; {got} from the records' K', K'' "
+                f"{'kept' if fa or fl else 'tried, not kept (a worse start)'}")
+    trial = dataclasses.replace(t_best, label="sized", device=name)
+    return Sizing(params, eff, True, force_scale=a_best, stroke_scale=s,
+                  rms_ratio=ratio0, trials=tuple(trials) + (trial,), reason="; ".join(why)
+                  + f"; force x{a_best:.4g} from the {how}; stroke x{s:.4g}",
+                  air_factor=fa or 1.0, loss_factor=fl or 1.0)
 
 
 def _with_stroke_limit(quality, records, params: DeviceParams):
@@ -575,8 +605,8 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
                                                sz.stroke_scale))
         obj = _Objective(model, sz.params, sz.effects, spec, records, options, preroll,
                          keep=keep_c)
-        trials = [*sz.trials, _trial(obj, "sized", obj.fixed)]
-        candidates = [trials[-1]]
+        trials = list(sz.trials)
+        candidates = [trials[-1]]  # the sized device's trial (its values: obj.fixed)
     else:
         trials = [dataclasses.replace(sz.trials[0], label="spec")]
         candidates = list(trials)

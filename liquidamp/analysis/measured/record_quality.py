@@ -364,12 +364,17 @@ def loop_power(record: Record, force, sigma: float = 0.0):
     scale = float(np.sqrt(np.mean(Fc * Fc)) * np.sqrt(np.mean(v * v)))
     dt = 1.0 / record.sampling_rate
     if record.periodic and record.cycles >= 1.0:
+        # whole cycles only (rectangle rule: exact to a sample for a periodic integrand); the
+        # RMS of the share over the same cycles, so that it does not depend on where the
+        # record starts and stops
         n = int(math.floor(record.cycles + 1e-9))
-        m = (t - t[0]) <= n * record.period + 0.5 * dt
-        Fm, vm = Fc[m], v[m]
-        E = float(np.trapezoid(Fm * vm, dx=dt)) / n
+        m = (t - t[0]) < n * record.period - 0.5 * dt
+        vm = v[m]
+        Fm = F[m] - float(np.mean(F[m]))
+        E = float(np.sum(Fm * vm)) * dt / n
         sE = sigma * float(np.sqrt(np.sum(vm * vm))) * dt / n
         P, sP = E * record.frequency, sE * record.frequency
+        scale = float(np.sqrt(np.mean(Fm * Fm)) * np.sqrt(np.mean(vm * vm)))
     else:
         X = _regressors(record)
         coef, *_ = np.linalg.lstsq(X, F, rcond=None)
