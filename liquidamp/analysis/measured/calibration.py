@@ -345,6 +345,7 @@ def _trial(obj: _Objective, label: str, values: dict, forces=None,
     ``forces`` given: the trial of those forces (no run) on device ``params``."""
     F = forces
     if F is None:
+        obj.nfev += 1  # a model evaluation (the fit's count includes its starts)
         try:
             _, _, F = obj.forces(values)
         except (PressureError, ConvergenceError, ParameterError) as exc:
@@ -410,15 +411,18 @@ def _start_device(obj: _Objective, records, validate, sizing: str) -> Sizing:
                    f"({base.stroke_limit * 1e3:.4g} mm; at most {NEAR_STROKE_SHARE:.0%})")
 
     def objective(p, e):
-        return _Objective(obj.model, p, e, obj.spec, obj.records, obj.options, obj.preroll,
-                          keep=_split(obj.keep, obj.records))
+        o = _Objective(obj.model, p, e, obj.spec, obj.records, obj.options, obj.preroll,
+                       keep=_split(obj.keep, obj.records))
+        o.nfev = obj.nfev  # one count of the model runs made to choose the start
+        return o
 
     trials = [t0]
     t1, a = t0, ratio0
     if s > 1.0:
         p1, e1 = similar_device(base, effects, stroke=s)
-        t1 = _trial(objective(p1, e1), f"stroke x{s:.3g}",
-                    _scaled_values(obj.spec, obj.fixed, 1.0, s))
+        o1 = objective(p1, e1)
+        t1 = _trial(o1, f"stroke x{s:.3g}", _scaled_values(obj.spec, obj.fixed, 1.0, s))
+        obj.nfev = o1.nfev
         trials.append(t1)
         a = 1.0 / t1.rms_ratio if t1.ran and t1.rms_ratio else None
     how = "RMS force of one run"
@@ -433,8 +437,9 @@ def _start_device(obj: _Objective, records, validate, sizing: str) -> Sizing:
     # candidate 1: the similar device (its force: a x the run above)
     p_sim, e_sim = similar_device(base, effects, force=a, stroke=s)
     f1 = getattr(t1, "_forces", None)
-    t_sim = _trial(objective(p_sim, e_sim), "similar device", vals,
-                   None if f1 is None else [a * f for f in f1])
+    o_sim = objective(p_sim, e_sim)
+    t_sim = _trial(o_sim, "similar device", vals, None if f1 is None else [a * f for f in f1])
+    obj.nfev = o_sim.nfev
     trials.append(t_sim)
     cands = [(t_sim, p_sim, e_sim, a, None, None)]
     # candidate 2: its air ratios and losses matched to K', K'' (physics_factors), the force
@@ -450,7 +455,9 @@ def _start_device(obj: _Objective, records, validate, sizing: str) -> Sizing:
     p_sim = named(p_sim, a, None, None)
     if mult:
         p2 = named(p_sim.scaled(**mult), a, f_air, f_loss)
-        t2 = _trial(objective(p2, e_sim), "air and losses from K*", vals)
+        o2 = objective(p2, e_sim)
+        t2 = _trial(o2, "air and losses from K*", vals)
+        obj.nfev = o2.nfev
         trials.append(t2)
         if t2.ran and t2.rms_ratio:
             rho = 1.0 / t2.rms_ratio
@@ -603,8 +610,10 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
     if sz.sized:
         spec = spec.with_values(_scaled_values(spec, obj.fixed, sz.force_scale,
                                                sz.stroke_scale))
+        runs = obj.nfev  # the model runs made to choose the start
         obj = _Objective(model, sz.params, sz.effects, spec, records, options, preroll,
                          keep=keep_c)
+        obj.nfev = runs
         trials = list(sz.trials)
         candidates = [trials[-1]]  # the sized device's trial (its values: obj.fixed)
     else:
