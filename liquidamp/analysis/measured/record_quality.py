@@ -400,9 +400,10 @@ def check_record(record: Record, params: DeviceParams | None = None, *, k: float
       standard deviation of what the harmonics leave) must reach ``min_snr``
       (pure noise gives about 1; the bundled records several thousand).  A
       periodic share of the force variance below ``min_periodic`` is a note.
-      Stroke not periodic: the force is regressed on the stroke, its rate and
-      acceleration instead (F ~ F0 + k y + c v + m a) and the same measure,
-      sqrt(N var(fitted) / var(residual)), must reach ``min_snr``.
+      A tapered stroke (one frequency, the amplitude ramping) is tested the
+      same way; a broadband stroke's force is regressed on the stroke, its
+      rate and acceleration instead (F ~ F0 + k y + c v + m a) and the same
+      measure, sqrt(N var(fitted) / var(residual)), must reach ``min_snr``.
     * **Energy sign.**  A passive device absorbs energy (sign convention of
       :mod:`liquidamp.analysis.measured.records`): the loop integral of
       F dy per cycle (periodic), or c mean(v^2) of the regression (not
@@ -426,10 +427,10 @@ def check_record(record: Record, params: DeviceParams | None = None, *, k: float
       spikes).  A running
       median follows steps (friction reversals) and smooth curves exactly on
       monotone stretches, so only isolated samples stand out; up to
-      ``width // 2`` adjacent ones are found.  Stroke not periodic: the
-      smooth part removed first is the linear regression (force) or the
+      ``width // 2`` adjacent ones are found.  Broadband stroke: the smooth
+      part removed first is the linear regression (force) or the
       Savitzky-Golay smoothed stroke (displacement), and sqrt(2) x the RMS
-      stands for the amplitude.
+      stands for the amplitude (a tapered stroke is treated as a periodic one).
     * **Stroke past the chamber end.**  With ``params``, a recorded
       |displacement - mean| at or beyond ``params.stroke_limit`` (V0/A_p) is
       a problem naming the line.
@@ -484,8 +485,11 @@ def check_record(record: Record, params: DeviceParams | None = None, *, k: float
     t, F, y = record.time, record.force, record.displacement
     n = t.size
     periodic = record.periodic
+    # one frequency throughout (periodic, or tapered cycle by cycle): the harmonics of the
+    # stroke frequency hold the force's smooth part; broadband: the linear-device regression
+    harmonic = periodic or record.shape.kind == "tapered"
     nyq = 0.5 * record.sampling_rate
-    if periodic:
+    if harmonic:
         w = 2 * math.pi * record.frequency * (t - t[0])
         cols = [np.ones_like(t)]
         for j in range(1, 11):
@@ -502,7 +506,7 @@ def check_record(record: Record, params: DeviceParams | None = None, *, k: float
     outliers = []
     # a broadband stroke's own peaks depart from a running median: search its departure from
     # the Savitzky-Golay smoothed stroke instead (a spike passes the smoother at ~20 %)
-    base_y = np.zeros(n) if periodic else record.smoothed
+    base_y = np.zeros(n) if harmonic else record.smoothed
     for column, x, B, amp, x0 in (("force", F, A, amp_F, np.zeros(n)),
                                   ("displacement", y, A_y, amp_y, base_y)):
         idx, expected = _spikes(x - x0, B, width, k, 0.02, amp)
@@ -519,7 +523,7 @@ def check_record(record: Record, params: DeviceParams | None = None, *, k: float
     explained = 1.0 - float(np.mean(res * res)) / var if var > 0 else 0.0
     problems, notes = [], []
     label = record.source or record.label
-    if periodic:
+    if harmonic:
         F1 = float(math.hypot(c[1], c[2]))
         se = sigma * math.sqrt(2.0 / m)
         snr = F1 / se if se > 0 else math.inf
@@ -531,12 +535,11 @@ def check_record(record: Record, params: DeviceParams | None = None, *, k: float
                 f"noise (standard deviation {sigma:.4g} N, standard error of |F1| {se:.3g} N: "
                 f"|F1| is {snr:.3g} standard errors, at least {min_snr:g} needed); the record "
                 "holds no force response to fit")
-        elif periodic_fraction < min_periodic:
+        elif periodic and periodic_fraction < min_periodic:
             notes.append(f"{label}: only {periodic_fraction:.0%} of the force variance is "
                          f"periodic at the stroke frequency and its harmonics (at least "
                          f"{min_periodic:.0%} expected): the noise dominates the fit")
     else:
-        F1 = periodic_fraction = None
         fitted = max(var - float(np.mean(res * res)), 0.0)
         snr = math.sqrt(m * fitted) / sigma if sigma > 0 else math.inf
         if snr < min_snr:
@@ -546,6 +549,8 @@ def check_record(record: Record, params: DeviceParams | None = None, *, k: float
                 f"{explained:.2%} of its variance, {snr:.3g} standard errors (at least "
                 f"{min_snr:g} needed; noise standard deviation {sigma:.4g} N); the record "
                 "holds no force response to fit")
+    if not periodic:  # harmonic summaries only for a periodic stroke
+        F1 = periodic_fraction = None
         notes.append(f"{label}: the stroke is not periodic ({record.describe()}): no frequency "
                      "or amplitude summary; the model is driven by the recorded stroke as it "
                      "is, from rest at its first sample (no pre-roll)")

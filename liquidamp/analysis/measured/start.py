@@ -55,9 +55,10 @@ Sizing rule: a similar device
     (:func:`liquidamp.analysis.measured.fit_spec.scale_effect_bounds`).
 
 Non-periodic records
-    The first-harmonic dynamic stiffness K* = F1 / Y1 needs a periodic
-    stroke.  For a tapered or broadband stroke :func:`first_harmonic_stiffness`
-    falls back on the linear regression F ~ F0 + k y + c v + m a over the whole
+    The first-harmonic dynamic stiffness K* = F1 / Y1 needs one stroke
+    frequency.  A tapered stroke has one (its K* averages over the amplitudes
+    it passes); for a broadband stroke :func:`first_harmonic_stiffness` falls
+    back on the linear regression F ~ F0 + k y + c v + m a over the whole
     record and returns K* = k - w^2 m + i w c at the record's dominant
     frequency w (the periodogram peak).
 
@@ -175,9 +176,12 @@ def _harmonic(t, s, f):
 def first_harmonic_stiffness(record: Record) -> complex:
     """K* = K' + i K'' of a record at its stroke frequency [N/m] (fallback: module docstring).
 
-    Periodic stroke: F1 / Y1, the complex first harmonics of force and
-    displacement.  Otherwise: k - w^2 m + i w c of the regression
-    F ~ F0 + k y + c v + m a at the dominant frequency w.
+    Periodic or tapered stroke (one frequency): F1 / Y1, the complex first
+    harmonics of force and displacement fitted over the whole record (for a
+    tapered stroke, an average over its amplitudes).  Broadband: k - w^2 m +
+    i w c of the regression F ~ F0 + k y + c v + m a at the dominant frequency
+    w (at one frequency y and a are collinear and the regression could not
+    separate k from m).
 
     Examples
     --------
@@ -188,7 +192,7 @@ def first_harmonic_stiffness(record: Record) -> complex:
     >>> round(K.real / 1e5, 2), round(K.imag / (2 * np.pi * 3 * 3e3), 2)
     (2.0, 1.0)
     """
-    if record.periodic:
+    if record.periodic or record.shape.kind == "tapered":
         return _harmonic(record.time, record.force, record.frequency) / _harmonic(
             record.time, record.displacement, record.frequency)
     X = np.column_stack((np.ones_like(record.time), record.smoothed - record.offset,
