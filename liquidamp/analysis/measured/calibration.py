@@ -40,7 +40,9 @@ to a common multiplier on both air ratios through eq. (2), and c to a common
 multiplier on c1 and c2 through the describing function of the quadratic
 loss, c_eq = A_p^2 (c1 + 8 c2 Q / (3 pi)).  That start, the specification's
 own start and their geometric mean are each evaluated once and the fit
-starts from the best; the result reports all three.  When none can be used
+starts from the best; the result reports all three (a sized device already
+holds the physics start -- its air ratios and losses matched to K', K'' when
+that fits the records better -- so only its start is evaluated).  When none can be used
 (the model cannot be run there, or its NRMSE reaches 2.9, where a point that
 cannot be run is penalized) :func:`calibrate` refuses with each start tried,
 its parameters, NRMSE, predicted against measured peak force, the loop's loss
@@ -352,9 +354,7 @@ def _trial(obj: _Objective, label: str, values: dict, forces=None,
             F = exc
     shown = {k: v for k, v in values.items() if k in obj.spec.varying}
     dev = (obj.base if params is None else params).name or "custom"
-    trial = StartTrial.evaluate(label, shown, dev, F, obj.records, _split(obj.keep, obj.records))
-    object.__setattr__(trial, "_forces", None if isinstance(F, BaseException) else F)
-    return trial
+    return StartTrial.evaluate(label, shown, dev, F, obj.records, _split(obj.keep, obj.records))
 
 
 def _split(keep, records):
@@ -436,7 +436,7 @@ def _start_device(obj: _Objective, records, validate, sizing: str) -> Sizing:
     vals = _scaled_values(obj.spec, obj.fixed, a, s)
     # candidate 1: the similar device (its force: a x the run above)
     p_sim, e_sim = similar_device(base, effects, force=a, stroke=s)
-    f1 = getattr(t1, "_forces", None)
+    f1 = t1.forces
     o_sim = objective(p_sim, e_sim)
     t_sim = _trial(o_sim, "similar device", vals, None if f1 is None else [a * f for f in f1])
     obj.nfev = o_sim.nfev
@@ -465,7 +465,7 @@ def _start_device(obj: _Objective, records, validate, sizing: str) -> Sizing:
             p3 = named(p3, a * rho, f_air, f_loss)
             vals3 = _scaled_values(obj.spec, vals, rho, 1.0)
             t3 = _trial(objective(p3, e3), "air and losses, level corrected", vals3,
-                        [rho * f for f in t2._forces], params=p3)
+                        [rho * f for f in t2.forces], params=p3)
             trials.append(t3)
             cands.append((t3, p3, e3, a * rho, f_air, f_loss))
     ran = [c for c in cands if c[0].ran]
@@ -727,4 +727,4 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
         validation=validate, predictions_calibration=tuple(pc),
         predictions_validation=tuple(pv), jacobian=J, data_quality=quality, dropped=dropped,
         warnings=tuple(warns), start={**sz.as_dict(), "chosen": best.label},
-        start_trials=tuple(trials), flags=flags)
+        start_trials=tuple(dataclasses.replace(t, forces=None) for t in trials), flags=flags)

@@ -333,6 +333,9 @@ class StartTrial:
         Correlation of the model force with the measured [-].
     error : str
         Why the model could not be run ('' when it ran).
+    forces : tuple of ndarray or None
+        The model force on each record [N] (None if it could not be run; not
+        in :meth:`as_dict`).
     cause : str
         ``"ok"``, ``"scale"`` (force level off by more than 2x), ``"sign"``
         (the model's force runs against the record's), ``"geometry"`` (the
@@ -353,6 +356,7 @@ class StartTrial:
     correlation: float | None = None
     error: str = ""
     cause: str = "ok"
+    forces: tuple | None = field(default=None, repr=False, compare=False)
 
     @classmethod
     def evaluate(cls, label, values, device, forces, records, masks):
@@ -390,7 +394,7 @@ class StartTrial:
         else:
             cause = "shape"
         return cls(label, dict(values), device, nr, peak_model, peak_meas, ratio, share_model,
-                   share_meas, corr, "", cause)
+                   share_meas, corr, "", cause, tuple(np.asarray(f, float) for f in forces))
 
     @property
     def ran(self) -> bool:
