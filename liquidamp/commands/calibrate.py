@@ -167,6 +167,11 @@ def register(sub) -> None:
         "(conditioned) and what the conditioning did and removed. "
         "Exit code 1 if the fit did not converge (the JSON says so).")
     add_fit_arguments(p)
+    p.add_argument("--sizing", choices=("auto", "preset", "data"), default="auto",
+                   help="device the fit starts from: auto (default) the --preset/--device when "
+                   "the records are near it (RMS force within 4x, stroke within half the "
+                   "chamber), else a similar device sized to the records; preset: always the "
+                   "given device; data: always the sized device")
     p.set_defaults(func=run)
 
 
@@ -185,7 +190,7 @@ def run(args) -> int:
     cal, cc = zip(*(condition(r, **kw) for r in cal), strict=True)
     val, vc = zip(*(condition(r, **kw) for r in val), strict=True) if val else ((), ())
     res = calibrate(cal, model=args.model, params=params, effects=effects, spec=spec,
-                    validate=val, max_nfev=args.max_nfev, options=options)
+                    validate=val, max_nfev=args.max_nfev, options=options, sizing=args.sizing)
     d = res.as_dict()
     d["conditioning"] = [c.as_dict() for c in cc + vc]
     write_json(args.json, d)
@@ -198,8 +203,5 @@ def run(args) -> int:
         print(f"liquidamp calibrate: warning: calibration did not converge: {res.message}",
               file=sys.stderr)
         return 1
-    val_txt = d["nrmse"]["validation"]
-    val_txt = "n/a" if val_txt is None else f"{val_txt:.4g}"
-    print(f"calibrated ({res.nfev} evaluations): NRMSE calibration "
-          f"{d['nrmse']['calibration']:.4g}, validation {val_txt}; wrote {args.json}")
+    print(f"calibrated: {res.summary()}; wrote {args.json}")
     return 0

@@ -56,10 +56,13 @@ def run(args) -> int:
         from liquidamp.analysis.reports.report_calibration import write_report
 
         write_report(args.report, diagnosis=d, title="liquidamp diagnose")
+    if d.final.flags:
+        print(f"liquidamp diagnose: warning: final fit: {d.final.flags.short()}",
+              file=sys.stderr)
     added = ", ".join(d.added) or "nothing"
     raw = (f", {d.nrmse_raw['validation']:.4g} on the records as given"
            if d.nrmse_raw else "")
     print(f"added: {added}; validation NRMSE {nr['baseline']['nrmse']['validation']:.4g} -> "
           f"{nr['final']['nrmse']['validation']:.4g}{raw} ({d.stop_reason}); noise floor "
-          f"{d.noise_nrmse:.3g}; wrote {args.json}")
+          f"{d.noise_nrmse:.3g}; final fit {d.final.summary()}; wrote {args.json}")
     return 0

@@ -21,6 +21,15 @@ the pooled calibration set, so the cost is NRMSE^2 / 2 with
 pooled over all records of a set.  Every model run is driven by the
 recorded stroke (:func:`liquidamp.analysis.measured.record_model.simulate_record`).
 
+Where the fit starts (:mod:`liquidamp.analysis.measured.start`): from the
+given device (``paper_initial`` by default) when the records are near it (its
+RMS force within 4x of the measured and the stroke within half its chamber),
+else from a similar device sized to the records (piston area, chamber volumes
+and loss and inertance factors scaled so that its RMS force equals the
+measured one with the stroke inside half the chamber; ``sizing`` chooses).
+The multipliers and their bounds then apply to that device; the result states
+which device and scale (``CalibrationResult.start``).
+
 Local minima (least squares on the air ratios and loss coefficients has
 them: a start away from the paper's multipliers can stall at ten times the
 noise floor): the default start is taken from physics.  The
@@ -31,7 +40,13 @@ to a common multiplier on both air ratios through eq. (2), and c to a common
 multiplier on c1 and c2 through the describing function of the quadratic
 loss, c_eq = A_p^2 (c1 + 8 c2 Q / (3 pi)).  That start, the specification's
 own start and their geometric mean are each evaluated once and the fit
-starts from the best; the result reports all three.
+starts from the best; the result reports all three (a sized device already
+holds the physics start -- its air ratios and losses matched to K', K'' when
+that fits the records better -- so only its start is evaluated).  When none can be used
+(the model cannot be run there, or its NRMSE reaches 2.9, where a point that
+cannot be run is penalized) :func:`calibrate` refuses with each start tried,
+its parameters, NRMSE, predicted against measured peak force, the loop's loss
+share (energy sign) and the likely cause: scale, sign or geometry.
 
 Standard errors and correlations come from the Jacobian at the optimum
 scaled by the residual variance, s^2 (J^T J)^-1 with s^2 = RSS / (N - p).
@@ -40,11 +55,13 @@ read them as lower bounds.
 
 Data quality comes first: every record is checked by
 :func:`liquidamp.analysis.measured.record_quality.check_record` before any model run.  A
-record whose force shows no first harmonic above the noise, or whose stroke
-reaches the chamber end, is refused; isolated spikes (a Hampel filter) in the
-displacement are refused (the stroke drives the model), and in the force
-either refused (default) or, with ``outliers="drop"``, left out of the
-residual and of every error measure and listed in ``CalibrationResult.dropped``.
+record whose force shows no first harmonic above the noise, whose loop delivers
+energy (a flipped force sign), whose sampling is too coarse for the velocity,
+or whose stroke reaches the chamber end of the starting device, is refused;
+isolated spikes (a Hampel filter) in the displacement are refused (the stroke
+drives the model), and in the force either refused (default) or, with
+``outliers="drop"``, left out of the residual and of every error measure and
+listed in ``CalibrationResult.dropped``.
 
 References
 ----------
@@ -55,23 +72,51 @@ References
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 
 import numpy as np
 
-from liquidamp.analysis.measured.calibration_result import CalibrationResult, RecordError
-from liquidamp.analysis.measured.fit_spec import PAPER_FOUR, FitSpec, Parameter, check_spec_uses
+from liquidamp.analysis.measured.calibration_result import (
+    CalibrationResult,
+    RecordError,
+    parameter_flags,
+)
+from liquidamp.analysis.measured.fit_spec import (
+    PAPER_FOUR,
+    FitSpec,
+    Parameter,
+    check_spec_uses,
+    scale_effect_bounds,
+)
 from liquidamp.analysis.measured.record_model import nrmse, simulate_record
-from liquidamp.analysis.measured.record_quality import DataQuality, check_record
+from liquidamp.analysis.measured.record_quality import (
+    DataQuality,
+    check_record,
+    check_record_stroke,
+)
 from liquidamp.analysis.measured.records import Record
+from liquidamp.analysis.measured.start import (
+    NEAR_FORCE_RATIO,
+    NEAR_STROKE_SHARE,
+    SIZING_CHOICES,
+    Sizing,
+    StartTrial,
+    linear_fit,
+    linear_stiffness,
+    physics_factors,
+    refusal_message,
+    similar_device,
+    similarity_factors,
+    stroke_factor,
+)
 from liquidamp.device.effects import EFFECTS, Effect, with_effects
 from liquidamp.device.models import get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import (
     ConvergenceError,
     DataFileError,
-    LiquidampError,
     LiquidampWarning,
     ParameterError,
     PressureError,
@@ -80,7 +125,8 @@ from liquidamp.errors import (
 from liquidamp.options import PRESETS, SolverOptions, resolve_options
 
 __all__ = ["Parameter", "FitSpec", "CalibrationResult", "RecordError", "calibrate",
-           "predict", "physics_start", "check_records", "FIT_OPTIONS", "PAPER_FOUR"]
+           "predict", "physics_start", "check_records", "linear_fit", "FIT_OPTIONS",
+           "PAPER_FOUR"]
 
 
 FIT_OPTIONS = PRESETS["fit"]
@@ -190,77 +236,28 @@ def _listed(items: list[str], first: int = 5) -> str:
 # physics start
 
 
-def _harmonic(t, s, f):
-    w = 2 * math.pi * f * (t - t[0])
-    A = np.column_stack((np.sin(w), np.cos(w), np.ones_like(w)))
-    (a, b, _), *_ = np.linalg.lstsq(A, s, rcond=None)
-    return complex(a, b)
-
-
-def linear_fit(record: Record, b_L: float) -> tuple[float, float]:
-    """k_D [N/m] and c [N s/m] of a spring in series with (dashpot c + inerter b_L).
-
-    Solved from the record's first-harmonic dynamic stiffness
-    K* = F1 / Y1: 1/K = 1/k_D + 1/Z, Z = i w c - w^2 b_L.
-    """
-    K = _harmonic(record.time, record.force, record.frequency) / _harmonic(
-        record.time, record.displacement, record.frequency)
-    w = 2 * math.pi * record.frequency
-    W = 1.0 / K
-    beta = w * w * b_L
-    disc = 1.0 - 4.0 * beta * beta * W.imag ** 2
-    u = (-1.0 + math.sqrt(disc)) / (2.0 * beta) if (beta > 0 and disc > 0) else 0.0
-    s = W.real - u
-    k_D = 1.0 / s if s > 0 else math.inf
-    c = -W.imag / (w * (u * u + W.imag ** 2))
-    return k_D, c
-
-
 def physics_start(records, base_params: DeviceParams, spec: FitSpec) -> dict:
     """Start values of the paper's multipliers read off the records' first harmonics.
 
     Returns a dict name -> multiplier for those of inv_gamma1/2 and c1/c2
     that ``spec`` varies (a common factor for each pair, their ratio kept
-    from the spec's start).  See the module docstring.
+    from the spec's start).  See the module docstring.  For a record whose
+    stroke is not periodic, K* at its dominant frequency comes from the
+    linear regression of :func:`~liquidamp.analysis.measured.start.first_harmonic_stiffness`
+    and the stroke amplitude is sqrt(2) x its RMS (``Record.stroke_scale``).
     """
-    from scipy.optimize import brentq
-
     vals = {p.name: p.value for p in spec.parameters}
     p0 = build(base_params, (), FitSpec(tuple(p for p in spec.parameters
                                                 if p.kind == "multiplier")), vals)[0]
-    kds, cs = [], []
-    for r in records:
-        k_D, c = linear_fit(r, p0.b_L if p0.S_t else 0.0)
-        if math.isfinite(k_D) and k_D > 0 and c > 0:
-            kds.append(k_D)
-            cs.append((c, r))
     out = {}
     pair_g = [n for n in ("inv_gamma1", "inv_gamma2") if n in spec.varying]
-    if kds and pair_g:
-        target = float(np.exp(np.mean(np.log(kds))))
-
-        def g(logf):
-            f = math.exp(logf)
-            return math.log(p0.scaled(**{n: f for n in pair_g}).k_D / target)
-        try:
-            lo, hi = math.log(0.01), math.log(100.0)
-            f = math.exp(brentq(g, lo, hi)) if g(lo) * g(hi) < 0 else None
-        except (ValueError, LiquidampError):
-            f = None
-        if f is not None:
-            for n in pair_g:
-                out[n] = vals[n] * f
     pair_c = [n for n in ("c1", "c2") if n in spec.varying]
-    if cs and pair_c:
-        fs = []
-        for c, r in cs:
-            w = 2 * math.pi * r.frequency
-            Q = p0.A_p * w * r.amplitude
-            ceq = p0.A_p ** 2 * (p0.c1 + 8.0 / (3.0 * math.pi) * p0.c2 * Q)
-            fs.append(c / ceq)
-        f = float(np.exp(np.mean(np.log(fs))))
-        for n in pair_c:
-            out[n] = vals[n] * f
+    f_air, f_loss = physics_factors(records, p0, air=tuple(pair_g) or ("inv_gamma1",
+                                                                       "inv_gamma2"))
+    for pair, f in ((pair_g, f_air), (pair_c, f_loss)):
+        if f is not None:
+            for n in pair:
+                out[n] = vals[n] * f
     for n, v in list(out.items()):
         p = spec[n]
         out[n] = min(max(v, p.min), p.max)
@@ -339,11 +336,169 @@ class _Objective:
         return np.where(self.keep, np.concatenate(F) - self.meas, 0.0) / self.scale
 
 
+# ---------------------------------------------------------------------------
+# the starting device and the start trials
+
+
+def _trial(obj: _Objective, label: str, values: dict, forces=None,
+           params: DeviceParams | None = None) -> StartTrial:
+    """Run the objective's model at ``values`` once: a StartTrial (errors recorded).
+
+    ``forces`` given: the trial of those forces (no run) on device ``params``."""
+    F = forces
+    if F is None:
+        obj.nfev += 1  # a model evaluation (the fit's count includes its starts)
+        try:
+            _, _, F = obj.forces(values)
+        except (PressureError, ConvergenceError, ParameterError) as exc:
+            F = exc
+    shown = {k: v for k, v in values.items() if k in obj.spec.varying}
+    dev = (obj.base if params is None else params).name or "custom"
+    return StartTrial.evaluate(label, shown, dev, F, obj.records, _split(obj.keep, obj.records))
+
+
+def _split(keep, records):
+    out, i = [], 0
+    for r in records:
+        out.append(keep[i:i + r.time.size])
+        i += r.time.size
+    return out
+
+
+def _scaled_values(spec: FitSpec, values: dict, force: float, stroke: float) -> dict:
+    """Effect-parameter values scaled with the similar device (by their unit)."""
+    fac = similarity_factors(force, stroke)
+    out = dict(values)
+    for p in spec.parameters:
+        if p.kind == "effect":
+            eff, key = p.name.split(".", 1)
+            out[p.name] = values[p.name] * fac.get(EFFECTS[eff].units.get(key, "-"), 1.0)
+    return out
+
+
+def _start_device(obj: _Objective, records, validate, sizing: str) -> Sizing:
+    """The device the fit starts from: the given one when the records are near it, else
+    similar to it and sized to the records (module docstring of start).
+
+    A similar device's force is exactly its factor times the original's (same pressures), so
+    the sized candidates' trials are the runs of the unsized device scaled, not new runs."""
+    base, effects = obj.base, obj.effects
+    t0 = _trial(obj, f"preset {base.name}" if base.name else "given device", obj.fixed)
+    ratio0 = 1.0 / t0.rms_ratio if t0.ran and t0.rms_ratio else None
+    s = stroke_factor(records + validate, base)
+    share = s * NEAR_STROKE_SHARE if s > 1 else max(
+        float(np.max(np.abs(r.displacement - r.offset))) for r in records + validate
+    ) / base.stroke_limit
+    if sizing == "preset":
+        return Sizing(base, effects, False, rms_ratio=ratio0,
+                      reason="sizing='preset': the device as given", trials=(t0,))
+    near = s == 1.0 and ratio0 is not None and 1 / NEAR_FORCE_RATIO <= ratio0 <= NEAR_FORCE_RATIO
+    if near and sizing == "auto":
+        return Sizing(base, effects, False, rms_ratio=ratio0, trials=(t0,), reason=(
+            f"near the records: measured RMS force {ratio0:.3g}x the device's (within "
+            f"{NEAR_FORCE_RATIO:g}x), peak stroke {share:.0%} of its chamber length (at most "
+            f"{NEAR_STROKE_SHARE:.0%})"))
+    why = []
+    if sizing == "data":
+        why.append("sizing='data'")
+    if not t0.ran:
+        why.append(f"the device as given cannot be run under the records ({t0.error})")
+    elif not 1 / NEAR_FORCE_RATIO <= ratio0 <= NEAR_FORCE_RATIO:
+        why.append(f"measured RMS force {ratio0:.3g}x the device's (more than "
+                   f"{NEAR_FORCE_RATIO:g}x off)")
+    if s > 1.0:
+        why.append(f"peak stroke {share:.0%} of its chamber length V0/A_p "
+                   f"({base.stroke_limit * 1e3:.4g} mm; at most {NEAR_STROKE_SHARE:.0%})")
+
+    def objective(p, e):
+        o = _Objective(obj.model, p, e, obj.spec, obj.records, obj.options, obj.preroll,
+                       keep=_split(obj.keep, obj.records))
+        o.nfev = obj.nfev  # one count of the model runs made to choose the start
+        return o
+
+    trials = [t0]
+    t1, a = t0, ratio0
+    if s > 1.0:
+        p1, e1 = similar_device(base, effects, stroke=s)
+        o1 = objective(p1, e1)
+        t1 = _trial(o1, f"stroke x{s:.3g}", _scaled_values(obj.spec, obj.fixed, 1.0, s))
+        obj.nfev = o1.nfev
+        trials.append(t1)
+        a = 1.0 / t1.rms_ratio if t1.ran and t1.rms_ratio else None
+    how = "RMS force of one run"
+    if a is None:  # the run failed: the linear model's |K*| at each record's stroke
+        p1 = similar_device(base, effects, stroke=s)[0]
+        pred = [abs(linear_stiffness(p1, r.frequency, r.stroke_scale)) * r.stroke_scale
+                / math.sqrt(2) for r in records]
+        a = obj.den / float(np.sqrt(np.mean(np.square(pred))))
+        how = "first-harmonic |K*| of the linear model (the run failed)"
+    a = float(a)
+    vals = _scaled_values(obj.spec, obj.fixed, a, s)
+    # candidate 1: the similar device (its force: a x the run above)
+    p_sim, e_sim = similar_device(base, effects, force=a, stroke=s)
+    f1 = t1.forces
+    o_sim = objective(p_sim, e_sim)
+    t_sim = _trial(o_sim, "similar device", vals, None if f1 is None else [a * f for f in f1])
+    obj.nfev = o_sim.nfev
+    trials.append(t_sim)
+    cands = [(t_sim, p_sim, e_sim, a, None, None)]
+    # candidate 2: its air ratios and losses matched to K', K'' (physics_factors), the force
+    # level then corrected (exactly: a similar device of factor rho)
+    f_air, f_loss = physics_factors(records, p_sim)
+    mult = {**(dict.fromkeys(("inv_gamma1", "inv_gamma2"), f_air) if f_air else {}),
+            **(dict.fromkeys(("c1", "c2"), f_loss) if f_loss else {})}
+    def named(p, force, fa, fl):
+        return p.replace(name=f"{base.name or 'device'} sized (force x{force:.4g}, stroke "
+                         f"x{s:.4g}" + (f", air x{fa:.3g}" if fa else "")
+                         + (f", losses x{fl:.3g}" if fl else "") + ")")
+
+    p_sim = named(p_sim, a, None, None)
+    if mult:
+        p2 = named(p_sim.scaled(**mult), a, f_air, f_loss)
+        o2 = objective(p2, e_sim)
+        t2 = _trial(o2, "air and losses from K*", vals)
+        obj.nfev = o2.nfev
+        trials.append(t2)
+        if t2.ran and t2.rms_ratio:
+            rho = 1.0 / t2.rms_ratio
+            p3, e3 = similar_device(p2, e_sim, force=rho)
+            p3 = named(p3, a * rho, f_air, f_loss)
+            vals3 = _scaled_values(obj.spec, vals, rho, 1.0)
+            t3 = _trial(objective(p3, e3), "air and losses, level corrected", vals3,
+                        [rho * f for f in t2.forces], params=p3)
+            trials.append(t3)
+            cands.append((t3, p3, e3, a * rho, f_air, f_loss))
+    ran = [c for c in cands if c[0].ran]
+    t_best, params, eff, a_best, fa, fl = min(ran, key=lambda c: c[0].nrmse) if ran else cands[0]
+    name = params.name
+    if mult:
+        got = ", ".join(([f"air ratios x{f_air:.3g}"] if f_air else [])
+                        + ([f"loss coefficients x{f_loss:.3g}"] if f_loss else []))
+        how += (f"; {got} from the records' K', K'' "
+                f"{'kept' if fa or fl else 'tried, not kept (a worse start)'}")
+    trial = dataclasses.replace(t_best, label="sized", device=name)
+    return Sizing(params, eff, True, force_scale=a_best, stroke_scale=s,
+                  rms_ratio=ratio0, trials=tuple(trials) + (trial,), reason="; ".join(why)
+                  + f"; force x{a_best:.4g} from the {how}; stroke x{s:.4g}",
+                  air_factor=fa or 1.0, loss_factor=fl or 1.0)
+
+
+def _with_stroke_limit(quality, records, params: DeviceParams):
+    """The checks with the starting device's chamber end; a stroke past it is refused."""
+    problems = [p for r in records
+                for p in check_record_stroke(r, params)]
+    if problems:
+        raise DataFileError("calibrate: " + "; ".join(problems))
+    return tuple(dataclasses.replace(q, stroke_limit=float(params.stroke_limit))
+                 for q in quality)
+
+
 def calibrate(records, *, model="full", params: DeviceParams | None = None, effects=(),
               spec: FitSpec | None = None, validate=(), options: SolverOptions | None = None,
               start: str = "physics", max_nfev: int = 80, preroll: int = 1,
               tol: float = 1e-6, strict: bool = False,
-              outliers: str = "raise", warn: bool = True) -> CalibrationResult:
+              outliers: str = "raise", warn: bool = True,
+              sizing: str = "auto") -> CalibrationResult:
     """Fit ``spec`` to the calibration ``records``; report errors on ``validate`` too.
 
     Parameters
@@ -369,6 +524,12 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
     start : {'physics', 'spec'}
         'physics': evaluate the physics start, the spec's start and their
         geometric mean, fit from the best; 'spec': fit from the spec's start.
+    sizing : {'auto', 'preset', 'data'}
+        The device the multipliers apply to (:mod:`~liquidamp.analysis.measured.start`):
+        'auto' (default) ``params`` when the records are near it, else a
+        similar device sized to the records; 'preset' always ``params`` (a
+        stroke past its chamber end is refused); 'data' always the sized
+        device.
     max_nfev : int
         Budget of model evaluations (each runs every calibration record).
     preroll : int
@@ -397,12 +558,16 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
     ------
     DataFileError
         Before any model run (:func:`check_records`): a record whose force's
-        first harmonic is not distinguishable from its noise, a stroke past
-        the chamber end (``params.stroke_limit``), a displacement spike, or a
-        force spike with ``outliers='raise'``; the record and line are named.
+        first harmonic is not distinguishable from its noise, whose loop
+        delivers energy (the force or displacement sign flipped: the message
+        names it), whose sampling leaves the velocity more than 10 % low, a
+        stroke past the chamber end of the starting device, a displacement
+        spike, or a force spike with ``outliers='raise'``; the record and
+        line are named.
     ConvergenceError
-        If the model cannot be run at the start, or (``strict``) if the fit
-        does not converge.
+        If no start can be used (the message lists each start tried, its
+        NRMSE, peak forces and energy sign, and the likely cause), or
+        (``strict``) if the fit does not converge.
 
     Warns
     -----
@@ -427,7 +592,9 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
         spec = FitSpec.default(effects=effects)
     check_spec_uses(base, spec)
     check_choice("start", start, ("physics", "spec"))
-    quality, dropped = check_records(records + validate, base, outliers=outliers)
+    check_choice("sizing", sizing, SIZING_CHOICES)
+    quality, dropped = check_records(records + validate, base if sizing == "preset" else None,
+                                     outliers=outliers)
     for r in records + validate:
         if sum(1 for q in records + validate if q.label == r.label) > 1 and dropped:
             raise ParameterError(f"calibrate: two records share the label {r.label!r}; "
@@ -435,31 +602,41 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
     keep_c = _keep_masks(records, dropped)
     keep_v = _keep_masks(validate, dropped)
     options = resolve_options(options, "fit")
+    spec = scale_effect_bounds(spec, records)
     obj = _Objective(model, base, effects, spec, records, options, preroll, keep=keep_c)
     if not obj.var:
         raise ParameterError("the fit specification varies nothing")
+    sz = _start_device(obj, records, validate, sizing)
+    if sz.sized:
+        spec = spec.with_values(_scaled_values(spec, obj.fixed, sz.force_scale,
+                                               sz.stroke_scale))
+        runs = obj.nfev  # the model runs made to choose the start
+        obj = _Objective(model, sz.params, sz.effects, spec, records, options, preroll,
+                         keep=keep_c)
+        obj.nfev = runs
+        trials = list(sz.trials)
+        candidates = [trials[-1]]  # the sized device's trial (its values: obj.fixed)
+    else:
+        trials = [dataclasses.replace(sz.trials[0], label="spec")]
+        candidates = list(trials)
+    quality = _with_stroke_limit(quality, records + validate, sz.params)
 
     def x_of(values):
         return np.array([p.to_x(min(max(values[p.name], p.min), p.max)) for p in obj.var])
 
-    starts = [("spec", dict(obj.fixed))]
-    if start == "physics":
-        phys = {**obj.fixed, **physics_start(records, base, spec)}
+    if start == "physics" and not sz.sized:  # (a sized device holds the physics start)
+        phys = {**obj.fixed, **physics_start(records, obj.base, spec)}
         mid = {k: math.sqrt(phys[k] * obj.fixed[k]) if spec[k].log else
                0.5 * (phys[k] + obj.fixed[k]) for k in obj.fixed}
-        starts += [("physics", phys), ("geometric mean", mid)]
-    evaluated = []
-    for label, vals in starts:
-        r = obj(x_of(vals))
-        evaluated.append((label, float(np.sqrt(np.sum(r * r))), vals))
-    ok = [e for e in evaluated if e[1] < 2.9]
+        candidates += [_trial(obj, "physics", phys), _trial(obj, "geometric mean", mid)]
+        trials += candidates[-2:]
+    ok = [t for t in candidates if t.ran and t.nrmse < 2.9]
     if not ok:
-        raise ConvergenceError(
-            "calibration: the model cannot be run at any start (" + obj.last_error + ")")
-    best = min(ok, key=lambda e: e[1])
+        raise ConvergenceError(refusal_message(trials, records, sz))
+    best = min(ok, key=lambda t: t.nrmse)
     lo, hi = zip(*(p.x_bounds() for p in obj.var), strict=True)
     lo, hi = np.array(lo), np.array(hi)
-    x0 = np.clip(x_of(best[2]), lo + 1e-12, hi - 1e-12)
+    x0 = np.clip(x_of(best.values), lo + 1e-12, hi - 1e-12)
     groups = _pair_groups(obj.var) if start == "physics" else []
     if groups:
         # stage 1: one common factor per pair (air ratios, loss coefficients), the
@@ -480,7 +657,7 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
                         x_scale=1.0, ftol=tol, xtol=tol, gtol=tol * 1e-2,
                         max_nfev=max_nfev)
     values = obj.values(sol.x)
-    params_fit, effects_fit = build(base, effects, spec, values)
+    params_fit, effects_fit = build(obj.base, obj.effects, spec, values)
     pc = predict(model, params_fit, effects_fit, records, options=options, preroll=preroll)
     pv = predict(model, params_fit, effects_fit, validate, options=options,
                  preroll=preroll) if validate else []
@@ -512,10 +689,10 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
         message += f"; {obj.failures} trial point(s) could not be run ({obj.last_error})"
     if strict and not converged:
         raise ConvergenceError(f"calibration did not converge: {message}")
-    errs = [RecordError(r.label, "calibration", nrmse(f[m], r.force[m]), r.frequency,
-                        r.amplitude) for f, r, m in zip(pc, records, keep_c, strict=True)]
-    errs += [RecordError(r.label, "validation", nrmse(f[m], r.force[m]), r.frequency,
-                         r.amplitude) for f, r, m in zip(pv, validate, keep_v, strict=True)]
+    errs = [RecordError.of(r, "calibration", nrmse(f[m], r.force[m]))
+            for f, r, m in zip(pc, records, keep_c, strict=True)]
+    errs += [RecordError.of(r, "validation", nrmse(f[m], r.force[m]))
+             for f, r, m in zip(pv, validate, keep_v, strict=True)]
     rss = float(np.sum(np.where(obj.keep, np.concatenate(pc) - obj.meas, 0.0) ** 2))
     warns = []
     if not converged:
@@ -526,30 +703,28 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
         warns.append(f"{len(dropped)} force outlier(s) dropped from the fit and the error "
                      "measures: " + _listed([f"{lab}, {o.describe()}" for lab, o in dropped]))
     warns += [n for q in quality for n in q.notes]
-    at = {}
-    for p in obj.var:
-        lo_i, hi_i = p.x_bounds()
-        x = p.to_x(values[p.name])
-        if x - lo_i <= 1e-3 * (hi_i - lo_i) or hi_i - x <= 1e-3 * (hi_i - lo_i):
-            at[p.name] = (values[p.name], p.min if x - lo_i <= 1e-3 * (hi_i - lo_i)
-                          else p.max)
-    if at:
-        warns.append("parameter(s) at a bound (their standard errors are not meaningful): "
-                     + ", ".join(f"{nm} = {v:.4g} (bound {b:g})" for nm, (v, b) in at.items()))
+    spec_fit = spec.with_values(values)
+    flags = parameter_flags(spec_fit, tuple(p.name for p in obj.var), values, stderr, J,
+                            params_fit)
+    warns += flags.warnings()
+    if sz.sized:
+        warns.append(f"started from a device sized to the records: {sz.params.name} "
+                     f"({sz.reason})")
     for w in warns if warn else ():
         warnings.warn(f"calibrate: {w}", LiquidampWarning, stacklevel=2)
     aic = n * math.log(rss / n) + 2 * k
     bic = n * math.log(rss / n) + k * math.log(n)
     return CalibrationResult(
-        model=get_model(model).name, params=params_fit, start_params=base,
-        effects=effects_fit, spec=spec.with_values(values), values={p.name: values[p.name]
-                                                                    for p in obj.var},
+        model=get_model(model).name, params=params_fit, start_params=obj.base,
+        effects=effects_fit, spec=spec_fit, values={p.name: values[p.name] for p in obj.var},
         stderr=stderr, correlation=corr, varying=tuple(p.name for p in obj.var),
         nrmse_calibration=_nrmse_kept(pc, records, keep_c),
         nrmse_validation=_nrmse_kept(pv, validate, keep_v) if validate else None,
         record_errors=tuple(errs), converged=bool(converged), status=status,
         message=message, nfev=obj.nfev, cost=float(sol.cost), n_samples=n, aic=aic, bic=bic,
-        starts=tuple((lab, v) for lab, v, _ in evaluated), calibration=records,
+        starts=tuple((t.label, t.nrmse if t.ran else math.inf) for t in trials),
+        calibration=records,
         validation=validate, predictions_calibration=tuple(pc),
         predictions_validation=tuple(pv), jacobian=J, data_quality=quality, dropped=dropped,
-        warnings=tuple(warns))
+        warnings=tuple(warns), start={**sz.as_dict(), "chosen": best.label},
+        start_trials=tuple(dataclasses.replace(t, forces=None) for t in trials), flags=flags)

@@ -25,18 +25,152 @@ from liquidamp.device.effects import with_effects
 from liquidamp.device.models import DeviceModel, get_model
 from liquidamp.device.params import SCALABLE, DeviceParams
 
-__all__ = ["CalibrationResult", "RecordError"]
+__all__ = ["CalibrationResult", "RecordError", "ParameterFlags", "parameter_flags"]
 
 
 @dataclass(frozen=True)
 class RecordError:
-    """Error of a calibrated model on one record."""
+    """Error of a calibrated model on one record.
+
+    Attributes
+    ----------
+    label : str
+        The record's label.
+    role : str
+        ``"calibration"`` or ``"validation"``.
+    nrmse : float
+        NRMSE on the record [-].
+    frequency, amplitude : float or None
+        Stroke frequency [Hz] and first-harmonic amplitude [m]; None when the
+        stroke is not periodic (``stroke`` says what it is).
+    periodic : bool
+        Whether the stroke is periodic.
+    stroke : str
+        The stroke in words (:meth:`Record.describe
+        <liquidamp.analysis.measured.records.Record.describe>`).
+    """
 
     label: str
     role: str
     nrmse: float
-    frequency: float
-    amplitude: float
+    frequency: float | None
+    amplitude: float | None
+    periodic: bool = True
+    stroke: str = ""
+
+    @classmethod
+    def of(cls, record, role: str, nrmse: float) -> RecordError:
+        """The error on ``record``, its harmonic summary only where its stroke is periodic."""
+        per = record.periodic
+        return cls(record.label, role, float(nrmse), record.frequency if per else None,
+                   record.amplitude if per else None, per, record.describe())
+
+
+@dataclass(frozen=True)
+class ParameterFlags:
+    """Fitted parameters to distrust (:func:`parameter_flags`).
+
+    Attributes
+    ----------
+    at_bound : dict
+        name -> (value, bound, 'lower' or 'upper'): within 0.1 % of the range (in
+        the fit coordinate) of a bound; its standard error is not meaningful.
+    undetermined : dict
+        name -> (value, standard error): standard error larger than |value|.
+    unused : dict
+        name -> reason: a device input the fitted parameters do not use
+        (:meth:`DeviceParams.unused <liquidamp.device.params.DeviceParams.unused>`),
+        or a varied parameter the model force does not depend on (a zero
+        Jacobian column).
+    """
+
+    at_bound: dict = field(default_factory=dict)
+    undetermined: dict = field(default_factory=dict)
+    unused: dict = field(default_factory=dict)
+
+    def __bool__(self) -> bool:
+        return bool(self.at_bound or self.undetermined or self.unused)
+
+    def warnings(self) -> list[str]:
+        """One warning per kind of flag (the text of ``CalibrationResult.warnings``)."""
+        out = []
+        if self.at_bound:
+            out.append("parameter(s) at a bound (their standard errors are not meaningful): "
+                       + ", ".join(f"{n} = {v:.4g} (bound {b:g})"
+                                   for n, (v, b, _) in self.at_bound.items()))
+        if self.undetermined:
+            out.append("parameter(s) not determined by the records (standard error larger "
+                       "than the value): " + ", ".join(
+                           f"{n} = {v:.4g} +/- {se:.3g}"
+                           for n, (v, se) in self.undetermined.items()))
+        if self.unused:
+            out.append("parameter(s) the model does not use: " + "; ".join(
+                f"{n} ({why})" for n, why in self.unused.items()))
+        return out
+
+    def short(self) -> str:
+        """'at bound: c1 (upper); stderr > value: mu' ('' when nothing is flagged)."""
+        parts = []
+        if self.at_bound:
+            parts.append("at bound: " + ", ".join(f"{n} ({side})" for n, (_, _, side)
+                                                  in self.at_bound.items()))
+        if self.undetermined:
+            parts.append("stderr > value: " + ", ".join(self.undetermined))
+        if self.unused:
+            parts.append("unused: " + ", ".join(self.unused))
+        return "; ".join(parts)
+
+    def as_dict(self) -> dict:
+        """JSON-ready."""
+        return {"at_bound": {n: {"value": v, "bound": b, "side": side}
+                             for n, (v, b, side) in self.at_bound.items()},
+                "undetermined": {n: {"value": v, "stderr": se}
+                                 for n, (v, se) in self.undetermined.items()},
+                "unused": dict(self.unused)}
+
+
+def parameter_flags(spec: FitSpec, varying, values: dict, stderr: dict, jacobian,
+                    params: DeviceParams, tol: float = 1e-3) -> ParameterFlags:
+    """Parameters at a bound, not determined, or unused, after a fit.
+
+    Parameters
+    ----------
+    spec : FitSpec
+        The specification (bounds).
+    varying : sequence of str
+        Varied parameter names, in the Jacobian's column order.
+    values, stderr : dict
+        Fitted values and standard errors (multipliers [-], effect parameters [SI]).
+    jacobian : ndarray
+        Jacobian of the scaled residual in the fit coordinates.
+    params : DeviceParams
+        The fitted device (its :meth:`~liquidamp.device.params.DeviceParams.unused`
+        inputs are flagged).
+    tol : float
+        Distance to a bound as a share of the range in the fit coordinate [-].
+
+    Returns
+    -------
+    ParameterFlags
+    """
+    at, und, unused = {}, {}, dict(params.unused())
+    J = np.asarray(jacobian, float)
+    norms = np.sqrt(np.sum(J * J, axis=0)) if J.size else np.zeros(len(varying))
+    top = float(norms.max()) if norms.size else 0.0
+    for i, name in enumerate(varying):
+        p = spec[name]
+        lo, hi = p.x_bounds()
+        x = p.to_x(values[name])
+        if x - lo <= tol * (hi - lo):
+            at[name] = (values[name], p.min, "lower")
+        elif hi - x <= tol * (hi - lo):
+            at[name] = (values[name], p.max, "upper")
+        se = stderr.get(name, math.nan)
+        if i < norms.size and norms[i] <= 1e-9 * max(top, 1e-300):
+            unused[name] = "the model force does not depend on it (zero Jacobian column)"
+        elif name not in at and (not math.isfinite(se) or se > abs(values[name])):
+            und[name] = (values[name], se)
+    return ParameterFlags(at, und, unused)
 
 
 @dataclass(frozen=True, eq=False)
@@ -92,8 +226,17 @@ class CalibrationResult:
         Force samples left out of the fit and the error measures
         (``outliers="drop"``), with their record's label.
     warnings : tuple of str
-        Not converged, failed trial points, dropped samples, noisy records;
+        Not converged, failed trial points, dropped samples, noisy records,
+        parameters at a bound, not determined or unused, a sized start;
         also issued as :class:`~liquidamp.errors.LiquidampWarning`.
+    start : dict
+        The device the fit started from (:class:`Sizing
+        <liquidamp.analysis.measured.start.Sizing>`: sized or not, force and
+        stroke scale, why) and the start chosen.
+    start_trials : tuple of StartTrial
+        Every start evaluated, with its NRMSE, peak forces and energy sign.
+    flags : ParameterFlags
+        Parameters at a bound, not determined or unused.
 
     Printing the result gives a short summary; :meth:`fit_report` the
     parameters with their errors and correlations; :meth:`plot` a figure.
@@ -128,6 +271,9 @@ class CalibrationResult:
     data_quality: tuple = ()
     dropped: tuple = ()
     warnings: tuple = ()
+    start: dict = field(default_factory=dict)
+    start_trials: tuple = ()
+    flags: ParameterFlags = field(default_factory=ParameterFlags)
 
     @property
     def device_model(self) -> DeviceModel:
@@ -155,6 +301,22 @@ class CalibrationResult:
         return (f"<CalibrationResult {self.model}: {self.status}, NRMSE calibration "
                 f"{self.nrmse_calibration:.4g}{nv}; {vals}{extra}>")
 
+    def summary(self) -> str:
+        """One line: status, NRMSE, the start device and scale, the flagged parameters.
+
+        Examples of its content: ``converged (41 evaluations): NRMSE calibration
+        0.0123, validation 0.0231; start physics from paper_initial sized (force
+        x0.21, stroke x1.5); flags: at bound: c1 (upper)``.
+        """
+        nv = ("" if self.nrmse_validation is None
+              else f", validation {self.nrmse_validation:.4g}")
+        dev = self.start_params.name or "custom"
+        chosen = self.start.get("chosen", "")
+        flags = self.flags.short()
+        return (f"{self.status} ({self.nfev} evaluations): NRMSE calibration "
+                f"{self.nrmse_calibration:.4g}{nv}; start {chosen + ' ' if chosen else ''}"
+                f"from {dev}" + (f"; flags: {flags}" if flags else "; no parameter flagged"))
+
     def __str__(self) -> str:
         lines = [f"CalibrationResult: model {self.model!r} from "
                  f"{self.start_params.name or 'custom'} parameters",
@@ -164,6 +326,10 @@ class CalibrationResult:
                  f"  NRMSE: calibration {self.nrmse_calibration:.4g}"
                  + ("" if self.nrmse_validation is None
                     else f", validation {self.nrmse_validation:.4g}")]
+        if self.start.get("sized"):
+            lines.append(f"  start: sized to the records ({self.start.get('reason', '')})"[:200])
+        if self.flags:
+            lines.append(f"  flags: {self.flags.short()}")
         for k, v in self.values.items():
             lines.append(f"  {k:<34s} {v:12.5g} +/- {self.stderr.get(k, math.nan):.2g}")
         if self.effects:
@@ -209,6 +375,10 @@ class CalibrationResult:
                 f"    Bayesian info crit = {self.bic:.6g}"]
         if self.dropped:
             out.append(f"    dropped samples    = {len(self.dropped)} (force outliers)")
+        if self.start:
+            out.append(f"    start device       = {self.start_params.name or 'custom'} "
+                       f"({'sized to the records' if self.start.get('sized') else 'as given'})")
+            out.append(f"    start chosen       = {self.start.get('chosen', '')}")
         out.append("[[Variables]]")
         at_bound = self.at_bounds()
         for p in self.spec.parameters:
@@ -220,6 +390,10 @@ class CalibrationResult:
             se = self.stderr.get(p.name, math.nan)
             rel = f"({abs(se / v):.2%})" if v != 0 and math.isfinite(se) else "(n/a)"
             flag = f"  AT {at_bound[p.name].upper()} BOUND" if p.name in at_bound else ""
+            if p.name in self.flags.undetermined:
+                flag += "  NOT DETERMINED (stderr > value)"
+            if p.name in self.flags.unused:
+                flag += "  UNUSED"
             out.append(f"    {p.name + ':':<36s} {v:.6g} +/- {se:.3g} {rel} {unit} "
                        f"(bounds [{p.min:g}, {p.max:g}]){flag}")
         pairs = []
@@ -292,6 +466,9 @@ class CalibrationResult:
             "dropped": [{"record": lab, **o.__dict__} for lab, o in self.dropped],
             "warnings": list(self.warnings),
             "at_bounds": self.at_bounds(),
+            "parameter_flags": self.flags.as_dict(),
+            "summary": self.summary(),
+            "start": dict(self.start),
             "parameters": self.parameters_dict(),
             "nrmse": {"calibration": self.nrmse_calibration,
                       "validation": self.nrmse_validation},
@@ -301,7 +478,8 @@ class CalibrationResult:
             "fit": {"converged": self.converged, "status": self.status,
                     "message": self.message, "nfev": self.nfev, "cost": self.cost,
                     "n_samples": self.n_samples, "aic": self.aic, "bic": self.bic,
-                    "starts": [{"start": s, "nrmse": v} for s, v in self.starts]},
+                    "starts": ([t.as_dict() for t in self.start_trials] if self.start_trials
+                               else [{"start": s, "nrmse": v} for s, v in self.starts])},
         }
 
 

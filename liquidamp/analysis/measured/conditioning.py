@@ -328,7 +328,8 @@ def _butter(order: int, wn: float) -> np.ndarray:
 
 def decimation_factor(record: Record, harmonics: float = HARMONICS) -> int:
     """The automatic decimation factor: largest q with fs / q >= 2.5 ``harmonics`` f (to
-    0.1 %) [-].
+    0.1 %) [-]; f is the stroke frequency, or for a stroke that is not periodic the upper
+    edge of its band (``record.shape.band``).
 
     Examples
     --------
@@ -340,8 +341,13 @@ def decimation_factor(record: Record, harmonics: float = HARMONICS) -> int:
     h = check_finite("harmonics", harmonics, "-")
     if not 2.0 <= h <= 1e4:
         raise ParameterError(f"harmonics kept must lie between 2 and 1e4, got {h:g}")
+    # a stroke that is not periodic: its harmonics are those of the upper edge of its band
+    # (95 % of the stroke power below it), so the decimation keeps that band's harmonics
+    f = record.frequency
+    if not record.periodic and record.shape is not None:
+        f = max(f, float(record.shape.band[1]))
     # to 0.1 %: a stroke frequency inferred a hair above a round value keeps its round factor
-    return max(1, int(1.001 * record.sampling_rate / (_RATE_MARGIN * h * record.frequency)))
+    return max(1, int(1.001 * record.sampling_rate / (_RATE_MARGIN * h * f)))
 
 
 def _removed(raw, kept) -> tuple[float, float]:

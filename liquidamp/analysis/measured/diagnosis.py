@@ -214,10 +214,13 @@ class Diagnosis:
     def as_dict(self) -> dict:
         """JSON: baseline, steps, final (see the diagnose command)."""
         def block(res):
+            d = res.as_dict()
             return {"parameters": res.parameters_dict(),
                     "nrmse": {"calibration": res.nrmse_calibration,
                               "validation": res.nrmse_validation},
-                    "fit": res.as_dict()["fit"]}
+                    "fit": d["fit"], "summary": d["summary"], "start": d["start"],
+                    "parameter_flags": d["parameter_flags"], "records": d["records"],
+                    "fit_warnings": d["warnings"]}
         fits = [("baseline", self.baseline)] + [(f"step {i + 1}: + {s.effect}", s.result)
                                                  for i, s in enumerate(self.steps)
                                                  if s.result is not None]

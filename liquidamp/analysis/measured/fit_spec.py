@@ -7,6 +7,30 @@ starting parameter set (the paper's alpha_j of Table 2), or an effect parameter
 Positive quantities are fitted in log space.  The fit itself is
 :func:`liquidamp.analysis.measured.calibration.calibrate`.
 
+Bounds scale with the records.  A multiplier's bounds ([0.05, 20] by
+default) are relative to the device the fit starts from, which is sized to
+the records when they are far from the given device
+(:mod:`liquidamp.analysis.measured.start`).  An effect parameter's catalogue
+bounds (``Effect.bounds``, written for the paper's 1 kN, 3 mm device) are
+replaced by bounds relative to the records' scales
+(:func:`scale_effect_bounds`): with F_s and Y_s the largest half peak-to-peak
+force and stroke, K_s = F_s / Y_s and M_s = K_s / w^2 (w the stroke
+frequency),
+
+=============  ==========================  ===================================
+unit           bounds                      e.g. for F_s = 12 kN, Y_s = 13 mm
+=============  ==========================  ===================================
+N (> 0)        [1e-6 F_s, 2 F_s]           friction up to 24 kN (not 10 kN)
+N (signed)     [-2 F_s, 2 F_s]             a load-cell offset
+N/m            [1e-3 K_s, 1e5 K_s]         pre-sliding or series stiffness
+kg             [1e-5 M_s, 10 M_s]          moving mass
+m              [1e-5 Y_s, Y_s]             a dead band no wider than the stroke
+=============  ==========================  ===================================
+
+Other units (velocities, ratios, leakage coefficients, pressures) keep the
+catalogue's bounds.  Bounds a caller set (different from the catalogue's) are
+kept.
+
 References
 ----------
 .. [1] B. Titurus, AIAA J. 56(10), 2018, Sec. IV.C and Table 2.
@@ -27,7 +51,8 @@ from liquidamp.errors import (
     check_choice,
 )
 
-__all__ = ["Parameter", "FitSpec", "PAPER_FOUR", "check_spec_uses"]
+__all__ = ["Parameter", "FitSpec", "PAPER_FOUR", "check_spec_uses", "record_scales",
+           "effect_bounds", "scale_effect_bounds"]
 
 
 PAPER_FOUR = ("inv_gamma1", "inv_gamma2", "c1", "c2")
@@ -235,3 +260,90 @@ def check_spec_uses(base_params: DeviceParams, spec: FitSpec) -> None:
                 f"cannot fit {p.name!r}: the starting parameters do not use it "
                 f"({unused[p.name]}); vary {instead} instead, or start from parameters "
                 f"that derive {instead} from {p.name}")
+
+
+def record_scales(records) -> dict:
+    """Force, stroke, stiffness and mass scales of ``records`` (module docstring), SI.
+
+    Returns
+    -------
+    dict
+        ``{"N": F_s, "m": Y_s, "N/m": K_s, "kg": M_s}``: the largest half
+        peak-to-peak force [N] and stroke [m] over the records, K_s = F_s / Y_s [N/m] and
+        M_s = K_s / w^2 [kg] with w the lowest stroke frequency [rad/s].
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from liquidamp.analysis.measured.records import Record
+    >>> t = np.arange(0, 2.0, 0.005)
+    >>> r = Record.from_arrays(t, 0.003 * np.sin(6 * np.pi * t), 600 * np.cos(6 * np.pi * t))
+    >>> {k: float(f"{v:.3g}") for k, v in record_scales([r]).items()}
+    {'N': 600.0, 'm': 0.003, 'N/m': 200000.0, 'kg': 563.0}
+    """
+    import numpy as np
+
+    records = tuple(records)
+    if not records:
+        raise ParameterError("record_scales needs at least one record")
+    F_s = max(0.5 * float(np.ptp(r.force)) for r in records)
+    Y_s = max(0.5 * float(np.ptp(r.displacement)) for r in records)
+    w = 2 * math.pi * min(r.frequency for r in records)
+    K_s = F_s / Y_s
+    return {"N": F_s, "m": Y_s, "N/m": K_s, "kg": K_s / (w * w)}
+
+
+_BOUND_RULES = {"N/m": (1e-3, 1e5), "kg": (1e-5, 10.0), "m": (1e-5, 1.0)}
+
+
+def effect_bounds(effect: str, key: str, scales: dict) -> tuple[float, float]:
+    """Bounds of effect parameter ``effect.key`` for records of ``scales``
+    (:func:`record_scales`; module docstring's table), SI.
+
+    Examples
+    --------
+    >>> effect_bounds("coulomb_friction", "force_N", {"N": 12e3, "m": 0.0127, "N/m": 9.4e5,
+    ...                                               "kg": 9.6e4})
+    (0.012, 24000.0)
+    >>> effect_bounds("leakage", "coefficient_m3_per_s_Pa", {"N": 1.0, "m": 1.0, "N/m": 1.0,
+    ...                                                      "kg": 1.0})
+    (1e-16, 1e-07)
+    """
+    check_choice("effect", effect, EFFECTS)
+    cls = EFFECTS[effect]
+    check_choice(f"{effect} parameter", key, tuple(cls.bounds))
+    lo, hi = cls.bounds[key]
+    unit = cls.units.get(key, "-")
+    if unit == "N":
+        F_s = scales["N"]
+        return (1e-6 * F_s, 2.0 * F_s) if lo > 0 else (-2.0 * F_s, 2.0 * F_s)
+    if unit in _BOUND_RULES and lo > 0:
+        a, b = _BOUND_RULES[unit]
+        return a * scales[unit], b * scales[unit]
+    return float(lo), float(hi)
+
+
+def scale_effect_bounds(spec: FitSpec, records) -> FitSpec:
+    """``spec`` with its effect parameters' catalogue bounds scaled to ``records``.
+
+    A parameter whose bounds differ from its effect's catalogue bounds (set by
+    the caller) is kept; the others get :func:`effect_bounds`, widened to hold
+    their start value.
+    """
+    scales = None
+    out = []
+    for p in spec.parameters:
+        if p.kind != "effect":
+            out.append(p)
+            continue
+        eff, key = p.name.split(".", 1)
+        if tuple(EFFECTS[eff].bounds.get(key, ())) != (p.min, p.max):
+            out.append(p)
+            continue
+        scales = scales or record_scales(records)
+        lo, hi = effect_bounds(eff, key, scales)
+        lo, hi = min(lo, p.value), max(hi, p.value)
+        if p.log:
+            lo = max(lo, 1e-300)
+        out.append(p.replace(min=lo, max=hi) if lo < hi else p)
+    return FitSpec(tuple(out))

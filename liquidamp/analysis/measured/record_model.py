@@ -12,7 +12,11 @@ record's first cycle ``preroll`` times (each pass restarting at the record's
 first sample from the state the previous pass ended with), then runs the
 whole record.  Each pass is one excitation cycle of the periodic march of
 :func:`liquidamp.coupled.testrig.steady_state`, driven by the measured
-stroke, so the comparison starts close to the periodic steady state.
+stroke, so the comparison starts close to the periodic steady state.  A record
+whose stroke is not periodic (:attr:`Record.periodic`: tapered or broadband)
+has no steady state to approach and its first cycle does not join its first
+sample: it is run without pre-roll, from rest at its first sample (its
+start-up transient, a few relaxation times T_D, is part of the fit).
 
 References
 ----------
@@ -121,7 +125,7 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
         (the fitting functions pass ``"fit"``).
     preroll : int
         Passes over the first cycle discarded before the record is run
-        (module docstring) [-].
+        (module docstring; none for a record that is not periodic) [-].
     x0 : array, optional
         Initial state for the first pre-roll pass (default: rest at p0).
 
@@ -186,7 +190,7 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
                             max_step, stats)
 
     t_cycle = np.append(t[:n_cycle - 1], t[0] + record.period)  # exactly one period
-    for _ in range(preroll if model.n_states else 0):
+    for _ in range(preroll if model.n_states and record.periodic else 0):
         x = run(t_cycle, x)[:, -1]
     if cond is not None and cond.changed:
         # a filtered, decimated or averaged record: the model force is conditioned as the

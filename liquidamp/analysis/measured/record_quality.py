@@ -4,7 +4,16 @@
 (cycle-to-cycle scatter; load-cell noise from the high-frequency content where the
 stroke is not periodic) and the NRMSE a perfect model would reach;
 :func:`check_record` finds isolated force spikes and other outliers
-(:class:`Outlier`) and summarizes them (:class:`DataQuality`).
+(:class:`Outlier`), checks the loop's energy sign, the sampling and the stroke
+against the chamber, and summarizes them (:class:`DataQuality`).
+
+Periodic and non-periodic strokes (:attr:`Record.periodic
+<liquidamp.analysis.measured.records.Record.periodic>`): the checks that rest on
+one stroke frequency (the force's first harmonic, the harmonics removed before a
+spike search or a noise estimate, the energy per cycle) have a fallback for a
+tapered or broadband stroke, stated in each function: the force is then
+regressed on the stroke, its rate and its acceleration (a linear device,
+F ~ F0 + k y + c v + m a) instead of on the harmonics.
 
 References
 ----------
@@ -14,7 +23,7 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -22,7 +31,8 @@ from liquidamp.analysis.measured.records import Record
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ParameterError
 
-__all__ = ["NoiseFloor", "noise_floor", "Outlier", "DataQuality", "check_record"]
+__all__ = ["NoiseFloor", "noise_floor", "Outlier", "DataQuality", "check_record",
+           "check_record_stroke", "velocity_gain", "loop_power"]
 
 
 @dataclass(frozen=True)
@@ -69,12 +79,13 @@ class NoiseFloor:
         return math.hypot(self.force_std, self.rate_force_std)
 
 
-def _hf_std(t, s, f, harmonics=12):
-    """Robust white-noise std: 4th differences of the signal less its first harmonics."""
+def _hf_std(t, s, f, harmonics=12, periodic=True):
+    """Robust white-noise std: 4th differences of the signal less its first harmonics
+    (less its mean only, when the stroke is not periodic)."""
     w = 2 * math.pi * f * (t - t[0])
     cols = [np.ones_like(t)]
     nyq = 0.5 / float(np.median(np.diff(t)))
-    for k in range(1, harmonics + 1):
+    for k in range(1, harmonics + 1 if periodic else 1):
         if k * f < 0.8 * nyq:
             cols += [np.sin(k * w), np.cos(k * w)]
     A = np.column_stack(cols)
@@ -132,10 +143,16 @@ def noise_floor(record: Record) -> NoiseFloor:
     first-harmonic dynamic stiffness): ``rate_force_std`` = c_eq x that scatter (a
     3 kHz record with 2 um of LVDT noise: 0.0023 in NRMSE, more than the load-cell
     noise left after decimation).  ``nrmse`` combines both in quadrature.
-    Otherwise (``"high band"``) the first 12 harmonics are removed
-    and the median absolute deviation of the 4th differences of what is left
-    (variance 70 sigma^2 for white noise) is used, which sees only the white part
-    of the force (``rate_force_std`` = 0).
+    Otherwise (``"high band"``: a stroke that does not repeat, or fewer than two
+    cycles) the first 12 harmonics are removed and the median absolute deviation of
+    the 4th differences of what is left (variance 70 sigma^2 for white noise) is
+    used, which sees only the white part of the force (``rate_force_std`` = 0).  For
+    a stroke that is not periodic
+    (:attr:`Record.periodic <liquidamp.analysis.measured.records.Record.periodic>`)
+    there are no harmonics to remove: the 4th differences of the signal itself are
+    used, which suppress a component at frequency f by (2 sin(pi f / fs))^4 (below
+    1 % of its amplitude for f < fs / 20), so the estimate holds while the stroke's
+    band lies well below the sampling rate fs.
     The displacement noise is always the high-band estimate.
 
     Examples
@@ -149,11 +166,11 @@ def noise_floor(record: Record) -> NoiseFloor:
     (True, 'cycle scatter', 29)
     """
     t = record.time
-    ys = _hf_std(t, record.displacement, record.frequency)
-    scatter = _periodic_scatter(record)
+    ys = _hf_std(t, record.displacement, record.frequency, periodic=record.periodic)
+    scatter = _periodic_scatter(record) if record.periodic else None
     if scatter is None:
-        fs, rs, method, H, vs = (_hf_std(t, record.force, record.frequency), 0.0, "high band",
-                                 0, 0.0)
+        fs, rs, method, H, vs = (_hf_std(t, record.force, record.frequency,
+                                         periodic=record.periodic), 0.0, "high band", 0, 0.0)
     else:
         (fs, rs, H, vs), method = scatter, "cycle scatter"
     F = record.force
@@ -208,16 +225,22 @@ class DataQuality:
     ----------
     source : str
         The record's label.
-    force_first_harmonic : float
-        |F1|, first-harmonic force amplitude at the stroke frequency [N].
+    force_first_harmonic : float or None
+        |F1|, first-harmonic force amplitude at the stroke frequency [N]; None
+        when the stroke is not periodic.
     force_noise_std : float
-        Standard deviation of the force about its first ten harmonics [N].
+        Standard deviation of the force about its first ten harmonics (about
+        its linear regression on stroke, rate and acceleration when the
+        stroke is not periodic) [N].
     force_snr : float
         |F1| over its standard error sigma sqrt(2/N) [-]; pure noise gives
-        about 1 (Rayleigh distributed), a usable record hundreds.
-    periodic_fraction : float
+        about 1 (Rayleigh distributed), a usable record hundreds.  Not
+        periodic: sqrt(N var(fitted) / var(residual)) of the linear
+        regression, the same measure (pure noise: about sqrt(3)).
+    periodic_fraction : float or None
         Share of the force variance in the first ten harmonics of the
-        excitation [-] (pure noise: about 20/N).
+        excitation [-] (pure noise: about 20/N); None when the stroke is not
+        periodic.
     max_stroke : float
         Largest recorded |displacement - mean| [m].
     stroke_limit : float or None
@@ -225,26 +248,66 @@ class DataQuality:
     outliers : tuple of Outlier
         Isolated spikes in the force or the displacement.
     problems : tuple of str
-        Reasons to refuse the record (noise only, stroke past the chamber end).
+        Reasons to refuse the record (noise only, a loop that delivers
+        energy, a stroke past the chamber end, too few samples per cycle).
     notes : tuple of str
-        Weaker flags (a force that is mostly not periodic).
+        Weaker flags (a force that is mostly not periodic, a stroke that is not
+        periodic, a coarse sampling).
+    stroke : dict
+        :meth:`Record.summary <liquidamp.analysis.measured.records.Record.summary>`:
+        periodic or not, and the harmonic summary only where periodic.
+    energy_per_cycle : float or None
+        Loop energy the device absorbs per cycle, the integral of
+        (F - mean F) dy over the whole cycles divided by their number [J]
+        (positive for a passive device); None when the stroke is not periodic.
+    dissipated_power : float
+        Mean power the device absorbs [W]: energy per cycle x frequency
+        (periodic), else c mean(v^2) with c the damping of the linear
+        regression (the conservative parts k y and m a do no work on average).
+    dissipated_power_std : float
+        Standard error of ``dissipated_power`` from the force noise [W].
+    loss_share : float
+        dissipated_power / (RMS(F - mean F) RMS(v)) [-]: +1 for a pure damper,
+        0 for a spring, -1 for a damper whose force sign is flipped.
+    samples_per_cycle : float
+        Sampling rate over the stroke frequency (over the top of the stroke's
+        band when not periodic) [-].
+    velocity_gain : float
+        Gain of the Savitzky-Golay velocity at that frequency [-] (1 exact;
+        0.998 for the paper's 21 points at 67 samples per cycle).
+    harmonics_resolved : int
+        Harmonics of the stroke frequency below 0.8 x Nyquist [-].
     """
 
     source: str
-    force_first_harmonic: float
+    force_first_harmonic: float | None
     force_noise_std: float
     force_snr: float
-    periodic_fraction: float
+    periodic_fraction: float | None
     max_stroke: float
     stroke_limit: float | None
     outliers: tuple = ()
     problems: tuple = ()
     notes: tuple = ()
+    stroke: dict = field(default_factory=dict)
+    energy_per_cycle: float | None = None
+    dissipated_power: float = 0.0
+    dissipated_power_std: float = 0.0
+    loss_share: float = 0.0
+    samples_per_cycle: float = math.inf
+    velocity_gain: float = 1.0
+    harmonics_resolved: int = 0
 
     @property
     def ok(self) -> bool:
         """No problem and no outlier."""
         return not self.problems and not self.outliers
+
+    @property
+    def delivers_energy(self) -> bool:
+        """True when the loop delivers energy beyond its noise (sign check of
+        :func:`check_record`)."""
+        return any("runs against the stroke rate" in p for p in self.problems)
 
     def outlier_text(self, column: str | None = None) -> str:
         """The outliers of ``column`` (or all), one per clause."""
@@ -253,21 +316,28 @@ class DataQuality:
 
     def as_dict(self) -> dict:
         """JSON-ready summary (SI)."""
-        return {"source": self.source, "force_first_harmonic [N]": self.force_first_harmonic,
+        return {"source": self.source, "stroke": dict(self.stroke),
+                "force_first_harmonic [N]": self.force_first_harmonic,
                 "force_noise_std [N]": self.force_noise_std, "force_snr": self.force_snr,
                 "periodic_fraction": self.periodic_fraction, "max_stroke [m]": self.max_stroke,
                 "stroke_limit [m]": self.stroke_limit,
+                "energy_per_cycle [J]": self.energy_per_cycle,
+                "dissipated_power [W]": self.dissipated_power,
+                "dissipated_power_std [W]": self.dissipated_power_std,
+                "loss_share": self.loss_share, "samples_per_cycle": self.samples_per_cycle,
+                "velocity_gain": self.velocity_gain,
+                "harmonics_resolved": self.harmonics_resolved,
                 "outliers": [dict(o.__dict__) for o in self.outliers],
                 "problems": list(self.problems), "notes": list(self.notes)}
 
 
-def _spikes(x, A, width: int, k: float, frac: float):
+def _spikes(x, A, width: int, k: float, frac: float, amp: float | None = None):
     """Isolated spikes of ``x``: (indices, expected values).
 
     The smooth periodic part (least squares on the columns of ``A``, refitted
     without the spikes found) is removed, then a Hampel filter runs on what is
     left: a sample departing from the running median of ``width`` samples by
-    more than max(k * 1.4826 * MAD, frac * first-harmonic amplitude, 3 * the 98th
+    more than max(k * 1.4826 * MAD, frac * first-harmonic amplitude (or ``amp``), 3 * the 98th
     percentile of those departures) is a spike (the last term keeps a record's own
     high-frequency texture, e.g. rig ringing on a friction loop, from passing for
     spikes: a spike is rare by definition);
@@ -280,7 +350,7 @@ def _spikes(x, A, width: int, k: float, frac: float):
     for _ in range(2):  # fit, find the spikes, refit without them, find them again
         c, *_ = np.linalg.lstsq(A[~bad], x[~bad], rcond=None)
         r = x - A @ c
-        floor = frac * float(math.hypot(c[1], c[2]))
+        floor = frac * (float(math.hypot(c[1], c[2])) if amp is None else amp)
         d = r - median_filter(r, size=width, mode="mirror")
         sigma = 1.4826 * float(np.median(np.abs(d - np.median(d))))
         texture = 3.0 * float(np.percentile(np.abs(d), 98.0))
@@ -304,9 +374,104 @@ def _spikes(x, A, width: int, k: float, frac: float):
     return idx, np.array(expected)
 
 
+#: Least samples per cycle the Savitzky-Golay velocity needs, as the largest loss of its
+#: gain at the stroke frequency: a note beyond 1 %, a problem beyond 10 % [-].
+VELOCITY_GAIN_NOTE, VELOCITY_GAIN_PROBLEM = 0.01, 0.10
+#: Harmonics of the stroke frequency below 0.8 x Nyquist under which a note says the loop's
+#: sharp features (friction reversals, a dead band) are not resolved [-].
+MIN_HARMONICS = 10
+
+
+def velocity_gain(frequency: float, sampling_rate: float, window: int = 21,
+                  order: int = 4) -> float:
+    """Gain of the Savitzky-Golay velocity at ``frequency`` [-] (1: exact).
+
+    |H(w)| / w of the derivative filter's frequency response H; the filter's
+    phase is exact (it is antisymmetric).
+
+    Examples
+    --------
+    >>> round(velocity_gain(3.0, 200.0), 4)   # the paper's rig: 0.2 % low at 3 Hz
+    0.998
+    >>> round(velocity_gain(10.0, 200.0), 3)  # 20 samples per cycle: 16 % low
+    0.836
+    """
+    from scipy.signal import savgol_coeffs
+
+    if not frequency > 0:
+        return 1.0
+    h = savgol_coeffs(window, order, deriv=1, delta=1.0, use="dot")
+    w = 2 * math.pi * frequency / sampling_rate
+    kk = np.arange(window) - window // 2
+    return float(abs(np.sum(h * np.exp(1j * w * kk))) / w)
+
+
+def _regressors(record: Record):
+    """Columns of the linear-device regression F ~ F0 + k y + c v + m a (scaled to unit RMS);
+    index 2 is the rate."""
+    cols = [np.ones_like(record.time)]
+    for q in (record.smoothed - record.offset, record.velocity, record.acceleration):
+        sd = float(np.std(q))
+        cols.append((q - float(np.mean(q))) / sd if sd > 0 else np.zeros_like(q))
+    return np.column_stack(cols)
+
+
+def loop_power(record: Record, force, sigma: float = 0.0):
+    """Energy a force absorbs under a record's stroke: (per cycle [J] or None, mean power [W],
+    its standard error [W], loss share [-]).
+
+    Periodic stroke: the loop integral of (F - mean F) dy over the whole
+    cycles (the conservative parts cancel over whole cycles) per cycle, its
+    standard error from a white force noise of standard deviation ``sigma``
+    [N]; mean power = that x the frequency.  Not periodic: c mean(v^2), c the
+    rate coefficient of the regression F ~ F0 + k y + c v + m a (its standard
+    error from the regression).  Loss share: power / (RMS(F - mean F) RMS(v)),
+    +1 for a pure damper, -1 for one whose force sign is flipped.
+
+    Examples
+    --------
+    >>> t = np.arange(0, 2.0, 0.005)
+    >>> y = 0.003 * np.sin(2 * np.pi * 3 * t)
+    >>> rec = Record.from_arrays(t, y, np.zeros_like(t))
+    >>> E, P, _, share = loop_power(rec, 1e3 * rec.velocity)   # a 1 kN s/m dashpot
+    >>> round(E / (np.pi * 1e3 * 2 * np.pi * 3 * 0.003 ** 2), 3), round(share, 3)
+    (1.0, 1.0)
+    """
+    F = np.asarray(force, float)
+    t, v = record.time, record.velocity
+    Fc = F - float(np.mean(F))
+    scale = float(np.sqrt(np.mean(Fc * Fc)) * np.sqrt(np.mean(v * v)))
+    dt = 1.0 / record.sampling_rate
+    if record.periodic and record.cycles >= 1.0:
+        # whole cycles only (rectangle rule: exact to a sample for a periodic integrand); the
+        # RMS of the share over the same cycles, so that it does not depend on where the
+        # record starts and stops
+        n = int(math.floor(record.cycles + 1e-9))
+        m = (t - t[0]) < n * record.period - 0.5 * dt
+        vm = v[m]
+        Fm = F[m] - float(np.mean(F[m]))
+        E = float(np.sum(Fm * vm)) * dt / n
+        sE = sigma * float(np.sqrt(np.sum(vm * vm))) * dt / n
+        P, sP = E * record.frequency, sE * record.frequency
+        scale = float(np.sqrt(np.mean(Fm * Fm)) * np.sqrt(np.mean(vm * vm)))
+    else:
+        X = _regressors(record)
+        coef, *_ = np.linalg.lstsq(X, F, rcond=None)
+        res = F - X @ coef
+        s2 = float(res @ res) / max(F.size - X.shape[1], 1)
+        cov = s2 * np.linalg.pinv(X.T @ X)
+        sd_v = float(np.std(v))
+        c = coef[2] / sd_v if sd_v > 0 else 0.0
+        sc = math.sqrt(max(float(cov[2, 2]), 0.0)) / sd_v if sd_v > 0 else 0.0
+        P, sP, E = c * float(np.mean(v * v)), sc * float(np.mean(v * v)), None
+    share = P / scale if scale > 0 else 0.0
+    return E, float(P), float(sP), float(share)
+
+
 def check_record(record: Record, params: DeviceParams | None = None, *, k: float = 10.0,
-                 width: int = 7, min_snr: float = 8.0, min_periodic: float = 0.5) -> DataQuality:
-    """Check a record before fitting: signal against noise, spikes, stroke against the chambers.
+                 width: int = 7, min_snr: float = 8.0, min_periodic: float = 0.5,
+                 max_delivered: float = 0.05, energy_sigmas: float = 5.0) -> DataQuality:
+    """Check a record before fitting: signal, energy sign, sampling, spikes, stroke, shape.
 
     * **Noise only.**  The force's first harmonic at the stroke frequency is
       fitted by least squares with nine more harmonics and a constant; its
@@ -314,6 +479,23 @@ def check_record(record: Record, params: DeviceParams | None = None, *, k: float
       standard deviation of what the harmonics leave) must reach ``min_snr``
       (pure noise gives about 1; the bundled records several thousand).  A
       periodic share of the force variance below ``min_periodic`` is a note.
+      A tapered stroke (one frequency, the amplitude ramping) is tested the
+      same way; a broadband stroke's force is regressed on the stroke, its
+      rate and acceleration instead (F ~ F0 + k y + c v + m a) and the same
+      measure, sqrt(N var(fitted) / var(residual)), must reach ``min_snr``.
+    * **Energy sign.**  A passive device absorbs energy (sign convention of
+      :mod:`liquidamp.analysis.measured.records`): the loop integral of
+      F dy per cycle (periodic), or c mean(v^2) of the regression (not
+      periodic), must not be negative beyond its noise.  A loop that delivers
+      more than ``max_delivered`` x RMS(F) RMS(v) of power and more than
+      ``energy_sigmas`` standard errors is a problem naming the sign: the force
+      or the displacement column is flipped.
+    * **Sampling.**  The Savitzky-Golay velocity's gain at the stroke
+      frequency (at the top of the stroke's band when not periodic) must be
+      within 10 % of 1 (a problem; 1 % a note: about 23 and 40 samples per
+      cycle with the 21-point window); fewer than 10 harmonics of the stroke
+      frequency below 0.8 x Nyquist is a note (a friction reversal or a
+      dead band needs them).
     * **Spikes** (a Hampel-type filter): a force or displacement sample that
       departs from the median of its ``width`` neighbours by more than
       ``k`` robust standard deviations (1.4826 x the median absolute
@@ -324,10 +506,16 @@ def check_record(record: Record, params: DeviceParams | None = None, *, k: float
       spikes).  A running
       median follows steps (friction reversals) and smooth curves exactly on
       monotone stretches, so only isolated samples stand out; up to
-      ``width // 2`` adjacent ones are found.
+      ``width // 2`` adjacent ones are found.  Broadband stroke: the smooth
+      part removed first is the linear regression (force) or the
+      Savitzky-Golay smoothed stroke (displacement), and sqrt(2) x the RMS
+      stands for the amplitude (a tapered stroke is treated as a periodic one).
     * **Stroke past the chamber end.**  With ``params``, a recorded
       |displacement - mean| at or beyond ``params.stroke_limit`` (V0/A_p) is
       a problem naming the line.
+    * **Periodicity.**  A stroke that is not periodic is a note (its
+      summaries are RMS and band, not frequency and amplitude; it is fitted on
+      the recorded stroke as it is).
 
     Parameters
     ----------
@@ -341,6 +529,9 @@ def check_record(record: Record, params: DeviceParams | None = None, *, k: float
         Running-median window [samples], odd.
     min_snr, min_periodic : float
         Thresholds of the noise test [-].
+    max_delivered, energy_sigmas : float
+        Thresholds of the energy-sign test: delivered power as a share of
+        RMS(F) RMS(v) [-], and in standard errors [-].
 
     Returns
     -------
@@ -363,25 +554,43 @@ def check_record(record: Record, params: DeviceParams | None = None, *, k: float
     >>> q = check_record(Record.from_arrays(t, 0.003 * np.sin(2 * np.pi * 3 * t), F))
     >>> [o.line for o in q.outliers], q.problems
     ([102, 202, 302], ())
+    >>> flipped = Record.from_arrays(t, 0.003 * np.sin(6 * np.pi * t), -500 * np.cos(6 * np.pi * t))
+    >>> print(check_record(flipped).problems[0][:66])
+    3 Hz, 3 mm: the force runs against the stroke rate: the loop deliv
     """
     if width < 3 or width % 2 == 0:
         raise ParameterError(f"check_record: width must be an odd number >= 3 [samples], got "
                              f"{width!r}")
     t, F, y = record.time, record.force, record.displacement
     n = t.size
-    w = 2 * math.pi * record.frequency * (t - t[0])
+    periodic = record.periodic
+    # one frequency throughout (periodic, or tapered cycle by cycle): the harmonics of the
+    # stroke frequency hold the force's smooth part; broadband: the linear-device regression
+    harmonic = periodic or record.shape.kind == "tapered"
     nyq = 0.5 * record.sampling_rate
-    cols = [np.ones_like(t)]
-    for j in range(1, 11):
-        if j == 1 or j * record.frequency < 0.8 * nyq:
-            cols += [np.sin(j * w), np.cos(j * w)]
-    A = np.column_stack(cols)
+    if harmonic:
+        w = 2 * math.pi * record.frequency * (t - t[0])
+        cols = [np.ones_like(t)]
+        for j in range(1, 11):
+            if j == 1 or j * record.frequency < 0.8 * nyq:
+                cols += [np.sin(j * w), np.cos(j * w)]
+        A = np.column_stack(cols)
+        A_y, amp_F, amp_y = A, None, None
+    else:  # no harmonics to remove: the linear device (force), the mean (displacement)
+        A = _regressors(record)
+        A_y = np.ones((n, 1))
+        amp_F = math.sqrt(2.0) * float(np.std(F))
+        amp_y = math.sqrt(2.0) * float(np.std(y))
 
     outliers = []
-    for column, x in (("force", F), ("displacement", y)):
-        idx, expected = _spikes(x, A, width, k, 0.02)
+    # a broadband stroke's own peaks depart from a running median: search its departure from
+    # the Savitzky-Golay smoothed stroke instead (a spike passes the smoother at ~20 %)
+    base_y = np.zeros(n) if harmonic else record.smoothed
+    for column, x, B, amp, x0 in (("force", F, A, amp_F, np.zeros(n)),
+                                  ("displacement", y, A_y, amp_y, base_y)):
+        idx, expected = _spikes(x - x0, B, width, k, 0.02, amp)
         outliers += [Outlier(column, int(i), record.line(int(i)), float(t[i]), float(x[i]),
-                             float(e)) for i, e in zip(idx, expected, strict=True)]
+                             float(e + x0[i])) for i, e in zip(idx, expected, strict=True)]
     # the force's harmonics without its spikes, so that three spikes do not pass for signal
     keep = np.ones(n, bool)
     keep[[o.index for o in outliers if o.column == "force"]] = False
@@ -389,35 +598,105 @@ def check_record(record: Record, params: DeviceParams | None = None, *, k: float
     res = F[keep] - A[keep] @ c
     m = int(keep.sum())
     sigma = float(np.sqrt(res @ res / max(m - A.shape[1], 1)))
-    F1 = float(math.hypot(c[1], c[2]))
-    se = sigma * math.sqrt(2.0 / m)
-    snr = F1 / se if se > 0 else math.inf
     var = float(np.var(F[keep]))
-    periodic = 1.0 - float(np.mean(res * res)) / var if var > 0 else 0.0
+    explained = 1.0 - float(np.mean(res * res)) / var if var > 0 else 0.0
     problems, notes = [], []
     label = record.source or record.label
-    if snr < min_snr:
+    if harmonic:
+        F1 = float(math.hypot(c[1], c[2]))
+        se = sigma * math.sqrt(2.0 / m)
+        snr = F1 / se if se > 0 else math.inf
+        periodic_fraction = explained
+        if snr < min_snr:
+            problems.append(
+                f"{label}: the force's first harmonic at the stroke frequency "
+                f"{record.frequency:.4g} Hz (|F1| = {F1:.4g} N) is not distinguishable from the "
+                f"noise (standard deviation {sigma:.4g} N, standard error of |F1| {se:.3g} N: "
+                f"|F1| is {snr:.3g} standard errors, at least {min_snr:g} needed); the record "
+                "holds no force response to fit")
+        elif periodic and periodic_fraction < min_periodic:
+            notes.append(f"{label}: only {periodic_fraction:.0%} of the force variance is "
+                         f"periodic at the stroke frequency and its harmonics (at least "
+                         f"{min_periodic:.0%} expected): the noise dominates the fit")
+    else:
+        fitted = max(var - float(np.mean(res * res)), 0.0)
+        snr = math.sqrt(m * fitted) / sigma if sigma > 0 else math.inf
+        if snr < min_snr:
+            problems.append(
+                f"{label}: the force does not follow the stroke above the noise: regressed on "
+                f"the stroke, its rate and acceleration (the stroke is not periodic) it keeps "
+                f"{explained:.2%} of its variance, {snr:.3g} standard errors (at least "
+                f"{min_snr:g} needed; noise standard deviation {sigma:.4g} N); the record "
+                "holds no force response to fit")
+    if not periodic:  # harmonic summaries only for a periodic stroke
+        F1 = periodic_fraction = None
+        notes.append(f"{label}: the stroke is not periodic ({record.describe()}): no frequency "
+                     "or amplitude summary; the model is driven by the recorded stroke as it "
+                     "is, from rest at its first sample (no pre-roll)")
+    # energy sign: a passive device absorbs energy
+    E, P, sP, share = loop_power(record, F, sigma)
+    if not problems and share < -max_delivered and P < -energy_sigmas * sP:
+        amount = (f"the loop delivers {-E:.4g} J per cycle ({-P:.4g} W)" if E is not None
+                  else f"the device delivers {-P:.4g} W on average")
         problems.append(
-            f"{label}: the force's first harmonic at the stroke frequency "
-            f"{record.frequency:.4g} Hz (|F1| = {F1:.4g} N) is not distinguishable from the "
-            f"noise (standard deviation {sigma:.4g} N, standard error of |F1| {se:.3g} N: "
-            f"|F1| is {snr:.3g} standard errors, at least {min_snr:g} needed); the record holds "
-            "no force response to fit")
-    elif periodic < min_periodic:
-        notes.append(f"{label}: only {periodic:.0%} of the force variance is periodic at the "
-                     f"stroke frequency and its harmonics (at least {min_periodic:.0%} "
-                     "expected): the noise dominates the fit")
+            f"{label}: the force runs against the stroke rate: {amount}, "
+            f"{-share:.0%} of RMS(F) x RMS(v) and {-P / sP if sP > 0 else math.inf:.3g} "
+            "standard errors beyond its noise, where a passive device absorbs energy. "
+            "liquidamp expects the force the device exerts on the load cell positive when it "
+            "resists a positive stroke (a positive displacement compresses chamber 1; a "
+            "damper's force is in phase with the stroke rate, so the loop integral of F dy "
+            "is positive): the force or the displacement sign is flipped in the file; flip "
+            "the force column (multiply it by -1)")
+    # sampling: the SG velocity and the harmonics the loop needs
+    f_top = record.frequency if periodic else max(record.shape.band[1], record.frequency)
+    spc = record.sampling_rate / f_top
+    gain = velocity_gain(f_top, record.sampling_rate, record.window, record.order)
+    n_harm = int(math.floor(0.8 * nyq / record.frequency + 1e-9))
+    where = "the stroke frequency" if periodic else "the top of the stroke's band"
+    sg = (f"{spc:.3g} samples per cycle at {where} ({f_top:.4g} Hz, sampling "
+          f"{record.sampling_rate:.4g} Hz): the {record.window}-point Savitzky-Golay velocity "
+          f"is {1 - gain:.1%} low there")
+    if 1.0 - gain > VELOCITY_GAIN_PROBLEM and periodic:
+        problems.append(f"{label}: {sg} (at most {VELOCITY_GAIN_PROBLEM:.0%} allowed): the "
+                        "model would be driven by a wrong stroke rate; use a shorter window "
+                        "(--window) or a record sampled faster")
+    elif 1.0 - gain > VELOCITY_GAIN_NOTE:
+        notes.append(f"{label}: {sg}; the damping fitted is biased by about as much (a shorter "
+                     "window, --window, reduces it)")
+    if periodic and n_harm < MIN_HARMONICS:
+        notes.append(f"{label}: only {n_harm} harmonics of the stroke frequency "
+                     f"{record.frequency:.4g} Hz lie below 0.8 x Nyquist "
+                     f"({0.8 * nyq:.4g} Hz; {MIN_HARMONICS} expected): a friction reversal or a "
+                     "dead band is not resolved")
     dev = np.abs(y - float(np.median(y)))
     i_max = int(np.argmax(dev))
     limit = None if params is None else float(params.stroke_limit)
-    if limit is not None and dev[i_max] >= limit:
-        beyond = np.flatnonzero(dev >= limit)
-        problems.append(
-            f"{label}, line {record.line(i_max)} (t = {t[i_max]:.6g} s): displacement "
+    if params is not None:
+        problems += check_record_stroke(record, params)
+    return DataQuality(source=label, force_first_harmonic=F1, force_noise_std=sigma,
+                       force_snr=float(snr), periodic_fraction=periodic_fraction,
+                       max_stroke=float(dev[i_max]), stroke_limit=limit,
+                       outliers=tuple(outliers), problems=tuple(problems), notes=tuple(notes),
+                       stroke=record.summary(), energy_per_cycle=E, dissipated_power=P,
+                       dissipated_power_std=sP, loss_share=share, samples_per_cycle=float(spc),
+                       velocity_gain=gain, harmonics_resolved=n_harm)
+
+
+def check_record_stroke(record: Record, params: DeviceParams) -> list[str]:
+    """The stroke-past-the-chamber-end problem of :func:`check_record` (empty if none).
+
+    A recorded |displacement - median| at or beyond ``params.stroke_limit``
+    (V0/A_p) names the line of the largest and of the first sample beyond.
+    """
+    t, y = record.time, record.displacement
+    dev = np.abs(y - float(np.median(y)))
+    i_max = int(np.argmax(dev))
+    limit = float(params.stroke_limit)
+    if dev[i_max] < limit:
+        return []
+    label = record.source or record.label
+    beyond = np.flatnonzero(dev >= limit)
+    return [f"{label}, line {record.line(i_max)} (t = {t[i_max]:.6g} s): displacement "
             f"{(y[i_max] - np.median(y)) * 1e3:+.4g} mm from the mid-position, past the chamber "
             f"end at {limit * 1e3:.4g} mm (V0/A_p; allowed |y| < {limit * 1e3:.4g} mm); "
-            f"{beyond.size} sample(s) beyond it, the first on line {record.line(int(beyond[0]))}")
-    return DataQuality(source=label, force_first_harmonic=F1, force_noise_std=sigma,
-                       force_snr=float(snr), periodic_fraction=float(periodic),
-                       max_stroke=float(dev[i_max]), stroke_limit=limit,
-                       outliers=tuple(outliers), problems=tuple(problems), notes=tuple(notes))
+            f"{beyond.size} sample(s) beyond it, the first on line {record.line(int(beyond[0]))}"]

@@ -26,6 +26,25 @@ least-squares sine fit).  The model is driven by the recorded stroke about
 its mean (the LVDT zero is arbitrary; the mean stroke is taken as the
 mid-position where the chambers hold V01 and V02).
 
+Sign convention: liquidamp's force is the force the device exerts on the test
+machine's load cell, positive when it resists a positive stroke (a positive
+displacement compresses chamber 1, V1 = V01 - A_p y, and F = A_p (p1 - p2) +
+...; DESIGN.md, eq. 10).  A passive device therefore absorbs energy: the loop
+integral of F dy over a cycle is positive (a damper's force is in phase with
+the stroke rate).  :func:`~liquidamp.analysis.measured.record_quality.check_record`
+refuses a loop that delivers energy beyond its noise, naming the sign.
+
+Periodic or not: :func:`stroke_shape` classifies the stroke
+(:class:`StrokeShape`) as ``periodic`` (one sine and its harmonics of
+constant amplitude hold at least 95 % of the stroke variance and the
+cycle-by-cycle amplitude varies by at most 10 %), ``tapered`` (one frequency
+cycle by cycle, the amplitude ramping: each whole cycle's sine holds at least
+90 % of its variance, in phase from cycle to cycle) or ``broadband`` (any
+other stroke, e.g. random).  The harmonic summaries (frequency, amplitude,
+first-harmonic K*) mean something only for a periodic stroke; the others are
+summarized by their RMS and band (:meth:`Record.describe`).  Every record is
+fitted on its recorded stroke as it is, whatever its shape.
+
 Checking a record for noise and outliers is
 :mod:`liquidamp.analysis.measured.record_quality`; driving a model with it is
 :mod:`liquidamp.analysis.measured.record_model`.
@@ -49,7 +68,8 @@ import numpy as np
 from liquidamp.errors import DataFileError, ParameterError
 from liquidamp.structure.testmachine import RecordedStroke, savgol_derivatives
 
-__all__ = ["Record", "read_record", "write_record", "COLUMN_UNITS", "infer_excitation"]
+__all__ = ["Record", "StrokeShape", "stroke_shape", "read_record", "write_record", "COLUMN_UNITS",
+           "infer_excitation", "PERIODIC_SHARE", "AMPLITUDE_VARIATION", "TAPERED_SHARE"]
 
 
 COLUMN_UNITS: dict[str, dict[str, float]] = {
@@ -107,6 +127,144 @@ def infer_excitation(t, y) -> tuple[float, float, float, float]:
     return f, float(math.hypot(a, b)), float(math.atan2(b, a)), ymean + float(c)
 
 
+#: Least share of the stroke variance in a constant-amplitude sine and its harmonics for a
+#: periodic stroke [-].
+PERIODIC_SHARE = 0.95
+#: Largest cycle-to-cycle variation of the first-harmonic amplitude, (max - min) / max, of a
+#: periodic stroke [-].
+AMPLITUDE_VARIATION = 0.10
+#: Least share of each whole cycle's variance in that cycle's own sine (and least phase
+#: coherence from cycle to cycle) for a tapered stroke [-].
+TAPERED_SHARE = 0.90
+
+
+@dataclass(frozen=True)
+class StrokeShape:
+    """Whether a stroke is periodic, and its summary (:func:`stroke_shape`).
+
+    Attributes
+    ----------
+    kind : str
+        ``"periodic"``, ``"tapered"`` or ``"broadband"`` (module docstring).
+    periodicity : float
+        Share of the stroke variance held by the fitted sine of constant
+        amplitude at the stroke frequency and its harmonics (up to the 5th
+        below 0.8 x Nyquist) [-]: 1 for a steady sine, about 0 for noise.
+    cycle_share : float
+        Share of the variance of the whole cycles held by a sine fitted to each
+        cycle on its own (amplitude and phase free per cycle) [-]; 1 for a
+        tapered sine.
+    phase_coherence : float
+        |mean of the unit phasors| of those per-cycle sines [-]: 1 when every
+        cycle has the same phase (one frequency throughout).
+    amplitude_variation : float
+        (max - min) / max of the per-cycle first-harmonic amplitudes [-]
+        (0 with fewer than two whole cycles).
+    cycle_amplitudes : tuple of float
+        First-harmonic amplitude of each whole cycle [m].
+    rms : float
+        RMS of the stroke about its mean [m].
+    band : (float, float)
+        Frequencies below which 5 % and 95 % of the stroke's power lie [Hz].
+    """
+
+    kind: str
+    periodicity: float
+    cycle_share: float
+    phase_coherence: float
+    amplitude_variation: float
+    cycle_amplitudes: tuple
+    rms: float
+    band: tuple
+
+    @property
+    def periodic(self) -> bool:
+        """True for a periodic stroke."""
+        return self.kind == "periodic"
+
+
+def stroke_shape(t, y, frequency: float) -> StrokeShape:
+    """Classify a stroke as periodic, tapered or broadband (module docstring).
+
+    Parameters
+    ----------
+    t : array
+        Sample times, uniform [s].
+    y : array
+        Displacement [m].
+    frequency : float
+        Stroke frequency (the periodogram peak, :func:`infer_excitation`) [Hz].
+
+    Returns
+    -------
+    StrokeShape
+
+    Examples
+    --------
+    >>> t = np.arange(0, 4.0, 0.005)
+    >>> stroke_shape(t, 0.003 * np.sin(2 * np.pi * 3 * t), 3.0).kind
+    'periodic'
+    >>> ramp = np.minimum(1.0, t / 2.0)              # amplitude ramping over 6 cycles
+    >>> stroke_shape(t, ramp * 0.003 * np.sin(2 * np.pi * 3 * t), 3.0).kind
+    'tapered'
+    >>> y = np.random.default_rng(0).normal(0, 1e-3, t.size)
+    >>> stroke_shape(t, y, infer_excitation(t, y)[0]).kind
+    'broadband'
+    """
+    t = np.asarray(t, float)
+    y = np.asarray(y, float) - float(np.mean(y))
+    n = t.size
+    dt = float((t[-1] - t[0]) / (n - 1))
+    var = float(y @ y)
+    tt = t - t[0]
+    w = 2 * math.pi * frequency
+    cols = [np.ones_like(t)]
+    for k in range(1, 6):
+        if k == 1 or k * frequency < 0.4 / dt:
+            cols += [np.sin(k * w * tt), np.cos(k * w * tt)]
+    A = np.column_stack(cols)
+    coef, *_ = np.linalg.lstsq(A, y, rcond=None)
+    res = y - A @ coef
+    share = 1.0 - float(res @ res) / var if var > 0 else 0.0
+    # cycle by cycle: a sine of free amplitude and phase per whole cycle
+    T = 1.0 / frequency
+    ncyc = int(math.floor((tt[-1] + dt) / T + 1e-9))
+    amps, phasors, r2, v2 = [], [], 0.0, 0.0
+    for k in range(ncyc):
+        m = (tt >= k * T - 0.5 * dt) & (tt < (k + 1) * T - 0.5 * dt)
+        if m.sum() < 4:
+            continue
+        B = np.column_stack((np.sin(w * tt[m]), np.cos(w * tt[m]), np.ones(int(m.sum()))))
+        c, *_ = np.linalg.lstsq(B, y[m], rcond=None)
+        e = y[m] - B @ c
+        d = y[m] - y[m].mean()
+        r2 += float(e @ e)
+        v2 += float(d @ d)
+        amps.append(float(math.hypot(c[0], c[1])))
+        phasors.append(complex(c[0], c[1]) / max(amps[-1], 1e-300))
+    cycle_share = 1.0 - r2 / v2 if v2 > 0 else share
+    coherence = float(abs(np.mean(phasors))) if phasors else 1.0
+    variation = (max(amps) - min(amps)) / max(amps) if len(amps) >= 2 and max(amps) > 0 else 0.0
+    spec = np.abs(np.fft.rfft(y * np.hanning(n))) ** 2
+    spec[0] = 0.0
+    cum = np.cumsum(spec)
+    freqs = np.fft.rfftfreq(n, dt)
+    if cum[-1] > 0:
+        band = (float(freqs[np.searchsorted(cum, 0.05 * cum[-1])]),
+                float(freqs[np.searchsorted(cum, 0.95 * cum[-1])]))
+    else:
+        band = (0.0, 0.0)
+    if share >= PERIODIC_SHARE and variation <= AMPLITUDE_VARIATION:
+        kind = "periodic"
+    elif len(amps) >= 2 and cycle_share >= TAPERED_SHARE and coherence >= TAPERED_SHARE:
+        kind = "tapered"
+    else:
+        kind = "broadband"
+    return StrokeShape(kind=kind, periodicity=float(share), cycle_share=float(cycle_share),
+                       phase_coherence=coherence, amplitude_variation=float(variation),
+                       cycle_amplitudes=tuple(amps), rms=float(math.sqrt(var / n)), band=band)
+
+
 @dataclass(frozen=True, eq=False)
 class Record:
     """One measured (or synthetic) test-machine record, SI, read-only arrays.
@@ -142,6 +300,11 @@ class Record:
     first_line : int
         Line of the source file that holds ``time[0]`` (header = line 1);
         :meth:`line` maps a sample index to its line.
+    shape : StrokeShape
+        Periodic, tapered or broadband (:func:`stroke_shape`); ``frequency``,
+        ``amplitude`` and ``phase`` summarize the stroke only where it is
+        periodic (for the others they are the periodogram peak and the sine
+        fitted at it, kept as the time scale of the model runs).
     """
 
     time: np.ndarray
@@ -159,6 +322,7 @@ class Record:
     order: int = 4
     meta: dict = field(default_factory=dict, compare=False)
     first_line: int = 2
+    shape: StrokeShape | None = None
 
     def line(self, i: int) -> int:
         """Line of the source file holding sample ``i`` (header = line 1; for arrays: the
@@ -238,7 +402,7 @@ class Record:
         return cls(time=t, displacement=y, force=F, velocity=v, acceleration=a, smoothed=ys,
                    frequency=f, amplitude=Y, phase=phase, offset=y_mean,
                    source=str(source), window=window, order=order, meta=dict(meta or {}),
-                   first_line=int(first_line) + h)
+                   first_line=int(first_line) + h, shape=stroke_shape(t, y, f))
 
     @property
     def period(self) -> float:
@@ -257,10 +421,68 @@ class Record:
 
     @property
     def label(self) -> str:
-        """Short name: the file stem or 'f Hz, Y mm'."""
+        """Short name: the file stem, or 'f Hz, Y mm' for a periodic stroke, 'broadband stroke,
+        RMS Y mm' (or tapered) for another."""
         if self.source:
             return Path(self.source).stem
-        return f"{self.frequency:.3g} Hz, {self.amplitude * 1e3:.3g} mm"
+        if self.periodic:
+            return self.describe()
+        return f"{self.shape.kind} stroke, RMS {self.shape.rms * 1e3:.3g} mm"
+
+    @property
+    def periodic(self) -> bool:
+        """True when the stroke is periodic (:func:`stroke_shape`): only then do
+        ``frequency``, ``amplitude`` and first-harmonic quantities summarize it."""
+        return self.shape is None or self.shape.periodic
+
+    @property
+    def stroke_scale(self) -> float:
+        """Stroke amplitude of the record [m]: the first-harmonic amplitude of a periodic
+        stroke, sqrt(2) x the RMS of any other (the amplitude of a sine of that RMS)."""
+        if self.periodic:
+            return float(self.amplitude)
+        return math.sqrt(2.0) * self.shape.rms
+
+    def describe(self) -> str:
+        """The stroke in words: '3 Hz, 3 mm' where periodic, else its kind, RMS and band.
+
+        Examples
+        --------
+        >>> t = np.arange(0, 4.0, 0.005)
+        >>> Record.from_arrays(t, 0.003 * np.sin(6 * np.pi * t), np.cos(6 * np.pi * t)).describe()
+        '3 Hz, 3 mm'
+        >>> rng = np.random.default_rng(0)
+        >>> r = Record.from_arrays(t, rng.normal(0, 3e-4, t.size), rng.normal(0, 1, t.size))
+        >>> r.describe()[:31]
+        'broadband stroke (not periodic)'
+        """
+        sh = self.shape
+        if self.periodic:
+            return f"{self.frequency:.3g} Hz, {self.amplitude * 1e3:.3g} mm"
+        if sh.kind == "tapered":
+            return (f"tapered stroke (not periodic) at {self.frequency:.3g} Hz, cycle amplitude "
+                    f"{min(sh.cycle_amplitudes) * 1e3:.3g}-{max(sh.cycle_amplitudes) * 1e3:.3g}"
+                    f" mm over {len(sh.cycle_amplitudes)} cycles")
+        return (f"broadband stroke (not periodic), RMS {sh.rms * 1e3:.3g} mm, band "
+                f"{sh.band[0]:.3g}-{sh.band[1]:.3g} Hz (5-95 % of the stroke power)")
+
+    def summary(self) -> dict:
+        """JSON-ready stroke summary: kind, periodicity figures, and the harmonic summary
+        (frequency, amplitude) only where the stroke is periodic (SI)."""
+        sh = self.shape or stroke_shape(self.time, self.displacement, self.frequency)
+        out = {"kind": sh.kind, "periodic": self.periodic, "description": self.describe(),
+               "periodicity": sh.periodicity, "cycle_share": sh.cycle_share,
+               "phase_coherence": sh.phase_coherence,
+               "amplitude_variation": sh.amplitude_variation,
+               "rms [m]": sh.rms, "band [Hz]": list(sh.band),
+               "sampling_rate [Hz]": self.sampling_rate,
+               "duration [s]": float(self.time[-1] - self.time[0])}
+        if self.periodic:
+            out.update({"frequency [Hz]": self.frequency, "amplitude [m]": self.amplitude,
+                        "cycles": self.cycles})
+        else:
+            out["cycle_amplitudes [m]"] = list(sh.cycle_amplitudes)
+        return out
 
     def stroke(self) -> RecordedStroke:
         """The stroke that drives a model: consistent displacement and velocity about the mean.

@@ -9,6 +9,10 @@ load cell), starting mid-cycle, with LVDT and load-cell noise and an LVDT
 zero offset.  The model is driven by the exact stroke; the record holds only
 noisy samples, so a reader must differentiate it as for measured data.
 
+A recipe with a ``band`` drives the model with a broadband stroke instead
+(:class:`BroadbandStroke`: a random-phase multisine, flat from the band's lower
+edge to its upper edge), as for a random-excitation test of an MR damper.
+
 Every record carries its recipe in ``Record.meta`` (``recipe_dict``), so the
 bundled files in ``liquidamp/analysis/measured/data`` are documented and
 reproducible (see the README there).
@@ -35,8 +39,8 @@ from liquidamp.device.models import get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ParameterError, check_in_range, check_nonnegative, check_positive
 
-__all__ = ["DistortedStroke", "Recipe", "synthetic_record", "recipe_from_dict",
-           "write_synthetic"]
+__all__ = ["DistortedStroke", "BroadbandStroke", "Recipe", "synthetic_record",
+           "recipe_from_dict", "write_synthetic"]
 
 
 @dataclass(frozen=True)
@@ -86,6 +90,68 @@ class DistortedStroke:
 
 
 @dataclass(frozen=True)
+class BroadbandStroke:
+    """A random-phase multisine y = sum_k A sin(2 pi k f0 t + phi_k) [m], k f0 in the band.
+
+    Components at every multiple k f0 of the lower band edge f0 up to the upper
+    edge, of equal amplitude A = rms sqrt(2 / n) (n components), phases
+    ``phases``: a flat, broadband stroke of RMS ``rms`` that repeats only
+    every 1/f0 [s].  Callable ``t -> (y, v, a)`` for scalar t.
+
+    Examples
+    --------
+    >>> s = BroadbandStroke(rms=3e-4, band=(0.5, 20.0), phases=tuple(range(40)))
+    >>> t = np.arange(0, 2.0, 1e-3)
+    >>> y, _, _ = s.arrays(t)
+    >>> len(s.phases), round(float(np.sqrt(np.mean(y * y))) * 1e3, 1)
+    (40, 0.3)
+    """
+
+    rms: float
+    band: tuple
+    phases: tuple
+
+    def __post_init__(self):
+        lo, hi = (float(b) for b in self.band)
+        check_positive("band lower edge", lo, "Hz")
+        if not hi > lo:
+            raise ParameterError(f"band must rise: got {lo:g} to {hi:g} Hz")
+        if len(self.phases) != int(math.floor(hi / lo + 1e-9)):
+            raise ParameterError(f"BroadbandStroke needs {int(math.floor(hi / lo + 1e-9))} "
+                                 f"phases for the band {lo:g}-{hi:g} Hz, got "
+                                 f"{len(self.phases)}")
+
+    @property
+    def frequencies(self) -> np.ndarray:
+        """Component frequencies [Hz]."""
+        return self.band[0] * np.arange(1, len(self.phases) + 1)
+
+    @property
+    def period(self) -> float:
+        """Repeat period 1/f0 [s]."""
+        return 1.0 / self.band[0]
+
+    @property
+    def max_abs(self) -> float:
+        """Largest |y| over one repeat period (a 64-point-per-component grid) [m]."""
+        t = np.linspace(0.0, self.period, 64 * len(self.phases) + 1)
+        return float(np.max(np.abs(self.arrays(t)[0])))
+
+    def __call__(self, t):
+        y, v, a = self.arrays(np.array([float(t)]))
+        return float(y[0]), float(v[0]), float(a[0])
+
+    def arrays(self, t):
+        """(y, v, a) at an array of times."""
+        t = np.asarray(t, float)
+        w = 2 * math.pi * self.frequencies
+        A = self.rms * math.sqrt(2.0 / len(self.phases))
+        arg = np.outer(t, w) + np.asarray(self.phases, float)
+        s, c = np.sin(arg), np.cos(arg)
+        return A * s.sum(axis=1), A * (c * w).sum(axis=1), -A * (s * w * w).sum(axis=1)
+
+
+@dataclass(frozen=True)
 class Recipe:
     """Everything that makes a synthetic record (SI; frequency in Hz).
 
@@ -119,6 +185,11 @@ class Recipe:
         Random seed (noise, harmonic phases, start phase).
     multipliers : tuple of (name, value) pairs
         Multipliers applied to the preset (DeviceParams.scaled).
+    band : tuple
+        ``()`` (default): the distorted sine above.  ``(f_lo, f_hi)`` [Hz]: a
+        broadband stroke (:class:`BroadbandStroke`) of RMS amplitude / sqrt(2)
+        instead; the record then lasts ``cycles / frequency`` [s] and
+        ``distortion`` is not used.
     """
 
     preset: str = "paper_calibrated"
@@ -135,6 +206,7 @@ class Recipe:
     displacement_offset: float = 0.0
     seed: int = 0
     multipliers: tuple = field(default=())
+    band: tuple = ()
 
     def __post_init__(self):
         check_positive("frequency", self.frequency, "Hz")
@@ -145,6 +217,11 @@ class Recipe:
         check_nonnegative("force_noise", self.force_noise, "N")
         if len(self.distortion) != 2:
             raise ParameterError("distortion must hold the 2nd and 3rd harmonic fractions")
+        if self.band:
+            if len(self.band) != 2 or not 0 < self.band[0] < self.band[1]:
+                raise ParameterError(f"band must be (f_lo, f_hi) with 0 < f_lo < f_hi [Hz], got "
+                                     f"{self.band!r}")
+            check_in_range("sampling_rate", self.sampling_rate, 10 * self.band[1], 1e6, "Hz")
 
     def params(self) -> DeviceParams:
         """Device parameters of the truth."""
@@ -167,6 +244,7 @@ class Recipe:
             "displacement_noise [m]": self.displacement_noise,
             "force_noise [N]": self.force_noise,
             "displacement_offset [m]": self.displacement_offset, "seed": self.seed,
+            **({"band [Hz]": list(self.band)} if self.band else {}),
         }
 
 
@@ -180,7 +258,8 @@ def recipe_from_dict(d: dict) -> Recipe:
         sampling_rate=d["sampling_rate [Hz]"], cycles=d["cycles"],
         start_phase=d["start_phase [rad]"], distortion=tuple(d["distortion [-]"]),
         displacement_noise=d["displacement_noise [m]"], force_noise=d["force_noise [N]"],
-        displacement_offset=d["displacement_offset [m]"], seed=d["seed"])
+        displacement_offset=d["displacement_offset [m]"], seed=d["seed"],
+        band=tuple(d.get("band [Hz]", ())))
 
 
 def synthetic_record(recipe: Recipe | None = None, *, settle_cycles: int = 6,
@@ -215,7 +294,12 @@ def synthetic_record(recipe: Recipe | None = None, *, settle_cycles: int = 6,
     ph2, ph3, ph0 = rng.uniform(-math.pi, math.pi, 3)
     phase = recipe.start_phase if recipe.start_phase is not None else float(ph0)
     d2, d3 = recipe.distortion
-    stroke = DistortedStroke(recipe.amplitude, recipe.frequency, phase, d2, d3, ph2, ph3)
+    if recipe.band:
+        n_comp = int(math.floor(recipe.band[1] / recipe.band[0] + 1e-9))
+        stroke = BroadbandStroke(recipe.amplitude / math.sqrt(2.0), tuple(recipe.band),
+                                 tuple(rng.uniform(-math.pi, math.pi, n_comp)))
+    else:
+        stroke = DistortedStroke(recipe.amplitude, recipe.frequency, phase, d2, d3, ph2, ph3)
     params = recipe.params()
     model = with_effects(get_model(recipe.model), *recipe.effect_objects())
     model.check_params(params)
@@ -223,11 +307,11 @@ def synthetic_record(recipe: Recipe | None = None, *, settle_cycles: int = 6,
         raise ParameterError(f"stroke {stroke.max_abs:.4g} m reaches the chamber end "
                              f"{params.stroke_limit:.4g} m")
     T = stroke.period
-    n = int(round(recipe.cycles * T * recipe.sampling_rate)) + 1
+    n = int(round(recipe.cycles / recipe.frequency * recipe.sampling_rate)) + 1
     t = np.arange(n) / recipe.sampling_rate
     # settle: march from rest over whole cycles ending at t = 0 (stroke is periodic)
     t_settle = np.linspace(-settle_cycles * T, 0.0, settle_cycles * 16 + 1)
-    hmax = T / 200.0
+    hmax = T / 200.0 if not recipe.band else 1.0 / (50.0 * recipe.band[1])
     x0 = model.initial_state(params, stroke(-settle_cycles * T)[0])
     if model.n_states:
         Xs = integrate(model, params, stroke, t_settle, x0, rtol=rtol, atol_scale=1e-10,

@@ -75,8 +75,9 @@ def plot_records(records):
         ax2 = ax.twinx()
         ax2.plot(r.time, r.force, "C3", lw=0.8)
         ax2.set_ylabel("force [N]", color="C3")
-        ax.set_title(f"{r.label}: {r.frequency:.3g} Hz, {r.amplitude * 1e3:.3g} mm, "
-                     f"{r.cycles:.1f} cycles", fontsize=9)
+        what = (f"{r.describe()}, {r.cycles:.1f} cycles" if r.periodic
+                else f"{r.describe()}, {r.time[-1] - r.time[0]:.3g} s")
+        ax.set_title(f"{r.label}: {what}" if r.label != r.describe() else what, fontsize=9)
     axes[-1, 0].set_xlabel("time [s]")
     fig.tight_layout()
     return fig
@@ -209,8 +210,9 @@ def plot_fit(result, role: str = "calibration"):
             ax.set_ylim(lo - pad, hi + pad)  # the spikes would flatten the record
         ax.set_xlabel("time [s]")
         ax.set_ylabel("force [N]")
-        ax.set_title(f"{role}: {r.label} ({r.frequency:.3g} Hz, {r.amplitude * 1e3:.3g} mm), "
-                     f"NRMSE {errs.get(r.label, float('nan')):.3g}", fontsize=9)
+        what = r.describe() if r.periodic else f"{r.shape.kind} stroke"
+        ax.set_title(f"{role}: {r.label} ({what}), NRMSE "
+                     f"{errs.get(r.label, float('nan')):.3g}", fontsize=9)
         ax.legend(fontsize=7, loc="upper right")
         y = (r.smoothed - r.offset) * 1e3
         ax2.plot(y, r.force, ".", ms=2.5, color="0.45", label="measured")
@@ -243,6 +245,37 @@ def _fmt(c):
     if isinstance(c, dict):
         return ", ".join(f"{k}={_fmt(v)}" for k, v in c.items())
     return str(c)
+
+
+def _flag(res, name: str) -> str:
+    """'at upper bound', 'stderr > value', 'unused' or '' for a parameter of a result."""
+    f = res.flags
+    if name in f.at_bound:
+        return f"AT {f.at_bound[name][2].upper()} BOUND"
+    if name in f.undetermined:
+        return "NOT DETERMINED (stderr > value)"
+    if name in f.unused:
+        return "UNUSED"
+    return ""
+
+
+def _start_section(res) -> list[str]:
+    """The device the fit started from and every start tried (HTML parts)."""
+    if not res.start:
+        return []
+    st = res.start
+    head = (f"sized to the records: {st.get('device')} ({st.get('reason')})" if st.get("sized")
+            else f"{st.get('device')} as given ({st.get('reason')})")
+    out = ["<h2>Start</h2>", f"<p>Start device: {html.escape(head)}. Start chosen: "
+           f"{html.escape(str(st.get('chosen')))}. Near rule: "
+           f"{html.escape(str(st.get('near_rule')))}.</p>"]
+    rows = [[t.label, t.nrmse, t.peak_model, t.peak_measured, t.rms_ratio,
+             t.loss_share_model, t.loss_share_measured, t.cause, t.error]
+            for t in res.start_trials]
+    out.append(_table(rows, ["start", "NRMSE", "peak force model [N]",
+                             "peak force measured [N]", "RMS ratio", "loss share model",
+                             "loss share measured", "what was off", "error"]))
+    return out
 
 
 def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibration") -> Path:
@@ -284,12 +317,20 @@ def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibrat
             f"<li>{html.escape(w)}</li>" for w in warns) + "</ul></div>")
     if first.data_quality:
         parts.append("<h2>Data quality (checked before the fit)</h2>")
+        parts.append("<p>Harmonic summaries (frequency, amplitude, |F1|) are given only for a "
+                     "periodic stroke; a tapered or broadband stroke is summarized by its RMS "
+                     "and band and fitted on the recorded stroke as it is.  Loss share: power "
+                     "absorbed over RMS(F) RMS(v), positive for a passive device.</p>")
         parts.append(_table(
-            [[q.source, q.force_first_harmonic, q.force_noise_std, q.force_snr,
-              q.periodic_fraction, q.max_stroke * 1e3, len(q.outliers)]
+            [[q.source, q.stroke.get("description", ""), q.force_first_harmonic,
+              q.force_noise_std, q.force_snr, q.periodic_fraction,
+              q.energy_per_cycle, q.loss_share, q.samples_per_cycle, q.max_stroke * 1e3,
+              len(q.outliers)]
              for q in first.data_quality],
-            ["record", "|F1| [N]", "noise std [N]", "|F1| / std. error", "periodic share",
+            ["record", "stroke", "|F1| [N]", "noise std [N]", "signal / std. error",
+             "periodic share", "energy per cycle [J]", "loss share", "samples per cycle",
              "max |stroke| [mm]", "outliers"]))
+    parts += _start_section(first)
     figs = [("records.png", plot_records(list(first.calibration) + list(first.validation)),
              "Records")]
     for role in ("calibration", "validation"):
@@ -309,10 +350,13 @@ def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibrat
     for res, lab in zip(results, labels, strict=True):
         parts.append(f"<h3>Parameters: {html.escape(lab)}</h3>")
         d = res.parameters_dict()
-        prow = [[k, v, d["stderr"].get(k)] for k, v in d["multipliers"].items()]
+        prow = [[k, v, d["stderr"].get(k), _flag(res, k)] for k, v in d["multipliers"].items()]
         for e, kv in d["effects"].items():
-            prow += [[f"{e}.{k}", v, d["stderr"].get(f"{e}.{k}")] for k, v in kv.items()]
-        parts.append(_table(prow, ["parameter", "value (multiplier or SI)", "std. error"]))
+            prow += [[f"{e}.{k}", v, d["stderr"].get(f"{e}.{k}"), _flag(res, f"{e}.{k}")]
+                     for k, v in kv.items()]
+        parts.append(f"<p>{html.escape(res.summary())}</p>")
+        parts.append(_table(prow, ["parameter", "value (multiplier or SI)", "std. error",
+                                   "flag"]))
         parts.append(f"<details><summary>fit report</summary><pre>"
                      f"{html.escape(res.fit_report())}</pre></details>")
     if diagnosis is not None:
