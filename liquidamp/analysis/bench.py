@@ -46,7 +46,7 @@ Cases (keys of ``"cases"``):
     on LSODA, 10-25 s each); one time per effect.
 ``diagnosis_3khz_20s``, ``diagnosis_200hz_10_cycles``
     :func:`~liquidamp.analysis.measured.diagnosis.diagnose` with its defaults (as
-    ``liquidamp diagnose`` runs it) of a 20 s record at 3 kHz (1 Hz stroke; decimated and
+    ``liquidamp diagnose`` runs it) of a 20 s record at 3 kHz (2 Hz stroke; decimated and
     averaged over its cycles) and of a 10-cycle record at 200 Hz (3 Hz), synthetic, each
     with one hidden effect; one time per effect (issue #12 item 5: at most 10 s and 3 s on
     two cores).

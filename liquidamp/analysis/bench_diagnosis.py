@@ -17,7 +17,7 @@ __all__ = ["REAL_RATE_RECORDS", "case_real_rates"]
 #: of the calibration record [s] or None, cycles or None, (f [Hz], Y [m]) calibration,
 #: (f, Y) validation, hidden effects timed one by one {name: truth}).
 REAL_RATE_RECORDS = {
-    "diagnosis_3khz_20s": (3000.0, 20.0, None, (1.0, 0.003), (4.0 / 3.0, 0.002), {
+    "diagnosis_3khz_20s": (3000.0, 20.0, None, (2.0, 0.003), (8.0 / 3.0, 0.002), {
         "coulomb_friction": {"force_N": 30.0},
         "smooth_friction": {"force_N": 30.0, "stiffness_N_per_m": 2e5}}),
     "diagnosis_200hz_10_cycles": (200.0, None, 10.0, (3.0, 0.003), (4.0, 0.002), {

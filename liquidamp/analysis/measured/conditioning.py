@@ -49,9 +49,13 @@ spring were added where Coulomb friction alone was true); on a model grid 8x coa
 the record's the jump's time was off by up to 4 samples (1.3 N of residual at each 60 N
 jump filtered at 30 Hz).
 
-Sample i of a decimated record is sample ``i * factor`` of the record given (its ``line``
-numbers refer to the record given only when ``factor`` is 1); samples after the last kept
-one are dropped before filtering, so that record and model are filtered over the same span.
+Sample i of a decimated record is sample ``(i + trimmed) * factor`` of the record given
+(its ``line`` numbers refer to the record given only when nothing was filtered); samples
+after the last kept one are dropped before filtering, so that record and model are filtered
+over the same span; of a filtered record, the first and last 3 periods of the lowest cut-off
+(``trimmed`` fitted samples each), where the zero-phase filters' start-up transients bend
+the force, are not fitted (a friction jump next to an end otherwise left a spike there),
+while the model is driven through them by the record's stroke.
 The record's ``meta["conditioning"]`` holds the :class:`Conditioning`.
 
 References
@@ -131,6 +135,10 @@ class Conditioning:
         stages applied.
     cycles_averaged : int
         Whole stroke cycles averaged into the conditioned record (1: not averaged) [-].
+    trimmed : int
+        Fitted samples left out at each end of a filtered record, where the zero-phase
+        filters' start-up transients bend the force (3 periods of the lowest cut-off); the
+        model runs through them [-].
     noise : NoiseFloor or None
         Noise floor of the conditioned record
         (:func:`~liquidamp.analysis.measured.record_quality.noise_floor` before averaging,
@@ -151,6 +159,8 @@ class Conditioning:
     removed_by_stage: dict
     cycles_averaged: int = 1
     noise: NoiseFloor | None = None
+    trimmed: int = 0
+    _stroke: tuple | None = field(default=None, repr=False, compare=False)
     _average: dict | None = field(default=None, repr=False, compare=False)
 
     @property
@@ -180,18 +190,20 @@ class Conditioning:
         """Times [s] to run a model over for a conditioned record with samples ``time``, and
         the indices of those samples among them.
 
-        Not averaged: every sample of the record given from ``time[0]`` to ``time[-1]``
-        (the kept samples every ``factor``-th).  Averaged: the phases of every sample of
-        the record given and of the averaged samples, within one cycle from ``time[0]``
-        (the model is run over one steady cycle).
+        Not averaged: every sample of the record given, over the whole span the filters
+        saw (the ``trimmed`` ends included; the kept samples every ``factor``-th).
+        Averaged: the phases of every sample of the record given and of the averaged
+        samples, within one cycle from ``time[0]`` (the model is run over one steady
+        cycle).
         """
         time = np.asarray(time, float)
         if self._average is not None:
             a = self._average
             return a["t_start"] + a["period"] * a["grid"], a["record_index"]
-        n = (time.size - 1) * self.factor + 1
-        return (time[0] + np.arange(n) / self.sampling_rate,
-                np.arange(time.size) * self.factor)
+        start = time[0] - self.trimmed * self.factor / self.sampling_rate
+        n = (time.size + 2 * self.trimmed - 1) * self.factor + 1
+        return (start + np.arange(n) / self.sampling_rate,
+                (np.arange(time.size) + self.trimmed) * self.factor)
 
     def model_inputs(self):
         """(y, v, a) of :meth:`model_stroke` at :meth:`model_times` for an averaged record
@@ -199,12 +211,11 @@ class Conditioning:
         return None if self._average is None else self._average["inputs"]
 
     def model_stroke(self) -> tuple:
-        """(time [s], y [m], v [m/s], a [m/s^2]) of the stroke driving a model over one
-        averaged cycle (its periodic fit at 8 points per fitted sample, both ends of the
-        period included); only for an averaged record."""
-        if self._average is None:
-            raise ParameterError(f"{self.source}: the record was not averaged over cycles")
-        return self._average["stroke"]
+        """(time [s], y [m], v [m/s], a [m/s^2]) of the stroke that drives a model for the
+        conditioned record: the record's own (as :meth:`Record.stroke` makes it) over the
+        whole span its filters saw, or for an averaged record the periodic fit of its
+        stroke at 8 points per fitted sample over one period, both ends included."""
+        return self._stroke
 
     def model_force(self, force) -> np.ndarray:
         """Condition a model force given at :meth:`model_times` as the record's was [N].
@@ -223,6 +234,8 @@ class Conditioning:
         if self.anti_alias_cutoff is not None:
             f = lowpass(f, self.sampling_rate, self.anti_alias_cutoff, _AA_ORDER, pad="even")
         f = f[::self.factor]
+        if self.trimmed:
+            f = f[self.trimmed:f.size - self.trimmed]
         if a is not None:
             i, w = a["i"], a["a"]
             f = ((1.0 - w) * f[i] + w * f[i + 1]).mean(axis=0)
@@ -240,6 +253,7 @@ class Conditioning:
                 "removed_by_stage": {k: {"rms [N]": v[0], "share": v[1]}
                                      for k, v in self.removed_by_stage.items()},
                 "cycles_averaged": self.cycles_averaged,
+                "trimmed_samples_each_end": self.trimmed,
                 "noise_floor": (None if self.noise is None else
                                 {"force_std [N]": self.noise.force_std,
                                  "rate_force_std [N]": self.noise.rate_force_std,
@@ -400,8 +414,8 @@ def condition(record: Record, *, force_cutoff: float | None = None, filter_order
     >>> t = np.arange(0, 6.0, 1 / 1024)
     >>> F = 1e4 * np.sign(np.cos(np.pi * t)) + rng.normal(0, 100, t.size)
     >>> r, c = condition(Record.from_arrays(t, 0.0127 * np.sin(np.pi * t), F))
-    >>> c.factor, round(c.fitted_rate, 2), round(c.anti_alias_cutoff, 2), r.time.size
-    (27, 37.93, 15.17, 227)
+    >>> c.factor, round(c.fitted_rate, 2), round(c.anti_alias_cutoff, 2), c.trimmed, r.time.size
+    (27, 37.93, 15.17, 8, 211)
     >>> bool(0.005 < c.removed_share < 0.05)   # the noise and the square wave's edges
     True
     """
@@ -464,6 +478,23 @@ def condition(record: Record, *, force_cutoff: float | None = None, filter_order
                   force=force[sl], velocity=ch["velocity"], acceleration=ch["acceleration"],
                   smoothed=ch["smoothed"], meta=meta)
     nf = noise_floor(dec)
+    drive = dec.stroke()
+    # the ends where the zero-phase filters' start-up transients bend the force are not
+    # fitted (3 periods of the lowest cut-off); the model runs through them all the same
+    e = int(math.ceil(3.0 * fs / q / cut)) if stages else 0
+    if dec.time.size - 2 * e < 2 * record.window:
+        raise ParameterError(
+            f"{record.label}: after leaving out the {e} filtered samples at each end (3 "
+            f"periods of the {cut:.4g} Hz cut-off) fewer than {2 * record.window} remain; "
+            "raise the cut-off or give a longer record")
+    if e:
+        keep = slice(e, dec.time.size - e)
+        m = dec.time.size
+        dec = replace(dec, **{k: getattr(dec, k)[keep] for k in
+                              ("time", "displacement", "force", "velocity", "acceleration",
+                               "smoothed")},
+                      meta={k: (v[keep] if isinstance(v, np.ndarray) and v.shape == (m,)
+                                else v) for k, v in dec.meta.items()})
     cycles = int(math.floor((dec.time[-1] - dec.time[0]) * f + 1e-9))
     check_choice("average", average, ("auto", True, False))
     periodic = nf.method == "cycle scatter"
@@ -480,7 +511,8 @@ def condition(record: Record, *, force_cutoff: float | None = None, filter_order
         force_cutoff=None if force_cutoff is None else float(force_cutoff),
         filter_order=int(filter_order), factor=q, anti_alias_cutoff=aa,
         fitted_rate=fs / q, harmonics_kept=float(cut / f), removed_rms=rms,
-        removed_share=share, removed_by_stage=stages, noise=nf)
+        removed_share=share, removed_by_stage=stages, noise=nf, trimmed=e,
+        _stroke=(drive.time, drive.displacement, drive.velocity, drive.acceleration))
     if avg:
         return _average(dec, cond, cycles, meta, record.time[:n])
     if not cond.changed:
@@ -550,8 +582,8 @@ def _average(dec: Record, cond: Conditioning, cycles: int, meta: dict, t_orig):
                     nrmse=math.hypot(force_std, c_eq * rate_std) / den,
                     method=nf.method + f", averaged over {cycles}")
     cond = replace(cond, cycles_averaged=cycles, noise=noise, removed_by_stage=stages,
-                   _average={"t_start": ts, "period": T, "grid": grid, "stroke": stroke,
-                             "inputs": inputs,
+                   _stroke=stroke,
+                   _average={"t_start": ts, "period": T, "grid": grid, "inputs": inputs,
                              "points": M, "sample_index": np.searchsorted(grid, psi),
                              "record_index": np.searchsorted(grid, phases),
                              "i": i, "a": a})

@@ -160,12 +160,13 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     if not isinstance(params, DeviceParams):
         raise ParameterError(f"params must be DeviceParams, got {type(params).__name__}")
     model.check_params(params)
-    stroke = record.stroke()
     cond = record.meta.get("conditioning")
-    if cond is not None and cond.cycles_averaged > 1:
-        # one averaged cycle: the stroke is the periodic fit of the record's, on a fine grid
-        # over one whole period (liquidamp.analysis.measured.conditioning)
-        stroke = RecordedStroke(*cond.model_stroke())
+    if cond is not None and not cond.changed:
+        cond = None
+    # a conditioned record (liquidamp.analysis.measured.conditioning) states the stroke the
+    # model is driven by: the record's over its whole span, ends and all, or the periodic
+    # fit of one averaged cycle
+    stroke = record.stroke() if cond is None else RecordedStroke(*cond.model_stroke())
     if stroke.max_abs >= params.stroke_limit:
         raise ParameterError(
             f"record stroke reaches |y| = {stroke.max_abs:.4g} m about its mean, past the "
@@ -190,12 +191,15 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
                             max_step, stats)
 
     t_cycle = np.append(t[:n_cycle - 1], t[0] + record.period)  # exactly one period
+    if cond is not None:
+        # the model runs over the times the record's conditioning needs (module
+        # conditioning, "like with like"), pre-rolled over its first period
+        tf, at_record = cond.model_times(t)
+        t_cycle = np.append(tf[tf < tf[0] + record.period], tf[0] + record.period)
     for _ in range(preroll if model.n_states and record.periodic else 0):
         x = run(t_cycle, x)[:, -1]
-    if cond is not None and cond.changed:
-        # a filtered, decimated or averaged record: the model force is conditioned as the
-        # record's was (liquidamp.analysis.measured.conditioning, "like with like")
-        tf, at_record = cond.model_times(t)
+    if cond is not None:
+        # the model force conditioned as the record's was
         Xf = run(tf, x)
         uf = cond.model_inputs() or stroke(tf)
         ff = np.broadcast_to(np.asarray(model.force(tf, Xf, uf, params), float), tf.shape)

@@ -56,7 +56,10 @@ def test_force_filter_reports_what_it_removed():
     ringing = 800.0 * np.sin(2 * np.pi * 40 * t)
     r = Record.from_arrays(t, 0.0127 * np.sin(np.pi * t), loop + ringing)
     rc, c = condition(r, force_cutoff=10.0, decimate=1)
-    assert c.factor == 1 and c.force_cutoff == 10.0 and rc.time.size == r.time.size
+    assert c.factor == 1 and c.force_cutoff == 10.0
+    # 3 periods of the cut-off at each end are not fitted: 300 samples at 1 kHz
+    assert c.trimmed == 300 and rc.time.size == r.time.size - 600
+    assert rc.time[0] == r.time[300]
     rms, share = c.removed_by_stage["force filter"]
     assert rms == pytest.approx(800.0 / np.sqrt(2), rel=0.02)
     assert share == pytest.approx(0.5 * 800.0 ** 2 / np.var(r.force), rel=0.05)
@@ -72,7 +75,8 @@ def test_automatic_decimation_keeps_the_harmonics_asked_for():
     # fs / q >= 2.5 x 30 x f: 1024 / (75 x 0.5) = 27.3
     assert decimation_factor(r) == 27
     rc, c = condition(r, average=False)
-    assert (c.factor, rc.time.size) == (27, 227)
+    # 227 kept samples, 8 at each end not fitted (3 periods of the 15.2 Hz cut-off)
+    assert (c.factor, c.trimmed, rc.time.size) == (27, 8, 211)
     assert c.anti_alias_cutoff == pytest.approx(0.4 * 1024 / 27, rel=1e-4)
     assert c.harmonics_kept >= 30.0
     # a 200 Hz record of a 3 Hz stroke is left as it is

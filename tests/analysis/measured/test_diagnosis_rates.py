@@ -15,11 +15,12 @@ TRUTH = {"coulomb_friction": {"force_N": 30.0}}
 
 @pytest.fixture(scope="module")
 def dense():
-    """6 s at 3 kHz (1 Hz stroke), validated on 6 s at 1.33 Hz: the paper's device with
-    30 N of Coulomb friction."""
+    """6 s at 3 kHz (2 Hz stroke), validated on 6 s at 2.67 Hz: the paper's device with
+    30 N of Coulomb friction (near paper_initial, so the fit starts from it, not from a
+    device sized to the records)."""
     kw = dict(preset="paper_calibrated", sampling_rate=3000.0, effects=TRUTH)
-    return (synthetic_record(frequency=1.0, amplitude=0.003, cycles=6, seed=71, **kw),
-            synthetic_record(frequency=4 / 3, amplitude=0.002, cycles=8, seed=72, **kw))
+    return (synthetic_record(frequency=2.0, amplitude=0.003, cycles=12, seed=71, **kw),
+            synthetic_record(frequency=8 / 3, amplitude=0.002, cycles=16, seed=72, **kw))
 
 
 def test_dense_record_is_diagnosed_through_its_conditioning(dense):
@@ -29,7 +30,7 @@ def test_dense_record_is_diagnosed_through_its_conditioning(dense):
     assert d.steps[0].parameters["force_N"] == pytest.approx(30.0, rel=0.02)
     assert d.stop_reason.startswith("residual is noise")
     c = d.conditioning[0]
-    assert (c.factor, c.cycles_averaged) == (40, 5)  # 75 Hz; 5 whole cycles of 5.99
+    assert (c.factor, c.cycles_averaged) == (20, 11)  # 150 Hz; 11 whole cycles of 11.99
     assert d.final.calibration[0].time.size == 75
     # the final model on the records as given: the load-cell noise (1 N) and the stroke
     # noise through the Savitzky-Golay rate are all that is left
@@ -37,10 +38,10 @@ def test_dense_record_is_diagnosed_through_its_conditioning(dense):
     assert d.nrmse_raw["validation"] < 0.5 * d.baseline.nrmse_validation
     data = d.as_dict()
     cd = data["conditioning"][0]
-    assert cd["decimation_factor"] == 40 and cd["fitted_rate [Hz]"] == pytest.approx(75.0)
-    assert cd["anti_alias_cutoff [Hz]"] == pytest.approx(30.0)
-    assert cd["cycles_averaged"] == 5 and cd["removed_rms [N]"] > 0
-    assert data["noise_floors"][0]["method"].startswith("cycle scatter, averaged over 5")
+    assert cd["decimation_factor"] == 20 and cd["fitted_rate [Hz]"] == pytest.approx(150.0)
+    assert cd["anti_alias_cutoff [Hz]"] == pytest.approx(60.0)
+    assert cd["cycles_averaged"] == 11 and cd["removed_rms [N]"] > 0
+    assert data["noise_floors"][0]["method"].startswith("cycle scatter, averaged over 11")
     assert data["noise_floor_nrmse"] == pytest.approx(d.noise_nrmse)
     step = data["steps"][0]["evidence"][0]
     assert step["delta_bic"] < -10 and step["n_effective"] > 10
@@ -72,6 +73,6 @@ def test_bad_conditioning_options_are_refused(tmp_path, capsys, dense):
         main(["diagnose", str(fc), "--validate", str(fc), "--json", out, "--decimate", "zero"])
     assert exc.value.code == 2
     assert "--decimate must be 'auto' or an integer factor" in capsys.readouterr().err
-    assert main(["calibrate", str(fc), "--json", out, "--force-filter", "0.5"]) == 2
+    assert main(["calibrate", str(fc), "--json", out, "--force-filter", "1.5"]) == 2
     assert "force filter cut-off must lie above the stroke frequency" in \
         capsys.readouterr().err
