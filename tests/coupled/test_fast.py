@@ -276,7 +276,7 @@ def test_fused_full_model_evaluation_matches_rhs_jac_and_rhs_t():
     f, ft, J = np.empty(5), np.empty(5), np.zeros((5, 5))
     DK.full_all(x, y, v, v, a, prm, kL, f, J, ft)
     f2, ft2, J2 = np.empty(5), np.empty(5), np.empty((5, 5))
-    DK.base_rhs(DK.M_FULL, x, y, v, prm, kL, f2)
+    DK.base_rhs(DK.M_FULL, x, y, v, prm, kL, 0.0, f2)
     DK.base_jac(DK.M_FULL, x, y, v, prm, kL, J2)
     DK.base_rhs_t(DK.M_FULL, x, y, v, v, a, prm, kL, ft2)
     np.testing.assert_allclose(f, f2, rtol=1e-12, atol=1e-13 * np.max(np.abs(f2)))
