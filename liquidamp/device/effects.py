@@ -651,7 +651,7 @@ class Cavitation(Effect):
 
 @dataclass(frozen=True)
 class RotatingFrame(Effect):
-    """The device on a rotor: the centrifugal field along its axis (:mod:`~liquidamp.device.rotating`).
+    """The device on a rotor: the centrifugal field along its axis.
 
     A lag damper turning with the rotor at Omega, its mid-point (the piston
     at zero stroke) at the radius r_m and its axis (chamber 1 -> chamber 2)
@@ -693,7 +693,8 @@ class RotatingFrame(Effect):
     remains, a stiffness change of A_p dDelta p_c/dy = -A_p rho_l Omega^2
     (L1 + L2)/6 in the fluid's flow path (a few N/m).  Rotor speed and
     radius are operating conditions, not fitted (no ``fit_keys``).  For a
-    device on the ground-resonance host, use the host's rotor speed.
+    device on the ground-resonance host, use the host's rotor speed.  The
+    derivation, assumptions and limits are in :mod:`liquidamp.device.rotating`.
 
     Parameters
     ----------

@@ -61,7 +61,7 @@ __all__ = [
     "MODEL_IDS", "BASE_STATES", "N_PRM", "N_SPEC", "N_EP", "pack_params",
     "bulk", "bulk_and_dp", "loss_flow", "loss_flow_dp",
     "lugre_rate", "play_rate", "compliance_rate", "cavity_width", "cavity_rates",
-    "rotating_heads", "rotating_slope",
+    "rotating_heads", "rotating_slope", "rotating_offset_slopes",
     "model_rhs", "model_jac", "model_rhs_t", "model_force", "force_series",
     "base_force_series",
 ]
@@ -395,6 +395,27 @@ def rotating_heads(y, prm, ep):
     h1 = _head_mean(-L1, -y, rc)
     h2 = _head_mean(-y, L2, rc)
     return k * (h2 - h1), k * (_head_min(-L1, -y, rc) - h1), k * (_head_min(-y, L2, rc) - h2)
+
+
+@njit(cache=True, error_model="numpy")
+def rotating_offset_slopes(y, prm, ep):
+    """(do1/dy, do2/dy) of the inboard offsets of :func:`rotating_heads` [Pa/m].
+
+    The chambers' means and, where the least head sits at the piston face,
+    their least heads move with the piston: at fixed lumped pressures the
+    inboard-end pressures change at (do_i/dy) v.
+    """
+    k = prm[P_RHO0] * ep[E_OMEGA] * ep[E_OMEGA]
+    rc = ep[E_RM] * ep[E_COSA]
+    L1 = prm[P_V01] / prm[P_AP]
+    L2 = prm[P_V02] / prm[P_AP]
+    d1 = rc / 2.0 - (L1 + 2.0 * y) / 6.0  # -d(mean head)/dy, chamber 1 on [-L1, -y]
+    d2 = rc / 2.0 + (L2 - 2.0 * y) / 6.0  # chamber 2 on [-y, L2]
+    if -rc > -y:  # chamber 1's least head at its piston face s = -y
+        d1 -= rc - y
+    if -rc < -y:  # chamber 2's least head at its piston face
+        d2 -= rc - y
+    return k * d1, k * d2
 
 
 @njit(cache=True, error_model="numpy")
@@ -743,11 +764,18 @@ def _fluid_rhs(spec, x, y, v, prm, ep, out):
         else:
             B1, B2 = prm[P_B01], prm[P_B02]
         pv = ep[E_PV]
-        # the cavity opens where the pressure is least: the inboard end in a rotating frame
-        dp1, dc1 = cavity_rates(x[i1] + o1, out[i1], x[ic], V1, B1, pv)
-        dp2, dc2 = cavity_rates(x[i2] + o2, out[i2], x[ic + 1], V2, B2, pv)
-        out[i1] = dp1
-        out[i2] = dp2
+        # the cavity opens where the pressure is least: in a rotating frame the inboard end,
+        # whose pressure p_i + o_i(y) changes at dp_i/dt + (do_i/dy) v; the switch acts on it
+        s1 = 0.0
+        s2 = 0.0
+        if spec[S_ROT] > 0:
+            s1, s2 = rotating_offset_slopes(y, prm, ep)
+            s1 *= v
+            s2 *= v
+        dp1, dc1 = cavity_rates(x[i1] + o1, out[i1] + s1, x[ic], V1, B1, pv)
+        dp2, dc2 = cavity_rates(x[i2] + o2, out[i2] + s2, x[ic + 1], V2, B2, pv)
+        out[i1] = dp1 - s1
+        out[i2] = dp2 - s2
         out[ic] = dc1
         out[ic + 1] = dc2
 

@@ -73,8 +73,9 @@ Cavitation margin.  The least pressure of chamber i is at its innermost
 point (its inboard end, unless the point of the axis nearest the shaft lies
 inside the chamber): p_i + o_i, o_i = rho_l Omega^2 (min h - h_i) <= 0
 (:meth:`~liquidamp.device.effects.RotatingFrame.inboard_pressures`).  The
-cavitation effect compares this pressure with p_v, so a cavity opens at
-the inboard end first.
+cavitation effect applies its switch to this pressure, whose rate is
+dp_i/dt + (do_i/dy) v (the offset moves with the piston), so a cavity opens
+at the inboard end first and holds the inboard-end pressure at p_v.
 
 Rest state.  At rest on the rotor (v = 0, no flow) the sealed device holds
 p2 - p1 = Delta p_c(y0), and its liquid mass is that of the filling,

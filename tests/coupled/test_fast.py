@@ -25,11 +25,13 @@ from liquidamp.device.effects import (
     Freeplay,
     Leakage,
     MovingMass,
+    RotatingFrame,
     SeriesCompliance,
     SmoothFriction,
     with_effects,
 )
 from liquidamp.device.models import REGISTRY, get_model
+from liquidamp.device.rotating import ROTATING_BASES
 from liquidamp.errors import ParameterError, PressureError
 from liquidamp.options import SolverOptions
 from liquidamp.structure.testmachine import HarmonicStroke, RecordedStroke
@@ -57,6 +59,8 @@ def _with_all_effects(model):
     effects.append(Freeplay(5e-5) if model.n_states else MovingMass(0.5))
     if "p1" in model.state_names:
         effects += [Leakage(3e-12), Cavitation(2339.0)]
+    if model.base in ROTATING_BASES:
+        effects.append(RotatingFrame(60.0, 0.4, 0.3))
     return with_effects(model, *effects)
 
 
