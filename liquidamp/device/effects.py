@@ -77,7 +77,7 @@ from liquidamp.device.kernels import (
     play_rate,
 )
 from liquidamp.device.models import BASES, DeviceModel
-from liquidamp.device.rotating import ROTATING_BASES, heads, rest_state
+from liquidamp.device.rotating import ROTATING_BASES, heads, least_pressures, rest_state
 from liquidamp.errors import ParameterError, check_choice, check_finite, check_nonnegative
 
 __all__ = [
@@ -678,8 +678,9 @@ class RotatingFrame(Effect):
       bypass: the flow is driven by dp + Delta p_c;
     - the load-cell force: F = A_p (p1 - p2 + Delta p_c) (both piston faces
       at one point, so F = 0 at rest);
-    - the cavitation effect: it compares each chamber's innermost-point
-      pressure (:meth:`inboard_pressures`) with p_v;
+    - the cavitation effect: its switch acts on each chamber's
+      innermost-point pressure (:meth:`inboard_pressures`), so a cavity
+      opens at the inboard end and holds it at p_v;
     - the rest state: sealed and unpressurized, the device keeps its filling
       mass, and at rest p2 - p1 = Delta p_c: the outboard chamber rises, the
       inboard one falls (:func:`~liquidamp.device.rotating.rest_state`), so a
@@ -896,55 +897,6 @@ def _piston_stroke(model_effects, n_base: int):
         if name in index:
             return index[name]
     return None
-
-
-def least_pressures(model: DeviceModel, x, u, params):
-    """Least pressure in each chamber [Pa] (vectorized): the margin to cavitation.
-
-    The lumped chamber pressures (``model.pressures``), lowered with a
-    :class:`RotatingFrame` to each chamber's innermost point
-    (:meth:`RotatingFrame.inboard_pressures`, at the piston stroke).
-
-    Parameters
-    ----------
-    model : DeviceModel
-        A model with chamber pressure states.
-    x : array
-        States, shape (n,) or (n, N).
-    u : tuple
-        Rod stroke (y [m], v [m/s], a [m/s^2]), scalars or arrays of length N.
-    params : DeviceParams
-        Device.
-
-    Returns
-    -------
-    (p1, p2) : floats or ndarrays
-        Least pressure in chamber 1 and chamber 2 [Pa].
-
-    Raises
-    ------
-    ParameterError
-        For a model without chamber pressures.
-
-    Examples
-    --------
-    >>> from liquidamp.device import preset
-    >>> from liquidamp.device.models import get_model
-    >>> p = preset("reference")
-    >>> m = with_effects(get_model("inertial"), RotatingFrame(26.18, 0.3048))
-    >>> x = m.initial_state(p, 0.0)
-    >>> [round(float(q)) for q in least_pressures(m, x, (0.0, 0.0, 0.0), p)]
-    [96252, 101252]
-    """
-    if model.pressures is None:
-        raise ParameterError(f"model {model.name!r} has no chamber pressure states")
-    p1, p2 = model.pressures(x, u, params)
-    rf = model.effect("rotating_frame")
-    if rf is None:
-        return p1, p2
-    ip = _piston_stroke(model.effects, model.n_base_states)
-    y = u[0] if ip is None else np.asarray(x)[ip]
-    return rf.inboard_pressures(p1, p2, params, y)
 
 
 def _diagnostic(fn, n_base: int, ip):

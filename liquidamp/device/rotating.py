@@ -112,7 +112,7 @@ from liquidamp.device import kernels as K
 from liquidamp.device.fluid import density_constant_bulk, density_gholizadeh
 from liquidamp.errors import ParameterError
 
-__all__ = ["heads", "rest_state", "ROTATING_BASES"]
+__all__ = ["heads", "rest_state", "least_pressures", "ROTATING_BASES"]
 
 #: Base equations the rotating frame applies to (chamber pressures or channel flow).
 ROTATING_BASES = ("full", "no_inertia", "constant_bulk", "volumetric", "single_state",
@@ -242,3 +242,55 @@ def rest_state(base: str, params, y0: float, dp_c: float, x_base: np.ndarray) ->
     else:
         x[0], x[1] = p1, p2
     return x
+
+
+def least_pressures(model, x, u, params):
+    """Least pressure in each chamber [Pa] (vectorized): the margin to cavitation.
+
+    The lumped chamber pressures (``model.pressures``), lowered with a
+    :class:`RotatingFrame` to each chamber's innermost point
+    (:meth:`RotatingFrame.inboard_pressures`, at the piston stroke).
+
+    Parameters
+    ----------
+    model : DeviceModel
+        A model with chamber pressure states (any effects).
+    x : array
+        States, shape (n,) or (n, N).
+    u : tuple
+        Rod stroke (y [m], v [m/s], a [m/s^2]), scalars or arrays of length N.
+    params : DeviceParams
+        Device.
+
+    Returns
+    -------
+    (p1, p2) : floats or ndarrays
+        Least pressure in chamber 1 and chamber 2 [Pa].
+
+    Raises
+    ------
+    ParameterError
+        For a model without chamber pressures.
+
+    Examples
+    --------
+    >>> from liquidamp.device import preset
+    >>> from liquidamp.device.effects import RotatingFrame, with_effects
+    >>> from liquidamp.device.models import get_model
+    >>> p = preset("reference")
+    >>> m = with_effects(get_model("inertial"), RotatingFrame(26.18, 0.3048))
+    >>> x = m.initial_state(p, 0.0)
+    >>> [round(float(q)) for q in least_pressures(m, x, (0.0, 0.0, 0.0), p)]
+    [96252, 101252]
+    """
+    from liquidamp.device.effects import _piston_stroke
+
+    if model.pressures is None:
+        raise ParameterError(f"model {model.name!r} has no chamber pressure states")
+    p1, p2 = model.pressures(x, u, params)
+    rf = model.effect("rotating_frame")
+    if rf is None:
+        return p1, p2
+    ip = _piston_stroke(model.effects, model.n_base_states)
+    y = u[0] if ip is None else np.asarray(x)[ip]
+    return rf.inboard_pressures(p1, p2, params, y)
