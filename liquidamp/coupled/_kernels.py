@@ -90,6 +90,7 @@ from liquidamp.device.kernels import (
     S_N,
     S_NB,
     S_OFF,
+    S_ROT,
     base_force,
     base_jac,
     base_rhs,
@@ -329,7 +330,7 @@ def _dp5_attempt(spec, prm, ep, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, fsal,
                 xn[i] = x[i] + h * acc
                 ys[i] = xn[i]
         if _PLAIN_ONLY:  # the base equation alone (no effects): inlined
-            base_rhs_inline(mid, ys, y, v, prm, 0.0, ft)
+            base_rhs_inline(mid, ys, y, v, prm, 0.0, 0.0, ft)
         else:
             model_rhs(spec, ys, y, v, prm, ep, ft)
         for i in range(n):
@@ -405,7 +406,7 @@ def _rodas_attempt(spec, prm, ep, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, reu
             elif st_i != 5:  # stages 5 and 6 share the time t + h
                 y, v, a = stroke_eval(kind, t + _RC[st_i] * h, sp, st, sy, sv, sa)
             if _PLAIN_ONLY:
-                base_rhs(mid, ys, y, v, prm, 0.0, ft)
+                base_rhs(mid, ys, y, v, prm, 0.0, 0.0, ft)
             else:
                 model_rhs(spec, ys, y, v, prm, ep, ft)
             if st_i == 0:
@@ -518,7 +519,7 @@ def _integrate_source(spec, prm, ep, kind, sp, st, sy, sv, sa, x0, t0, t1, teval
     # the load-cell force needs the stroke only for stateless bases and stroke-driven terms
     force_needs_stroke = (spec[S_NB] == 0 or spec[S_IFP] >= 0 or spec[S_IC] >= 0
                           or spec[S_IZ] >= 0 or spec[S_COUL] != 0 or spec[S_MASS] != 0
-                          or spec[S_OFF] != 0 or prm[P_FRIC] > 0.0)
+                          or spec[S_OFF] != 0 or spec[S_ROT] > 0 or prm[P_FRIC] > 0.0)
     nf = max(ne - 1, 1)
     force_now = np.empty(nf)
     force_prev = np.empty(nf)

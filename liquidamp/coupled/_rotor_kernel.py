@@ -79,7 +79,7 @@ def rotor_rhs(t, X, W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, M, b, piv, Fk, out
         if spec[S_N] == spec[S_NB] and spec[S_EFFECTS] == 0:  # the base equation alone
             mid = spec[S_MID]
             if a1 > a0:
-                base_rhs_inline(mid, z, y, v, prm, 0.0, out[a0:a1])
+                base_rhs_inline(mid, z, y, v, prm, 0.0, 0.0, out[a0:a1])
             F = base_force(mid, z, y, v, 0.0, prm)
             if prm[P_FRIC] > 0.0:
                 F += prm[P_FRIC] * (1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0))

@@ -22,6 +22,7 @@ from types import MappingProxyType
 import numpy as np
 
 from liquidamp.coupled.engines import TestRig, engine_for
+from liquidamp.device.effects import least_pressures
 from liquidamp.device.models import get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ParameterError
@@ -229,12 +230,17 @@ def build_response(model, params, stroke, t, X, options, *, status, message, res
                 f"model {model.name!r} with a constant bulk modulus is outside its validity "
                 "here (use 'full', eq. 10)"
             )
-        elif pmin < options.vapour_pressure:
-            warn.append(
-                f"lowest chamber pressure {pmin:.4g} Pa is below the vapour pressure "
-                f"{options.vapour_pressure:g} Pa: the liquid would cavitate, which this model "
-                "does not represent (add the 'cavitation' effect)"
-            )
+        else:
+            # the cavitation margin: with a rotating frame, at the chambers' inboard ends
+            q1, q2 = least_pressures(model, X, u, params)
+            pmin = float(min(np.min(q1), np.min(q2)))
+            where = " (inboard end, rotating frame)" if model.effect("rotating_frame") else ""
+            if pmin < options.vapour_pressure and model.effect("cavitation") is None:
+                warn.append(
+                    f"lowest chamber pressure{where} {pmin:.4g} Pa is below the vapour pressure "
+                    f"{options.vapour_pressure:g} Pa: the liquid would cavitate, which this "
+                    "model does not represent (add the 'cavitation' effect)"
+                )
     mass_error = None
     if model.mass is not None:
         M = np.asarray(model.mass(X, u, params), float)

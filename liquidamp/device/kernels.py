@@ -61,6 +61,7 @@ __all__ = [
     "MODEL_IDS", "BASE_STATES", "N_PRM", "N_SPEC", "N_EP", "pack_params",
     "bulk", "bulk_and_dp", "loss_flow", "loss_flow_dp",
     "lugre_rate", "play_rate", "compliance_rate", "cavity_width", "cavity_rates",
+    "rotating_heads", "rotating_slope", "rotating_offset_slopes",
     "model_rhs", "model_jac", "model_rhs_t", "model_force", "force_series",
     "base_force_series",
 ]
@@ -112,11 +113,18 @@ N_PRM = 24
 # ------------------------------------------------------------ composition
 S_MID, S_N, S_NB, S_ICAV, S_IC, S_IFP, S_IZ = range(7)
 S_LEAK, S_COUL, S_MASS, S_OFF, S_ANALYTIC, S_I1, S_I2, S_EFFECTS = range(7, 15)
-N_SPEC = 15
+# spec slots 15..20 are reserved for effects added in parallel (unused here)
+#: Rotating frame (centrifugal field along the device axis): 1 when composed, else -1.
+S_ROT = 21
+N_SPEC = 22
 
 E_LEAK, E_PV, E_KC, E_GAP, E_SFC, E_SIG, E_VS, E_SR, E_CF, E_MASS, E_OFF = range(11)
+# effect slots 11..22 are reserved for effects added in parallel (unused here)
+#: Rotating frame: rotor speed [rad/s], radius of the device mid-point [m], cos(axis angle) [-]
+#: (slot 26 is reserved for it and unused).
+E_OMEGA, E_RM, E_COSA = 23, 24, 25
 #: The effect slots; the state scales follow from ``ep[N_EP]`` on.
-N_EP = 11
+N_EP = 27
 
 
 def pack_params(params) -> np.ndarray:
@@ -337,14 +345,101 @@ def cavity_rates(p, dp_base, Vc, V, B, p_v):
     return (1.0 - sigma) * dp_base, -sigma * w
 
 
+@njit(cache=True, error_model="numpy")
+def _head_mean(a, b, rc):
+    """Mean over the axis interval [a, b] of the head h(s) = rc s + s^2/2 [m^2]."""
+    return 0.5 * rc * (a + b) + (a * a + a * b + b * b) / 6.0
+
+
+@njit(cache=True, error_model="numpy")
+def _head_min(a, b, rc):
+    """Least head h(s) = rc s + s^2/2 on [a, b]: at the point nearest the shaft [m^2]."""
+    s = min(max(-rc, a), b)
+    return rc * s + 0.5 * s * s
+
+
+@njit(cache=True, error_model="numpy")
+def rotating_heads(y, prm, ep):
+    """(dp_c, o1, o2) of the rotating frame at piston stroke y [m]: pressures [Pa].
+
+    Axis coordinate s from the device mid-point (the piston at zero stroke,
+    at radius r_m) towards chamber 2; the axis makes the angle theta with
+    the radial direction, so a point at s is at radius
+    r(s)^2 = r_m^2 + 2 r_m cos(theta) s + s^2 and the centrifugal potential
+    per unit mass is -Omega^2 r^2 / 2.  Chamber 1 spans [-L1, -y], chamber
+    2 [-y, L2] (L_i = V0i / A_p).  With the head h(s) = r_m cos(theta) s +
+    s^2/2 (the integral of the radius projected on the axis, r . e ds) and
+    its volume mean h_i over chamber i, for the liquid density rho_l:
+
+    - ``dp_c = rho_l Omega^2 (h_2 - h_1)``: the centrifugal pressure rise
+      from the lumped (volume-mean) pressure of chamber 1 to that of chamber
+      2 along any path (the field is conservative, so the channel's route
+      does not enter), = rho_l Omega^2 r_m cos(theta) (L1 + L2)/2 + rho_l
+      Omega^2 ((L2^2 - L1^2)/3 - (L1 + L2) y/3)/2;
+    - ``o_i = rho_l Omega^2 (min h over chamber i - h_i) <= 0``: the
+      pressure at the chamber's innermost point (its inboard end) minus its
+      lumped pressure.
+
+    Examples
+    --------
+    >>> prm = np.zeros(N_PRM); ep = np.zeros(N_EP)
+    >>> prm[P_AP], prm[P_V01], prm[P_V02], prm[P_RHO0] = 1e-3, 2e-5, 2e-5, 1000.0
+    >>> ep[E_OMEGA], ep[E_RM], ep[E_COSA] = 10.0, 0.5, 1.0
+    >>> [round(float(q), 9) for q in rotating_heads(0.0, prm, ep)]   # 1000 * 100 * 0.5 * 0.02
+    [1000.0, -486.666666667, -506.666666667]
+    """
+    k = prm[P_RHO0] * ep[E_OMEGA] * ep[E_OMEGA]
+    rc = ep[E_RM] * ep[E_COSA]
+    L1 = prm[P_V01] / prm[P_AP]
+    L2 = prm[P_V02] / prm[P_AP]
+    h1 = _head_mean(-L1, -y, rc)
+    h2 = _head_mean(-y, L2, rc)
+    return k * (h2 - h1), k * (_head_min(-L1, -y, rc) - h1), k * (_head_min(-y, L2, rc) - h2)
+
+
+@njit(cache=True, error_model="numpy")
+def rotating_offset_slopes(y, prm, ep):
+    """(do1/dy, do2/dy) of the inboard offsets of :func:`rotating_heads` [Pa/m].
+
+    The chambers' means and, where the least head sits at the piston face,
+    their least heads move with the piston: at fixed lumped pressures the
+    inboard-end pressures change at (do_i/dy) v.
+    """
+    k = prm[P_RHO0] * ep[E_OMEGA] * ep[E_OMEGA]
+    rc = ep[E_RM] * ep[E_COSA]
+    L1 = prm[P_V01] / prm[P_AP]
+    L2 = prm[P_V02] / prm[P_AP]
+    d1 = rc / 2.0 - (L1 + 2.0 * y) / 6.0  # -d(mean head)/dy, chamber 1 on [-L1, -y]
+    d2 = rc / 2.0 + (L2 - 2.0 * y) / 6.0  # chamber 2 on [-y, L2]
+    if -rc > -y:  # chamber 1's least head at its piston face s = -y
+        d1 -= rc - y
+    if -rc < -y:  # chamber 2's least head at its piston face
+        d2 -= rc - y
+    return k * d1, k * d2
+
+
+@njit(cache=True, error_model="numpy")
+def rotating_slope(prm, ep):
+    """d(dp_c)/dy of :func:`rotating_heads`: -rho_l Omega^2 (L1 + L2)/6 [Pa/m].
+
+    The lumped points move with the piston while their separation stays
+    (L1 + L2)/2; only the s^2/2 part of the head sees the shift.
+    """
+    return -prm[P_RHO0] * ep[E_OMEGA] * ep[E_OMEGA] * (prm[P_V01] + prm[P_V02]) / (
+        6.0 * prm[P_AP])
+
+
 # --------------------------------------------------------------- base models
 @njit(cache=True, error_model="numpy", fastmath=_FM)
-def base_rhs(mid, x, y, v, prm, kL, out):
+def base_rhs(mid, x, y, v, prm, kL, dpc, out):
     """dx/dt of base model ``mid`` at piston stroke (y [m], v [m/s]), into ``out``.
 
     ``kL`` is a laminar leakage conductance [m^3/(s Pa)] in parallel with the
-    channel (mass flow rho_l kL (p1 - p2)); 0 for none.  Stateless models
-    write nothing.
+    channel (mass flow rho_l kL (p1 - p2 + dpc)); 0 for none.  ``dpc`` is a
+    body-force pressure rise from chamber 1 to chamber 2 [Pa] (the rotating
+    frame, :func:`rotating_heads`; 0 for none): every flow path (channel
+    momentum, loss relation, leakage) is driven by p1 - p2 + dpc.
+    Stateless models write nothing.
     """
     Ap = prm[P_AP]
     V1 = prm[P_V01] - Ap * y
@@ -352,11 +447,12 @@ def base_rhs(mid, x, y, v, prm, kL, out):
     mL = 0.0
     if mid == M_FULL or mid == M_NO_INERTIA:
         p1, r1, p2, r2 = x[0], x[1], x[2], x[3]
+        dp = p1 - p2 + dpc
         if mid == M_FULL:
             m = x[4]
         else:
-            m = loss_flow(p1 - p2, prm[P_G1], prm[P_G2])
-        mt = m + prm[P_RHO0] * kL * (p1 - p2)
+            m = loss_flow(dp, prm[P_G1], prm[P_G2])
+        mt = m + prm[P_RHO0] * kL * dp
         B1 = bulk(p1, prm[P_X01], prm)
         B2 = bulk(p2, prm[P_X02], prm)
         out[0] = B1 / V1 * (Ap * v - mt / r1)
@@ -364,36 +460,37 @@ def base_rhs(mid, x, y, v, prm, kL, out):
         out[2] = B2 / V2 * (-Ap * v + mt / r2)
         out[3] = (-r2 * Ap * v + mt) / V2
         if mid == M_FULL:
-            out[4] = (p1 - p2 - prm[P_G1] * m - prm[P_G2] * m * abs(m)) / prm[P_ST]
+            out[4] = (dp - prm[P_G1] * m - prm[P_G2] * m * abs(m)) / prm[P_ST]
         return
     if mid == M_CONSTANT_BULK or mid == M_VOLUMETRIC or mid == M_INERTIAL:
         p1, p2 = x[0], x[1]
+        dp = p1 - p2 + dpc
         B1, B2 = prm[P_B01], prm[P_B02]
         r1 = r_const(p1, B1, prm)
         r2 = r_const(p2, B2, prm)
         if kL != 0.0:
-            mL = prm[P_RHO0] * kL * (p1 - p2)
+            mL = prm[P_RHO0] * kL * dp
         if mid == M_VOLUMETRIC:
-            q = loss_flow(p1 - p2, prm[P_C1], prm[P_C2])
+            q = loss_flow(dp, prm[P_C1], prm[P_C2])
             out[0] = B1 / V1 * (Ap * v - q - mL / r1)
             out[1] = B2 / V2 * (-Ap * v + q + mL / r2)
             return
         if mid == M_INERTIAL:
             m = x[2]
-            out[2] = (p1 - p2 - prm[P_G1] * m - prm[P_G2] * m * abs(m)) / prm[P_ST]
+            out[2] = (dp - prm[P_G1] * m - prm[P_G2] * m * abs(m)) / prm[P_ST]
         else:
-            m = loss_flow(p1 - p2, prm[P_G1], prm[P_G2])
+            m = loss_flow(dp, prm[P_G1], prm[P_G2])
         out[0] = B1 / V1 * (Ap * v - (m + mL) / r1)
         out[1] = B2 / V2 * (-Ap * v + (m + mL) / r2)
         return
     if mid == M_SINGLE_STATE:
-        q = loss_flow(x[0], prm[P_C1], prm[P_C2])
+        q = loss_flow(x[0] + dpc, prm[P_C1], prm[P_C2])
         out[0] = (prm[P_B01] / V1 + prm[P_B02] / V2) * (Ap * v - q)
     elif mid == M_INERTIAL_2STATE:
         q = x[1]
         B = prm[P_B01] / V1 + prm[P_B02] / V2
         out[0] = B * (Ap * v - q)
-        out[1] = (x[0] - prm[P_C1] * q - prm[P_C2] * q * abs(q)) / prm[P_LT]
+        out[1] = (x[0] + dpc - prm[P_C1] * q - prm[P_C2] * q * abs(q)) / prm[P_LT]
     elif mid == M_MAXWELL:
         out[0] = prm[P_KD] * v - x[0] / prm[P_TD]
 
@@ -645,10 +742,16 @@ def _state_force(mid, d, prm):
 # -------------------------------------------------------- composed models
 @njit(cache=True, error_model="numpy")
 def _fluid_rhs(spec, x, y, v, prm, ep, out):
-    """Base model with the fluid effects (leakage, cavitation) at piston stroke (y, v)."""
+    """Base model with the fluid effects (leakage, rotating frame, cavitation) at piston
+    stroke (y, v)."""
     mid = spec[S_MID]
     kL = ep[E_LEAK] if spec[S_LEAK] != 0 else 0.0
-    base_rhs(mid, x, y, v, prm, kL, out)
+    dpc = 0.0
+    o1 = 0.0
+    o2 = 0.0
+    if spec[S_ROT] > 0:
+        dpc, o1, o2 = rotating_heads(y, prm, ep)
+    base_rhs(mid, x, y, v, prm, kL, dpc, out)
     ic = spec[S_ICAV]
     if ic >= 0:
         i1, i2 = spec[S_I1], spec[S_I2]
@@ -661,10 +764,18 @@ def _fluid_rhs(spec, x, y, v, prm, ep, out):
         else:
             B1, B2 = prm[P_B01], prm[P_B02]
         pv = ep[E_PV]
-        dp1, dc1 = cavity_rates(x[i1], out[i1], x[ic], V1, B1, pv)
-        dp2, dc2 = cavity_rates(x[i2], out[i2], x[ic + 1], V2, B2, pv)
-        out[i1] = dp1
-        out[i2] = dp2
+        # the cavity opens where the pressure is least: in a rotating frame the inboard end,
+        # whose pressure p_i + o_i(y) changes at dp_i/dt + (do_i/dy) v; the switch acts on it
+        s1 = 0.0
+        s2 = 0.0
+        if spec[S_ROT] > 0:
+            s1, s2 = rotating_offset_slopes(y, prm, ep)
+            s1 *= v
+            s2 *= v
+        dp1, dc1 = cavity_rates(x[i1] + o1, out[i1] + s1, x[ic], V1, B1, pv)
+        dp2, dc2 = cavity_rates(x[i2] + o2, out[i2] + s2, x[ic + 1], V2, B2, pv)
+        out[i1] = dp1 - s1
+        out[i2] = dp2 - s2
         out[ic] = dc1
         out[ic + 1] = dc2
 
@@ -677,8 +788,8 @@ def model_rhs(spec, x, y, v, prm, ep, out):
     stroke to the piston stroke; the fluid sees the piston; smooth
     friction's bristle state follows the rod velocity.
     """
-    if spec[S_N] == spec[S_NB] and spec[S_LEAK] == 0:
-        base_rhs_inline(spec[S_MID], x, y, v, prm, 0.0, out)
+    if spec[S_N] == spec[S_NB] and spec[S_LEAK] == 0 and spec[S_ROT] <= 0:
+        base_rhs_inline(spec[S_MID], x, y, v, prm, 0.0, 0.0, out)
         return
     yi = y
     vi = v
@@ -703,6 +814,8 @@ def model_rhs(spec, x, y, v, prm, ep, out):
             mid = spec[S_MID]
             g0 = _state_force(mid, out, prm)
             g1 = _state_force(mid, d1, prm) - g0
+            if spec[S_ROT] > 0:  # the force's centrifugal term A_p dp_c(y_piston)
+                g1 += prm[P_AP] * rotating_slope(prm, ep)
             vp = compliance_rate(vi, k, g0, g1)
             for i in range(n_in):
                 out[i] = out[i] + vp * (d1[i] - out[i])
@@ -809,6 +922,8 @@ def model_force(spec, x, y, v, a, prm, ep, with_friction):
     if spec[S_IC] >= 0:
         yi = x[spec[S_IC]]
     f = base_force(mid, x, yi, vi, a, prm)
+    if spec[S_ROT] > 0:  # piston faces: A_p (p1 - p2 + dp_c) (rotating_heads)
+        f += prm[P_AP] * rotating_heads(yi, prm, ep)[0]
     iz = spec[S_IZ]
     if iz >= 0:
         f += ep[E_SFC] * x[iz]

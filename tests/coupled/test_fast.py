@@ -25,11 +25,13 @@ from liquidamp.device.effects import (
     Freeplay,
     Leakage,
     MovingMass,
+    RotatingFrame,
     SeriesCompliance,
     SmoothFriction,
     with_effects,
 )
 from liquidamp.device.models import REGISTRY, get_model
+from liquidamp.device.rotating import ROTATING_BASES
 from liquidamp.errors import ParameterError, PressureError
 from liquidamp.options import SolverOptions
 from liquidamp.structure.testmachine import HarmonicStroke, RecordedStroke
@@ -57,6 +59,8 @@ def _with_all_effects(model):
     effects.append(Freeplay(5e-5) if model.n_states else MovingMass(0.5))
     if "p1" in model.state_names:
         effects += [Leakage(3e-12), Cavitation(2339.0)]
+    if model.base in ROTATING_BASES:
+        effects.append(RotatingFrame(60.0, 0.4, 0.3))
     return with_effects(model, *effects)
 
 
@@ -276,7 +280,7 @@ def test_fused_full_model_evaluation_matches_rhs_jac_and_rhs_t():
     f, ft, J = np.empty(5), np.empty(5), np.zeros((5, 5))
     DK.full_all(x, y, v, v, a, prm, kL, f, J, ft)
     f2, ft2, J2 = np.empty(5), np.empty(5), np.empty((5, 5))
-    DK.base_rhs(DK.M_FULL, x, y, v, prm, kL, f2)
+    DK.base_rhs(DK.M_FULL, x, y, v, prm, kL, 0.0, f2)
     DK.base_jac(DK.M_FULL, x, y, v, prm, kL, J2)
     DK.base_rhs_t(DK.M_FULL, x, y, v, v, a, prm, kL, ft2)
     np.testing.assert_allclose(f, f2, rtol=1e-12, atol=1e-13 * np.max(np.abs(f2)))

@@ -247,6 +247,24 @@ def test_device_file_effects_toml_and_json(tmp_path):
     assert dev.effects[0].name == "coulomb_friction" and dev.effects[0].force_N == 12.5
 
 
+def test_device_file_rotating_frame_table(tmp_path):
+    f = _write(tmp_path, "rot.toml", 'preset = "reference"\n[effects.rotating_frame]\n'
+               'rotor_speed_rad_per_s = 26.18\nmounting_radius_m = 0.3048\n'
+               'axis_angle_rad = 3.141592653589793\n')
+    (e,) = load_device_file(f).effects
+    assert e.name == "rotating_frame" and e.parameters == {
+        "rotor_speed_rad_per_s": 26.18, "mounting_radius_m": 0.3048,
+        "axis_angle_rad": 3.141592653589793}
+    p = preset("reference")
+    assert e.pressure_rise(p) == pytest.approx(-p.rho_l * 26.18**2 * 0.3048 * p.V01 / p.A_p,
+                                               rel=1e-12)
+    f = _write(tmp_path, "bad.toml", 'preset = "reference"\n[effects.rotating_frame]\n'
+               'rotor_speed_rad_per_s = -1\n')
+    with pytest.raises(ParameterError, match="effects.rotating_frame: rotating_frame "
+                                             "rotor_speed_rad_per_s must be >= 0"):
+        load_device_file(f)
+
+
 def test_device_file_explicit_values_and_json_null(tmp_path):
     f = _write(tmp_path, "x.toml", 'preset = "reference"\nc1 = 2e9\nS_t = 1e5\n')
     p = load_device(f)

@@ -314,7 +314,9 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
         As for :func:`~liquidamp.analysis.measured.calibration.calibrate` (default:
         ``full`` from ``paper_initial`` with the paper's four multipliers free).
     candidates : sequence of str, optional
-        Effects to consider (default: the whole catalogue).
+        Effects to consider (default: every catalogue effect with fitted
+        parameters, ``fit_keys``; operating conditions such as
+        ``rotating_frame`` are given, not diagnosed).
     max_steps : int
         Largest number of effects added.
     top : int
@@ -388,9 +390,14 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
     # before any model run: noise-only records, spikes (a 30 mm displacement spike made
     # the integration crawl for minutes) and a stroke past the chamber end are refused
     check_records(calibration + validation, check_params, what="diagnose")
-    names = tuple(EFFECTS) if candidates is None else tuple(candidates)
+    names = (tuple(n for n, cls in EFFECTS.items() if cls.fit_keys) if candidates is None
+             else tuple(candidates))
     for n in names:
         check_choice("candidate effect", n, EFFECTS)
+        if not EFFECTS[n].fit_keys:
+            raise ParameterError(
+                f"candidate effect {n!r} has no fitted parameters (an operating condition): "
+                "give it with effects=, not as a candidate")
     options = resolve_options(options, "fit")
     raw = (calibration, validation)
     if baseline is None:
