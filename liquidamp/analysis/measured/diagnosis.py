@@ -18,16 +18,18 @@ velocity):
    final model's NRMSE on the records as given (``nrmse_raw``).
 1. Calibrate the model (:func:`liquidamp.analysis.measured.calibration.calibrate`).
 2. Stop if the calibration residual is noise: NRMSE at most ``noise_factor``
-   (1.5) times the noise floor, the force that no model driven by the stroke
-   can reproduce (:func:`liquidamp.analysis.measured.record_quality.noise_floor`:
-   the cycle-to-cycle scatter of the conditioned force at the same phase).
+   (1.5) times the noise floor, the force error that no model driven by the
+   recorded stroke can avoid (:func:`liquidamp.analysis.measured.record_quality.noise_floor`:
+   the cycle-to-cycle scatter of the conditioned force at the same phase, and the
+   scatter of the recorded stroke rate times the device's equivalent damping; for
+   an averaged record, divided by about the square root of the cycles averaged).
 3. Screen every applicable candidate effect by a score test: the model is
    run once with the effect at a probe strength scaled to the record; the
    change of force is the effect's signature s.  With J the Jacobian of the
    calibrated fit, the part of s that the fitted parameters cannot mimic is
    s_perp = s - J J^+ s (J without the columns of parameters held at a bound
-   by the residual: the fit cannot move them), and the linearized drop of the residual sum of
-   squares from adding the effect is (s_perp . r)^2 / |s_perp|^2 (a
+   by the residual: the fit cannot move them), and the linearized drop of the
+   residual sum of squares from adding the effect is (s_perp . r)^2 / |s_perp|^2 (a
    Lagrange-multiplier test).  A signature that would need a negative
    strength scores zero.  Simple signatures (correlation of the residual
    with sign(v), a, a constant, the dead-band indicator and the low-pressure
@@ -42,8 +44,8 @@ velocity):
    (the score test is local: where the calibrated model sits in another basin of
    the c1/c2 trade-off, an effect whose signature overlaps a free parameter's,
    such as leakage and c1, can score below a rival and still fit far better once
-   the parameters move).  When a refit still leaves a residual above
-   ``structure_factor`` times the noise floor, the candidate is refitted once
+   the parameters move).  When no refit of the round brings the residual down to
+   ``structure_factor`` times the noise floor, each is refitted once
    more from the physics start of the original multipliers and the better
    fit is kept (the continuation can stay in a local minimum of the c1/c2
    trade-off).  A fit that stops on its evaluation budget (the baseline or a
