@@ -74,6 +74,12 @@ velocity):
    evidence an effect of its own would need); among equals the lowest delta BIC.
 6. Repeat from 2 with the effect included, at most ``max_steps`` times.
 
+Besides the catalogue effects, :data:`COMPOSITES` lists candidates that change how
+effects compose: ``"backlash"`` adds freeplay and moves the friction already in the
+model behind it (a dead band in series with the friction, as in a friction damper whose
+band slips only once the play is taken up); it is screened, refitted and judged as an
+effect whose strength is the gap.
+
 When the loop ends with the residual above ``structure_factor`` (2) times
 the noise floor, the diagnosis says that structure remains that no candidate
 explains (``Diagnosis.unexplained``), listing the residual's harmonics of the
@@ -112,6 +118,7 @@ from liquidamp.analysis.measured.calibration import (
 )
 from liquidamp.analysis.measured.conditioning import HARMONICS, condition
 from liquidamp.analysis.measured.diagnosis_evidence import (
+    COMPOSITES,
     CONFOUNDED,
     Candidate,
     applicable,
@@ -133,8 +140,8 @@ from liquidamp.errors import (
 )
 from liquidamp.options import resolve_options
 
-__all__ = ["Candidate", "Step", "Diagnosis", "diagnose", "CONFOUNDED", "signatures", "demo_loop",
-           "bundled_records"]
+__all__ = ["Candidate", "Step", "Diagnosis", "diagnose", "CONFOUNDED", "COMPOSITES",
+           "signatures", "demo_loop", "bundled_records"]
 
 @dataclass(frozen=True)
 class Step:
@@ -245,8 +252,12 @@ class Diagnosis:
 
 
 def _refit(cand, probe, current, validation, options, preroll, max_nfev, tol):
-    """Fit the model with the candidate added, from the current optimum and its estimate."""
-    cls = EFFECTS[cand.effect]
+    """Fit the model with the candidate added, from the current optimum and its estimate.
+
+    ``probe`` is :func:`~.diagnosis_evidence.candidate_effects`' pair: the other effects of
+    the candidate model and the effect it adds."""
+    others, probe = probe
+    cls = type(probe)
     start = {}
     for key in cls.fit_keys:
         v = cand.estimate.get(key, getattr(probe, key))
@@ -261,7 +272,7 @@ def _refit(cand, probe, current, validation, options, preroll, max_nfev, tol):
     effect = probe.replace(**start)
     spec = FitSpec(current.spec.parameters).with_effect(effect)
     res = calibrate(current.calibration, model=current.model, params=current.start_params,
-                    effects=current.effects + (effect,), spec=spec, validate=validation,
+                    effects=others + (effect,), spec=spec, validate=validation,
                     options=options, start="spec", max_nfev=max_nfev, preroll=preroll,
                     tol=tol, warn=False)
     if res.status == "max_nfev":
@@ -269,18 +280,17 @@ def _refit(cand, probe, current, validation, options, preroll, max_nfev, tol):
     return res
 
 
-def _restart(res, effect_name, current, validation, options, preroll, max_nfev, tol, start0):
+def _restart(res, current, validation, options, preroll, max_nfev, tol, start0):
     """Refit from the physics start of the original multipliers; the better of the two fits.
 
     The continuation from the previous optimum may sit in a local minimum of the loss
     coefficients (the c1/c2 trade-off: least squares on the air ratios and loss
     coefficients has local minima).
     """
-    effect = next(e for e in res.effects if e.name == effect_name)
-    spec2 = FitSpec(current.spec.parameters).with_effect(effect).with_values(start0)
+    spec2 = res.spec.with_values(start0)
     try:
         res2 = calibrate(current.calibration, model=current.model,
-                         params=current.start_params, effects=current.effects + (effect,),
+                         params=current.start_params, effects=res.effects,
                          spec=spec2, validate=validation, options=options, start="physics",
                          max_nfev=max_nfev, preroll=preroll, tol=tol, warn=False)
         if res2.status == "max_nfev":
@@ -317,8 +327,9 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
         ``full`` from ``paper_initial`` with the paper's four multipliers free).
     candidates : sequence of str, optional
         Effects to consider (default: every catalogue effect with fitted
-        parameters, ``fit_keys``; operating conditions such as
-        ``rotating_frame`` are given, not diagnosed).
+        parameters, ``fit_keys``, and the composite candidates of :data:`COMPOSITES`,
+        e.g. ``"backlash"``: freeplay in series with the friction already in the model;
+        operating conditions such as ``rotating_frame`` are given, not diagnosed).
     max_steps : int
         Largest number of effects added.
     top : int
@@ -394,9 +405,11 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
     check_records(calibration + validation, check_params, what="diagnose")
     names = (tuple(n for n, cls in EFFECTS.items() if cls.fit_keys) if candidates is None
              else tuple(candidates))
+    if candidates is None:
+        names += tuple(COMPOSITES)
     for n in names:
-        check_choice("candidate effect", n, EFFECTS)
-        if not EFFECTS[n].fit_keys:
+        check_choice("candidate effect", n, {**EFFECTS, **COMPOSITES})
+        if n not in COMPOSITES and not EFFECTS[n].fit_keys:
             raise ParameterError(
                 f"candidate effect {n!r} has no fitted parameters (an operating condition): "
                 "give it with effects=, not as a candidate")
@@ -501,9 +514,8 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
             # physics start, unless another candidate of the round already explains it
             for cand in queue:
                 if cand.effect in refits and not _explained(refits, level):
-                    refits[cand.effect] = _restart(refits[cand.effect], cand.effect, current,
-                                                   validation, options, preroll, max_nfev,
-                                                   tol, start0)
+                    refits[cand.effect] = _restart(refits[cand.effect], current, validation,
+                                                   options, preroll, max_nfev, tol, start0)
             queue, extra = ([], []) if _explained(refits, level) else (extra, [])
         for cand in [c for c in ranked if c.effect in refits]:
             res = refits[cand.effect]
@@ -517,7 +529,7 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
                 nrmse_validation=res.nrmse_validation, relative_reduction=v.relative_reduction,
                 delta_bic=v.delta_bic, n_effective=v.n_effective, accepted=v.accepted,
                 note="; ".join(why),
-                parameters=next(e.parameters for e in res.effects if e.name == cand.effect))
+                parameters=_added_parameters(cand.effect, res))
         last_round = tuple(ranked)
         passed = sorted([c for c in ranked if c.accepted], key=lambda c: c.nrmse_validation)
         if not passed:
@@ -597,9 +609,22 @@ def _parsimonious(tied: list, refits: dict, bic_threshold: float) -> Candidate:
     return chosen
 
 
+def _added_parameters(name: str, result: CalibrationResult) -> dict:
+    """The fitted parameters of what candidate ``name`` added (SI): the effect's; for
+    ``backlash`` the freeplay gap and the parameters of the friction moved behind it."""
+    if name == "backlash":
+        out = {}
+        for e in result.effects:
+            if e.name == "freeplay" or getattr(e, "location", None) == "piston":
+                out.update({(k if e.name == "freeplay" else f"{e.name}.{k}"): v
+                            for k, v in e.parameters.items()})
+        return out
+    return next(e.parameters for e in result.effects if e.name == name)
+
+
 def _linear_delta_bic(cand: Candidate, n_eff: float) -> float:
     """delta BIC the score test predicts: N_eff ln(1 - score) + k ln N_eff (k fit keys)."""
-    k = len(EFFECTS[cand.effect].fit_keys)
+    k = len(EFFECTS["freeplay" if cand.effect == "backlash" else cand.effect].fit_keys)
     return n_eff * math.log(max(1.0 - cand.score, 1e-300)) + k * math.log(n_eff)
 
 

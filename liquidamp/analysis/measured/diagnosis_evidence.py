@@ -32,8 +32,9 @@ from liquidamp.analysis.measured.record_model import simulate_record
 from liquidamp.device.effects import EFFECTS, Effect, with_effects
 from liquidamp.errors import LiquidampError, ParameterError
 
-__all__ = ["Candidate", "CONFOUNDED", "signatures", "score", "probe_effect", "applicable",
-           "confounding", "confounding_warnings", "harmonic_structure"]
+__all__ = ["Candidate", "CONFOUNDED", "COMPOSITES", "signatures", "score", "probe_effect",
+           "candidate_effects", "applicable", "confounding", "confounding_warnings",
+           "harmonic_structure"]
 
 CONFOUNDED = {
     ("series_compliance", "inv_gamma"): "a series spring and the air in the chambers are both "
@@ -206,13 +207,50 @@ def _free_columns(result, r, tol: float = 1e-3):
     return J[:, keep]
 
 
+#: Candidates that change how effects compose rather than add one: name -> what it does.
+COMPOSITES = {
+    "backlash": "a dead band in series with the friction: freeplay added and the friction "
+                "already in the model moved behind it (location 'piston'), as in a friction "
+                "damper whose band slips only once the play is taken up",
+}
+
+_FRICTION = ("coulomb_friction", "smooth_friction")
+
+
+def _movable_friction(effects) -> list:
+    """The friction effects at the rod that can move behind a dead band."""
+    return [e for e in effects if e.name in _FRICTION
+            and getattr(e, "location", None) == "rod"]
+
+
+def candidate_effects(name: str, result: CalibrationResult) -> tuple[tuple, Effect]:
+    """The current model's effects as candidate ``name`` changes them, and the effect it adds
+    at its probe strength (whose fit keys the refit adds).
+
+    A catalogue effect is added at :func:`probe_effect`'s strength; ``"backlash"``
+    (:data:`COMPOSITES`) adds freeplay of gap 3 % of the stroke amplitude and moves the
+    friction at the rod behind it.
+
+    Returns
+    -------
+    (tuple of Effect, Effect)
+        The other effects of the candidate model and the one added.
+    """
+    if name == "backlash":
+        Y = float(np.mean([r.amplitude for r in result.calibration]))
+        moved = tuple(e.replace(location="piston") if e in _movable_friction(result.effects)
+                      else e for e in result.effects)
+        return moved, EFFECTS["freeplay"](gap_m=0.03 * Y)
+    return result.effects, probe_effect(name, result)
+
+
 def score(name: str, result: CalibrationResult, options, preroll: int):
-    """Score test of one candidate effect against a calibrated model.
+    """Score test of one candidate against a calibrated model.
 
     Parameters
     ----------
     name : str
-        Catalogue effect.
+        Catalogue effect or composite candidate (:data:`COMPOSITES`).
     result : CalibrationResult
         The current calibrated model.
     options : SolverOptions
@@ -222,16 +260,17 @@ def score(name: str, result: CalibrationResult, options, preroll: int):
 
     Returns
     -------
-    (Candidate, Effect)
+    (Candidate, (tuple of Effect, Effect))
         The evidence (linearized relative drop of the calibration RSS, correlation with the
-        residual, linearized strength) and the probe effect it was computed with.
+        residual, linearized strength) and the probe it was computed with
+        (:func:`candidate_effects`).
     """
-    probe = probe_effect(name, result)
+    others, probe = candidate_effects(name, result)
     try:
-        Fp = predict(result.model, result.params, result.effects + (probe,),
+        Fp = predict(result.model, result.params, others + (probe,),
                      result.calibration, options=options, preroll=preroll)
     except LiquidampError as exc:
-        return Candidate(name, 0.0, 0.0, {}, note=f"probe run failed: {exc}"), probe
+        return Candidate(name, 0.0, 0.0, {}, note=f"probe run failed: {exc}"), (others, probe)
     meas = np.concatenate([r.force for r in result.calibration])
     scale = float(np.sqrt(np.mean((meas - meas.mean()) ** 2))) * math.sqrt(meas.size)
     r = (np.concatenate(result.predictions_calibration) - meas) / scale
@@ -242,18 +281,27 @@ def score(name: str, result: CalibrationResult, options, preroll: int):
     rss = float(r @ r)
     if ss <= 1e-30 * max(float(s @ s), 1e-300):
         return Candidate(name, 0.0, _corr(r, s), {}, note="signature fully mimicked by the "
-                         "fitted parameters"), probe
+                         "fitted parameters"), (others, probe)
     beta = -float(s_perp @ r) / ss
     drop = (float(s_perp @ r) ** 2 / ss) / rss if rss > 0 else 0.0
     key = probe.fit_keys[0]
     signed_ok = beta > 0 or name == "force_offset"
     est = {key: getattr(probe, key) * beta} if signed_ok else {}
     note = "" if signed_ok else "the residual asks for a negative strength"
-    return Candidate(name, drop if signed_ok else 0.0, -_corr(r, s), est, note=note), probe
+    return (Candidate(name, drop if signed_ok else 0.0, -_corr(r, s), est, note=note),
+            (others, probe))
 
 
 def applicable(name: str, model) -> str:
-    """Why effect ``name`` cannot be composed with ``model`` ('' when it can)."""
+    """Why candidate ``name`` cannot be composed with ``model`` ('' when it can)."""
+    if name == "backlash":
+        if "location" not in EFFECTS["coulomb_friction"].__dataclass_fields__:
+            return "this catalogue cannot place friction behind a dead band"
+        if any(e.name == "freeplay" for e in model.effects):
+            return "the model holds freeplay already"
+        if not _movable_friction(model.effects):
+            return "no friction at the rod to move behind a dead band (add friction first)"
+        name = "freeplay"
     try:
         with_effects(model, EFFECTS[name]())
     except ParameterError as exc:
