@@ -135,6 +135,8 @@ class Conditioning:
         stages applied.
     cycles_averaged : int
         Whole stroke cycles averaged into the conditioned record (1: not averaged) [-].
+    samples : int
+        Samples of the conditioned record [-].
     trimmed : int
         Fitted samples left out at each end of a filtered record, where the zero-phase
         filters' start-up transients bend the force (3 periods of the lowest cut-off); the
@@ -160,6 +162,7 @@ class Conditioning:
     cycles_averaged: int = 1
     noise: NoiseFloor | None = None
     trimmed: int = 0
+    samples: int = 0
     _stroke: tuple | None = field(default=None, repr=False, compare=False)
     _average: dict | None = field(default=None, repr=False, compare=False)
 
@@ -197,6 +200,11 @@ class Conditioning:
         cycle).
         """
         time = np.asarray(time, float)
+        if time.size != self.samples:
+            raise ParameterError(
+                f"{self.source}: the record holds {time.size} samples, its conditioning made "
+                f"{self.samples}: a conditioned record cannot be cut or changed (condition "
+                "the record as read again)")
         if self._average is not None:
             a = self._average
             return a["t_start"] + a["period"] * a["grid"], a["record_index"]
@@ -514,12 +522,11 @@ def condition(record: Record, *, force_cutoff: float | None = None, filter_order
         removed_share=share, removed_by_stage=stages, noise=nf, trimmed=e,
         _stroke=(drive.time, drive.displacement, drive.velocity, drive.acceleration))
     if avg:
-        return _average(dec, cond, cycles, meta, record.time[:n])
+        return _average(dec, cond, cycles, dict(dec.meta), record.time[:n])
     if not cond.changed:
         return record, cond
-    meta["conditioning"] = cond
-    out = replace(dec, meta=meta)
-    return out, cond
+    cond = replace(cond, samples=dec.time.size)
+    return replace(dec, meta={**dec.meta, "conditioning": cond}), cond
 
 
 
@@ -582,7 +589,7 @@ def _average(dec: Record, cond: Conditioning, cycles: int, meta: dict, t_orig):
                     nrmse=math.hypot(force_std, c_eq * rate_std) / den,
                     method=nf.method + f", averaged over {cycles}")
     cond = replace(cond, cycles_averaged=cycles, noise=noise, removed_by_stage=stages,
-                   _stroke=stroke,
+                   _stroke=stroke, samples=M,
                    _average={"t_start": ts, "period": T, "grid": grid, "inputs": inputs,
                              "points": M, "sample_index": np.searchsorted(grid, psi),
                              "record_index": np.searchsorted(grid, phases),

@@ -131,3 +131,12 @@ def test_average_refuses_a_stroke_that_does_not_repeat():
     with pytest.raises(ParameterError, match="does not repeat"):
         condition(r, average=True)
     assert condition(r)[1].cycles_averaged == 1  # 'auto' leaves it as it is
+
+
+def test_a_conditioned_record_cannot_be_cut(dense_coulomb):
+    rc, c = condition(dense_coulomb, average=False)
+    assert c.samples == rc.time.size
+    cut = dataclasses.replace(rc, **{k: getattr(rc, k)[:-5] for k in (
+        "time", "displacement", "force", "velocity", "acceleration", "smoothed")})
+    with pytest.raises(ParameterError, match="a conditioned record cannot be cut"):
+        simulate_record("full", preset("paper_calibrated"), cut, options=FIT_OPTIONS)
