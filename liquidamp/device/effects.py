@@ -15,10 +15,10 @@ composed ``fluid_force`` holds every effect force, so ``DeviceModel.force``
 ======================  =====================================  =================================
 name                    parameters                             states added
 ======================  =====================================  =================================
-``coulomb_friction``    force_N                                none: F += F_c sign(v)
+``coulomb_friction``    force_N; location (rod | piston)       none: F += F_c sign(v)
 ``smooth_friction``     force_N, stiffness_N_per_m,            z_friction [-] (LuGre bristle
                         stribeck_velocity_m_per_s,             state without bristle damping:
-                        static_ratio                           Dahl when static_ratio = 1)
+                        static_ratio; location (rod | piston)  Dahl when static_ratio = 1)
 ``force_offset``        offset_N                               none: F += offset (load-cell bias)
 ``moving_mass``         mass_kg                                none: F += m a
 ``series_compliance``   stiffness_N_per_m                      y_piston [m]
@@ -35,6 +35,20 @@ measured rod stroke into the piston stroke the fluid sees; the force effects
 load-cell force outermost.  Force effects therefore use the rod velocity and
 acceleration, which is exact without a kinematic effect and a first-order
 approximation with one.
+
+Composition fields: a field declared with :func:`dataclasses.field` metadata
+``composition`` (the allowed words) says where an effect sits rather than how
+strong it is: ``location`` of the two friction effects, ``"rod"`` (default:
+on the measured stroke, outermost) or ``"piston"`` (behind the kinematic
+effects, in series with a dead band like the fluid: the chain rod -> dead
+band -> friction element).  It is part of the model, not a fitted parameter:
+:attr:`Effect.parameters` (and so fits, bounds and fit keys) holds the
+numbers only, :meth:`Effect.as_dict` both (device files, JSON, synthetic
+recipes), and ``str(effect)``, :func:`make_effect`, device files and the
+command line's ``--effect coulomb_friction:force_N=100,location=piston``
+accept it.  A diagnosis that wants "freeplay in series with the existing
+friction" composes ``Freeplay(g)`` with the friction it already has
+re-placed: ``friction.replace(location="piston")``.
 
 The scalar laws (:func:`lugre_rate`, :func:`play_rate`,
 :func:`compliance_rate`, :func:`cavity_rates`) are the compiled ones of
@@ -100,6 +114,29 @@ __all__ = [
 # ---------------------------------------------------------------------------
 # effect classes
 
+#: Field metadata key of a composition field (a choice of where the effect sits; not a
+#: fitted parameter): the allowed values.
+_COMPOSITION = "composition"
+
+#: Where a friction effect sits: on the rod (the measured stroke), or at the piston
+#: behind the kinematic effects (in series with a dead band, like the fluid).
+LOCATIONS = ("rod", "piston")
+
+
+def _location_field():
+    return dataclasses.field(default="rod", metadata={_COMPOSITION: LOCATIONS})
+
+
+def _check_location(effect, effects) -> None:
+    if effect.location != "piston":
+        return
+    if any(e.name == "series_compliance" for e in effects):
+        raise ParameterError(
+            f"effect {effect.name!r} at location 'piston' cannot sit behind "
+            "series_compliance: a massless piston between a spring and dry friction is a "
+            "stick-slip element without a rate while it sticks; put the friction at "
+            "location 'rod' or drop series_compliance")
+
 
 @dataclass(frozen=True)
 class Effect:
@@ -130,16 +167,65 @@ class Effect:
     kind: ClassVar[str] = "force"
     uses_acceleration: ClassVar[bool] = False
 
+    @classmethod
+    def parameter_keys(cls) -> tuple[str, ...]:
+        """Keys of the numeric (fittable) parameters, SI.
+
+        Examples
+        --------
+        >>> CoulombFriction.parameter_keys(), CoulombFriction.composition_keys()
+        (('force_N',), {'location': ('rod', 'piston')})
+        """
+        return tuple(f.name for f in dataclasses.fields(cls) if _COMPOSITION not in f.metadata)
+
+    @classmethod
+    def composition_keys(cls) -> dict[str, tuple[str, ...]]:
+        """Composition fields (key -> allowed values): where the effect sits, never fitted."""
+        return {f.name: f.metadata[_COMPOSITION] for f in dataclasses.fields(cls)
+                if _COMPOSITION in f.metadata}
+
     @property
     def parameters(self) -> dict[str, float]:
-        """Parameter values by key (SI)."""
-        return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        """Numeric parameter values by key (SI): what a fit may vary."""
+        return {k: getattr(self, k) for k in self.parameter_keys()}
+
+    @property
+    def composition(self) -> dict[str, str]:
+        """Composition choices by key (e.g. ``location``): part of the model, not fitted."""
+        return {k: getattr(self, k) for k in self.composition_keys()}
+
+    def as_dict(self) -> dict:
+        """Parameters and composition choices: what rebuilds the effect (device files, JSON).
+
+        Examples
+        --------
+        >>> e = make_effect("coulomb_friction", force_N=100.0, location="piston")
+        >>> e.as_dict(), str(e)
+        ({'force_N': 100.0, 'location': 'piston'}, 'coulomb_friction(force_N=100, location=piston)')
+        >>> make_effect(**{"name": "coulomb_friction", **e.as_dict()}) == e
+        True
+        """
+        return {**self.parameters, **self.composition}
 
     def replace(self, **changes) -> Effect:
         """Validated copy with ``changes`` applied; unknown keys raise ParameterError."""
         for key in changes:
-            check_choice(f"{self.name} parameter", key, self.parameters)
+            check_choice(f"{self.name} parameter", key, self.as_dict())
         return dataclasses.replace(self, **changes)
+
+    def _check_composition(self) -> None:
+        for key, allowed in self.composition_keys().items():
+            value = getattr(self, key)
+            if value not in allowed:
+                raise ParameterError(f"{self.name} {key} must be one of "
+                                     f"{', '.join(map(repr, allowed))}, got {value!r}")
+
+    def spec_flags(self) -> dict[int, int]:
+        """Extra composition slots (``kernels.S_*`` -> value) beyond :attr:`slot`."""
+        return {}
+
+    def check_with(self, effects: tuple) -> None:
+        """Raise ParameterError if the effect cannot be composed with the other ``effects``."""
 
     def pack(self, ep: np.ndarray) -> None:  # pragma: no cover - abstract
         """Write the parameters into their slots of the compiled effect vector ``ep``."""
@@ -208,18 +294,34 @@ class Effect:
         return np.ones(len(self.state_names))
 
     def __str__(self) -> str:
-        pars = ", ".join(f"{k}={v:.4g}" for k, v in self.parameters.items())
-        return f"{self.name}({pars})"
+        pars = [f"{k}={v:.4g}" for k, v in self.parameters.items()]
+        pars += [f"{k}={v}" for k, v in self.composition.items()]
+        return f"{self.name}({', '.join(pars)})"
 
 
 @dataclass(frozen=True)
 class CoulombFriction(Effect):
     """Coulomb seal friction F += F_c sign(v) (the paper's |F_f|, Sec. IV.C).
 
+    At ``location="piston"`` the friction element sits behind the kinematic
+    effects, in series with a dead band (``freeplay``) like the fluid: the
+    kinematic chain rod -> dead band -> friction element of a friction
+    damper with backlash.  The contact is massless: inside the gap no force
+    is transmitted and the element stays put; in contact it moves with the
+    rod and transmits F_c sign(v), so F = F_c sign(v) C with C the dead
+    band's C1 contact factor (:func:`~liquidamp.device.kernels.play_contact`,
+    0 in the gap, 1 in contact).  Under y = A sin(w t) with A > g the loop
+    is flat while the rod crosses the gap 2g after each reversal and the
+    energy dissipated per cycle is 2 F_c (2A - 2g).  Without freeplay the
+    piston moves with the rod and both locations agree.  Not behind
+    ``series_compliance`` (a stick-slip element: ParameterError).
+
     Parameters
     ----------
     force_N : float
         Friction force level F_c >= 0 [N] (paper: 30 N).
+    location : {"rod", "piston"}
+        Where the friction sits (a composition choice, not fitted).
 
     Examples
     --------
@@ -232,6 +334,7 @@ class CoulombFriction(Effect):
     """
 
     force_N: float = 0.0
+    location: str = _location_field()
     name: ClassVar[str] = "coulomb_friction"
     units: ClassVar[dict] = {"force_N": "N"}
     fit_keys: ClassVar[tuple] = ("force_N",)
@@ -242,6 +345,13 @@ class CoulombFriction(Effect):
 
     def __post_init__(self):
         check_nonnegative("coulomb_friction force_N", self.force_N, "N")
+        self._check_composition()
+
+    def spec_flags(self):
+        return {K.S_CPIST: int(self.location == "piston")}
+
+    def check_with(self, effects):
+        _check_location(self, effects)
 
     small_signal_reason: ClassVar[str | None] = (
         "Coulomb friction sticks at rest (infinite slope of sign(v))")
@@ -343,6 +453,19 @@ class SmoothFriction(Effect):
     with r = 1 is Coulomb friction.  Extra state ``z_friction`` [-],
     starting at 0, driven by the measured rod velocity.
 
+    At ``location="piston"`` the seal sits behind a dead band (``freeplay``):
+    the bristles are driven by the piston velocity (the dead band's output
+    rate) and the load cell reads the bristle force F_c z, which the
+    massless piston can only pass through the contact.  Derived rather than
+    scaled: when the rod backs off, the loaded bristles keep the piston
+    pressed against it (its elastic spring-back, a stroke of at most about
+    F_c / sigma0) until their force has gone, and only then does the gap
+    open (:func:`~liquidamp.device.kernels.piston_contact`); inside the gap
+    the piston and its bristles stay put, unloaded (the force there is below
+    about 1 % of F_c, the regularisation ``Z_HOLD``).  The freeplay state
+    ``y_fp`` is the piston position including that spring-back.  Not behind
+    ``series_compliance`` (ParameterError).
+
     Parameters
     ----------
     force_N : float
@@ -353,12 +476,15 @@ class SmoothFriction(Effect):
         Stribeck velocity v_s > 0 [m/s].
     static_ratio : float
         Static-to-sliding force ratio r >= 1 [-] (1: no Stribeck dip, Dahl-like).
+    location : {"rod", "piston"}
+        Where the seal sits (a composition choice, not fitted).
     """
 
     force_N: float = 0.0
     stiffness_N_per_m: float = 1.0e5
     stribeck_velocity_m_per_s: float = 0.005
     static_ratio: float = 1.0
+    location: str = _location_field()
     name: ClassVar[str] = "smooth_friction"
     units: ClassVar[dict] = {"force_N": "N", "stiffness_N_per_m": "N/m",
                              "stribeck_velocity_m_per_s": "m/s", "static_ratio": "-"}
@@ -381,6 +507,13 @@ class SmoothFriction(Effect):
         r = check_finite("smooth_friction static_ratio", self.static_ratio, "-")
         if r < 1.0:
             raise ParameterError(f"smooth_friction static_ratio must be >= 1 [-], got {r:g}")
+        self._check_composition()
+
+    def spec_flags(self):
+        return {K.S_ZPIST: int(self.location == "piston")}
+
+    def check_with(self, effects):
+        _check_location(self, effects)
 
     describing_reason: ClassVar[str | None] = None
 
@@ -669,6 +802,13 @@ def make_effect(name: str, **parameters) -> Effect:
     --------
     >>> make_effect("freeplay", gap_m=1e-4).parameters
     {'gap_m': 0.0001}
+    >>> make_effect("coulomb_friction", force_N=30, location="piston").location
+    'piston'
+    >>> make_effect("coulomb_friction", location="seal")
+    Traceback (most recent call last):
+    ...
+    liquidamp.errors.ParameterError: coulomb_friction location must be one of 'rod', \
+'piston', got 'seal'
     >>> make_effect("stiction")
     Traceback (most recent call last):
     ...
@@ -677,10 +817,23 @@ smooth_friction, force_offset, moving_mass, series_compliance, freeplay, leakage
     """
     check_choice("effect", name, EFFECTS)
     cls = EFFECTS[name]
-    keys = [f.name for f in dataclasses.fields(cls)]
+    comp = cls.composition_keys()
+    keys = list(cls.parameter_keys()) + list(comp)
     for key in parameters:
         check_choice(f"{name} parameter", key, keys)
-    return cls(**{k: float(v) for k, v in parameters.items()})
+    values = {}
+    for k, v in parameters.items():
+        if k in comp:
+            if not isinstance(v, str):
+                raise ParameterError(f"{name} {k} must be one of "
+                                     f"{', '.join(map(repr, comp[k]))}, got {v!r}")
+            values[k] = v
+        else:
+            try:
+                values[k] = float(v)
+            except (TypeError, ValueError):
+                raise ParameterError(f"{name} {k} must be a number (SI), got {v!r}") from None
+    return cls(**values)
 
 
 def _piston_stroke(model_effects, n_base: int):
@@ -755,6 +908,7 @@ states p1, p2; model 'single_state' has states (dp); use 'full', 'no_inertia', \
     ordered = tuple(sorted(model.effects + tuple(effects), key=lambda e: e.order))
     for e in ordered:
         e.check(bare)
+        e.check_with(ordered)
     nb = bare.n_states
     ip = _piston_stroke(ordered, nb)
     base_x0, base_sc = bare.initial_state, bare.state_scales

@@ -29,7 +29,10 @@ effects turn the measured rod stroke into the piston stroke the fluid sees
 (freeplay outermost, then series compliance); the fluid effects act on the
 chamber equations (leakage as a second flow path, cavitation on the
 pressure rates); smooth friction's bristle state is driven by the rod
-velocity; the force effects add to the load-cell force.
+velocity, or by the piston's behind a dead band (``S_ZPIST``: friction at
+the piston, :func:`piston_contact`); the force effects add to the load-cell
+force (Coulomb friction at the piston through the dead band's contact
+factor, ``S_CPIST``).
 
 The Jacobian is analytic for every base model, with leakage on ``full`` and
 ``no_inertia`` and with smooth friction; compositions with cavitation,
@@ -60,7 +63,8 @@ from numba import njit
 __all__ = [
     "MODEL_IDS", "BASE_STATES", "N_PRM", "N_SPEC", "N_EP", "pack_params",
     "bulk", "bulk_and_dp", "loss_flow", "loss_flow_dp",
-    "lugre_rate", "play_rate", "compliance_rate", "cavity_width", "cavity_rates",
+    "lugre_rate", "play_contact", "piston_contact", "play_rate", "compliance_rate",
+    "cavity_width", "cavity_rates",
     "model_rhs", "model_jac", "model_rhs_t", "model_force", "force_series",
     "base_force_series",
 ]
@@ -112,11 +116,17 @@ N_PRM = 24
 # ------------------------------------------------------------ composition
 S_MID, S_N, S_NB, S_ICAV, S_IC, S_IFP, S_IZ = range(7)
 S_LEAK, S_COUL, S_MASS, S_OFF, S_ANALYTIC, S_I1, S_I2, S_EFFECTS = range(7, 15)
-N_SPEC = 15
+#: Composition flags of issue #12 (slots 15-20): friction behind the kinematic effects
+#: (Coulomb, smooth), relief valve, direction-dependent losses, the elastomer branch's
+#: state index, end stops.
+S_CPIST, S_ZPIST, S_RELIEF, S_ASYM, S_IEL, S_STOP = range(15, 21)
+#: Slot 21 is reserved (another composition flag); the spec has 22 slots.
+N_SPEC = 22
 
 E_LEAK, E_PV, E_KC, E_GAP, E_SFC, E_SIG, E_VS, E_SR, E_CF, E_MASS, E_OFF = range(11)
-#: The effect slots; the state scales follow from ``ep[N_EP]`` on.
-N_EP = 11
+#: The effect slots (11-22 issue #12's effects, 23-26 reserved); the state scales
+#: follow from ``ep[N_EP]`` on.
+N_EP = 27
 
 
 def pack_params(params) -> np.ndarray:
@@ -244,6 +254,62 @@ def _smoothstep(s):
 
 
 @njit(cache=True, error_model="numpy")
+def play_contact(e, v, gap):
+    """Contact factor of the dead band's driven side, 0 in the gap and 1 in contact [-].
+
+    ``S(s)``, ``s = (e sign(v) - gap) / delta + 1`` with ``e = y - y_fp`` and
+    the smoothing width ``delta = 0.05 gap + 1e-7 m`` (:func:`play_rate`); 0
+    at v = 0.
+
+    Examples
+    --------
+    >>> play_contact(0.0, 0.1, 1e-3), play_contact(1e-3, 0.1, 1e-3)
+    (0.0, 1.0)
+    """
+    delta = 0.05 * gap + 1.0e-7
+    if v > 0.0:
+        s = (e - gap) / delta + 1.0
+    elif v < 0.0:
+        s = (-e - gap) / delta + 1.0
+    else:
+        return 0.0
+    return _smoothstep(s)
+
+
+#: Width of the bristle contact's switch in units of the pre-sliding stroke F_c / sigma0
+#: [-] (:func:`piston_contact`): the bristle force left in the gap is of this order.
+Z_HOLD = 0.01
+
+
+@njit(cache=True, error_model="numpy")
+def piston_contact(e, z, lam, gap):
+    """Contact factor of a dead band in series with LuGre bristles (friction at the piston) [-].
+
+    The driven side (the piston with its seal) is massless, so the bristle
+    force F_c z must pass through the contact.  The dead band and the
+    bristle spring are in series between the rod and the bristle root
+    ``w = y_fp - lam z`` (``lam = F_c / sigma0`` [m], the pre-sliding
+    stroke): the contact is closed while |y - w| = |e + lam z| exceeds the
+    gap, i.e. while the rod pushes into it or the loaded bristles press the
+    piston against a rod that backs off (the elastic spring-back of the
+    pre-sliding deflection); it opens when their force has gone.
+    ``C = S((|e + lam z| - gap) / delta_c + 1)``, S the C1 smoothstep,
+    ``delta_c = min(0.05 gap + 1e-7 m, Z_HOLD lam)``: the bristle force left
+    in the gap is of order ``Z_HOLD`` F_c (:data:`Z_HOLD` = 0.01).  The
+    piston then moves at C v and the bristles are driven by it.
+
+    Examples
+    --------
+    >>> piston_contact(1e-3, 0.5, 1e-4, 1e-3)   # loaded bristles: held (any direction)
+    1.0
+    >>> piston_contact(0.5e-3, 0.0, 1e-4, 1e-3)  # unloaded, inside the gap: open
+    0.0
+    """
+    delta = min(0.05 * gap + 1.0e-7, Z_HOLD * lam)
+    return _smoothstep((abs(e + lam * z) - gap) / delta + 1.0)
+
+
+@njit(cache=True, error_model="numpy")
 def play_rate(y, y_fp, v, gap):
     """Rate of the driven side of a dead band of half-width ``gap`` [m/s].
 
@@ -263,15 +329,7 @@ def play_rate(y, y_fp, v, gap):
     >>> play_rate(1e-3, 0.0, 0.1, 1e-3)    # in contact: it follows the rod
     0.1
     """
-    delta = 0.05 * gap + 1.0e-7
-    e = y - y_fp
-    if v > 0.0:
-        s = (e - gap) / delta + 1.0
-    elif v < 0.0:
-        s = (-e - gap) / delta + 1.0
-    else:
-        return 0.0
-    return v * _smoothstep(s)
+    return v * play_contact(y - y_fp, v, gap)
 
 
 @njit(cache=True, error_model="numpy")
@@ -669,13 +727,27 @@ def _fluid_rhs(spec, x, y, v, prm, ep, out):
         out[ic + 1] = dc2
 
 
+@njit(cache=True, error_model="numpy")
+def _fp_contact(spec, x, y, v, ep):
+    """Contact factor of the freeplay (needs ``spec[S_IFP] >= 0``) [-].
+
+    :func:`play_contact`, or :func:`piston_contact` where smooth friction
+    sits behind the dead band (its loaded bristles hold the contact).
+    """
+    e = y - x[spec[S_IFP]]
+    if spec[S_ZPIST] != 0 and spec[S_IZ] >= 0:
+        return piston_contact(e, x[spec[S_IZ]], ep[E_SFC] / ep[E_SIG], ep[E_GAP])
+    return play_contact(e, v, ep[E_GAP])
+
+
 @njit(cache=True, error_model="numpy", fastmath=_FM)
 def model_rhs(spec, x, y, v, prm, ep, out):
     """dx/dt of a composed model at the measured rod stroke (y [m], v [m/s]), into ``out``.
 
     Freeplay (``y_fp``) and series compliance (``y_piston``) map the rod
     stroke to the piston stroke; the fluid sees the piston; smooth
-    friction's bristle state follows the rod velocity.
+    friction's bristle state follows the rod velocity, or the piston's
+    behind a dead band (``spec[S_ZPIST]``: friction at the piston).
     """
     if spec[S_N] == spec[S_NB] and spec[S_LEAK] == 0:
         base_rhs_inline(spec[S_MID], x, y, v, prm, 0.0, out)
@@ -683,8 +755,9 @@ def model_rhs(spec, x, y, v, prm, ep, out):
     yi = y
     vi = v
     ifp = spec[S_IFP]
+    iz = spec[S_IZ]
     if ifp >= 0:
-        r = play_rate(y, x[ifp], v, ep[E_GAP])
+        r = v * _fp_contact(spec, x, y, v, ep)
         out[ifp] = r
         yi = x[ifp]
         vi = r
@@ -709,9 +782,9 @@ def model_rhs(spec, x, y, v, prm, ep, out):
             out[icp] = vp
     else:
         _fluid_rhs(spec, x, yi, vi, prm, ep, out)
-    iz = spec[S_IZ]
-    if iz >= 0:
-        out[iz] = lugre_rate(v, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR])
+    if iz >= 0:  # the bristles move with the rod, or with the piston behind the dead band
+        vz = vi if spec[S_ZPIST] != 0 else v
+        out[iz] = lugre_rate(vz, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR])
 
 
 @njit(cache=True, error_model="numpy")
@@ -795,7 +868,9 @@ def _sign(v):
 def model_force(spec, x, y, v, a, prm, ep, with_friction):
     """Load-cell force of a composed model [N] at the rod stroke (y, v, a).
 
-    The fluid force at the piston stroke plus the effect forces; with
+    The fluid force at the piston stroke plus the effect forces (Coulomb
+    friction behind a dead band, ``spec[S_CPIST]``: F_c sign(v) C, C the
+    dead band's contact factor, 0 in the gap); with
     ``with_friction`` also the parameter set's Coulomb friction
     ``friction_N sign(v)`` (:attr:`DeviceParams.friction_N`).
     """
@@ -803,8 +878,10 @@ def model_force(spec, x, y, v, a, prm, ep, with_friction):
     yi = y
     vi = v
     ifp = spec[S_IFP]
+    cfp = 1.0  # contact factor of the dead band (1: no freeplay)
     if ifp >= 0:
-        vi = play_rate(y, x[ifp], v, ep[E_GAP])
+        cfp = _fp_contact(spec, x, y, v, ep)
+        vi = v * cfp
         yi = x[ifp]
     if spec[S_IC] >= 0:
         yi = x[spec[S_IC]]
@@ -813,7 +890,8 @@ def model_force(spec, x, y, v, a, prm, ep, with_friction):
     if iz >= 0:
         f += ep[E_SFC] * x[iz]
     if spec[S_COUL] != 0:
-        f += ep[E_CF] * _sign(v)
+        # at the piston the dead band passes the friction force only in contact
+        f += ep[E_CF] * _sign(v) * (cfp if spec[S_CPIST] != 0 else 1.0)
     if spec[S_MASS] != 0:
         f += ep[E_MASS] * a
     if spec[S_OFF] != 0:

@@ -182,7 +182,8 @@ class DeviceModel:
         spec[K.S_MID] = K.MODEL_IDS[self.base]
         spec[K.S_N] = self.n_states
         spec[K.S_NB] = self.n_base_states
-        for slot in (K.S_LEAK, K.S_COUL, K.S_MASS, K.S_OFF):
+        for slot in (K.S_LEAK, K.S_COUL, K.S_MASS, K.S_OFF, K.S_CPIST, K.S_ZPIST,
+                     K.S_RELIEF, K.S_ASYM, K.S_STOP):
             spec[slot] = 0
         i = self.n_base_states
         for e in self.effects:
@@ -191,6 +192,8 @@ class DeviceModel:
                 i += len(e.state_names)
             else:
                 spec[e.slot] = 1
+            for slot, value in e.spec_flags().items():
+                spec[slot] = value
         if i != self.n_states:
             raise ParameterError(
                 f"model {self.name!r}: {self.n_states} state names for {i} states")

@@ -114,6 +114,28 @@ def test_every_composition_runs_alike_on_both_engines(name):
     assert np.max(np.abs(b.force - a.force)) < 2e-5 * peak
 
 
+def _with_chain(model):
+    """``model`` with the effects that sit behind a dead band or change the flow paths
+    (issue #12): friction at the piston behind freeplay (series compliance excluded)."""
+    return with_effects(model, Freeplay(5e-5), CoulombFriction(4.0, location="piston"),
+                        SmoothFriction(15.0, 2e5, 0.01, 1.3, location="piston"))
+
+
+@pytest.mark.parametrize("name", list(REGISTRY))
+def test_every_chain_composition_runs_alike_on_both_engines(name):
+    """As above for the compositions that cannot hold series compliance."""
+    model = _with_chain(get_model(name))
+    p = preset("reference")
+    s = HarmonicStroke(0.002, 3.0)
+    assert supports(model) is None
+    opts = SolverOptions(rtol=1e-9, engine="scipy")
+    a = simulate(model, p, s, 0.4, options=opts)
+    b = simulate(model, p, s, 0.4, options=opts.replace(engine="compiled"))
+    assert a.status == b.status == "completed"
+    peak = np.max(np.abs(a.force))
+    assert np.max(np.abs(b.force - a.force)) < 2e-5 * peak
+
+
 @pytest.mark.parametrize("name", list(REGISTRY))
 def test_compiled_run_matches_python_run(name):
     """Same tolerances: the force histories agree far below the steady-state tolerance."""
