@@ -87,7 +87,13 @@ from liquidamp.device.kernels import (
     play_rate,
 )
 from liquidamp.device.models import BASES, DeviceModel
-from liquidamp.errors import ParameterError, check_choice, check_finite, check_nonnegative
+from liquidamp.errors import (
+    ParameterError,
+    check_choice,
+    check_finite,
+    check_nonnegative,
+    check_positive,
+)
 
 __all__ = [
     "Effect",
@@ -99,6 +105,8 @@ __all__ = [
     "Freeplay",
     "Leakage",
     "Cavitation",
+    "ReliefValve",
+    "saturation_damping",
     "EFFECTS",
     "effect_names",
     "make_effect",
@@ -220,6 +228,27 @@ class Effect:
                 raise ParameterError(f"{self.name} {key} must be one of "
                                      f"{', '.join(map(repr, allowed))}, got {value!r}")
 
+    @classmethod
+    def probe(cls, force_amplitude_N: float, amplitude_m: float, omega: float, params
+              ) -> Effect:
+        """The effect at a small probe strength for a record (the diagnosis's score test).
+
+        Parameters
+        ----------
+        force_amplitude_N : float
+            Amplitude of the measured force [N].
+        amplitude_m, omega : float
+            Stroke amplitude [m] and angular frequency [rad/s] of the records.
+        params : DeviceParams or ViscousParams
+            The calibrated parameters.
+
+        Raises
+        ------
+        ParameterError
+            For an effect that states no probe.
+        """
+        raise ParameterError(f"no probe for effect {cls.name!r}")
+
     def spec_flags(self) -> dict[int, int]:
         """Extra composition slots (``kernels.S_*`` -> value) beyond :attr:`slot`."""
         return {}
@@ -255,7 +284,7 @@ class Effect:
                 f"{self.small_signal_reason}; give an amplitude and a frequency for an "
                 "equivalent linearization, or use the time domain")
 
-    def describing_function(self, amplitude_m: float, omega: float, params
+    def describing_function(self, amplitude_m: float, omega: float, params, model=None
                             ) -> tuple[float, float, float]:
         """Equivalent parallel element of the effect at y = Y sin(w t) (first harmonic).
 
@@ -265,8 +294,11 @@ class Effect:
             Stroke amplitude Y > 0 [m].
         omega : float
             Angular frequency w > 0 [rad/s].
-        params : DeviceParams
+        params : DeviceParams or ViscousParams
             Device parameters.
+        model : DeviceModel, optional
+            The composed model (effects whose first harmonic depends on the
+            base equation need it).
 
         Returns
         -------
@@ -360,7 +392,7 @@ class CoulombFriction(Effect):
     def pack(self, ep):
         ep[K.E_CF] = self.force_N
 
-    def describing_function(self, amplitude_m, omega, params):
+    def describing_function(self, amplitude_m, omega, params, model=None):
         """Equivalent damping 4 F_c / (pi w Y) [N s/m] (no stiffness, no inertance).
 
         Examples
@@ -400,7 +432,7 @@ class ForceOffset(Effect):
     def pack(self, ep):
         ep[K.E_OFF] = self.offset_N
 
-    def describing_function(self, amplitude_m, omega, params):
+    def describing_function(self, amplitude_m, omega, params, model=None):
         """A constant force has no first harmonic: (0, 0, 0)."""
         _check_harmonic(amplitude_m, omega)
         return 0.0, 0.0, 0.0
@@ -434,7 +466,7 @@ class MovingMass(Effect):
     def pack(self, ep):
         ep[K.E_MASS] = self.mass_kg
 
-    def describing_function(self, amplitude_m, omega, params):
+    def describing_function(self, amplitude_m, omega, params, model=None):
         """An inertance m [kg] in parallel (exact: F = m a is linear)."""
         _check_harmonic(amplitude_m, omega)
         return 0.0, 0.0, self.mass_kg
@@ -521,7 +553,7 @@ class SmoothFriction(Effect):
         ep[K.E_SFC], ep[K.E_SIG] = self.force_N, self.stiffness_N_per_m
         ep[K.E_VS], ep[K.E_SR] = self.stribeck_velocity_m_per_s, self.static_ratio
 
-    def describing_function(self, amplitude_m, omega, params):
+    def describing_function(self, amplitude_m, omega, params, model=None):
         """Equivalent (k, c, 0) from the first harmonic of F_c z on its periodic orbit.
 
         The bristle state is driven by the stroke alone, so its describing
@@ -707,6 +739,217 @@ class Leakage(Effect):
         ep[K.E_LEAK] = self.coefficient_m3_per_s_Pa
 
 
+#: Stateless bases on which the flow effects act as a force law on the dashpot.
+_DAMPERS = ("dashpot", "dashpot_inerter", "viscous")
+
+
+def _damper(params, model) -> tuple[float, float]:
+    """(c [N s/m], piston area [m^2]) of a stateless dashpot-type base (viscous: area 1)."""
+    if model.base == "viscous":
+        return float(params.c), 1.0
+    return float(params.c_L), float(params.A_p)
+
+
+def saturation_damping(c: float, c_open: float, force_r: float,
+                       velocity_amplitude: float) -> float:
+    """Equivalent damping of a relief-valve saturated dashpot at v = V cos(w t) [N s/m].
+
+    The static law F(v) = sign(v) min(c |v|, F_r + c_o (|v| - F_r / c)) is
+    c_o v plus (c - c_o) times a unit saturation at F_r / c, whose describing
+    function is exact (Gelb and Vander Velde, 1968): with rho = F_r / (c V),
+
+    c_eq = c_o + (c - c_o) (2 / pi) (arcsin(rho) + rho sqrt(1 - rho^2))
+
+    for c V > F_r, and c otherwise.  (For a small second harmonic on top of
+    a large motion the incremental damping is the time average of the slope,
+    c_o + (c - c_o) (2 / pi) arcsin(rho), without the second term.)
+
+    Parameters
+    ----------
+    c : float
+        Damping below cracking > 0 [N s/m].
+    c_open : float
+        Slope above cracking, 0 <= c_open <= c [N s/m].
+    force_r : float
+        Cracking force F_r >= 0 [N].
+    velocity_amplitude : float
+        V > 0 [m/s].
+
+    Returns
+    -------
+    float
+        c_eq [N s/m]: the first harmonic of F is c_eq V cos(w t).
+
+    Examples
+    --------
+    >>> saturation_damping(1e5, 1e4, 500.0, 0.004)     # below cracking: c
+    100000.0
+    >>> round(saturation_damping(1e5, 0.0, 0.0, 0.01), 12)   # Coulomb-like limit 0
+    0.0
+    """
+    for name, v in (("c", c), ("c_open", c_open), ("force_r", force_r),
+                    ("velocity_amplitude", velocity_amplitude)):
+        check_nonnegative(f"saturation_damping {name}", v, "SI")
+    if not c > 0 or not velocity_amplitude > 0 or c_open > c:
+        raise ParameterError(f"saturation_damping needs c > 0, V > 0 and c_open <= c, got "
+                             f"c = {c:g}, V = {velocity_amplitude:g}, c_open = {c_open:g}")
+    rho = force_r / (c * velocity_amplitude)
+    if rho >= 1.0:
+        return float(c)
+    return float(c_open + (c - c_open) * 2.0 / math.pi
+                 * (math.asin(rho) + rho * math.sqrt(1.0 - rho * rho)))
+
+
+@dataclass(frozen=True)
+class ReliefValve(Effect):
+    """Relief (blow-off) valve: a pressure-limited second flow path beside the channel.
+
+    No flow below the cracking pressure p_r; above it the valve passes
+    q_r = sign(dp) G (|dp| - p_r) [m^3/s] in parallel with the channel
+    (:func:`~liquidamp.device.kernels.relief_flow`, C1 over a pressure width
+    0.01 p_r + 1 Pa so that stiff steppers keep their order).  On the models
+    with chamber pressures the mass flow rho_l q_r joins the chamber balances
+    like leakage's (mass conserved exactly); on the differential models
+    (eqs. 15, 18) d(dp)/dt loses B q_r, on ``maxwell`` dF/dt loses
+    k_D q_r(F / A_p) / A_p.  On the stateless dashpot-type bases it is the
+    exact static force saturation (no regularisation: no state)
+
+    F(v) = sign(v) min(c |v|, F_r + c_o (|v| - F_r / c)),
+
+    F_r = p_r A_p, c_o = 1 / (1 / c + G / A_p^2), c = c_L (``dashpot``; the
+    dashpot part of ``dashpot_inerter``): the channel's laminar loss with
+    the valve path in parallel above cracking.  The ``viscous`` base F = c v
+    is read as a dashpot of unit piston area: cracking force F_r [N] =
+    cracking_pressure_Pa x 1 m^2 and c_o = 1 / (1 / c + G x 1 m^-4), i.e. give
+    the relief as a force with :meth:`from_force`.  Its describing function
+    there is exact (:func:`saturation_damping`).  Closed at rest, so the
+    small-signal model at rest holds it (it has no effect there).
+
+    Parameters
+    ----------
+    cracking_pressure_Pa : float
+        p_r >= 0 [Pa] (viscous base: the cracking force in N).
+    conductance_m3_per_s_Pa : float
+        G >= 0 [m^3/(s Pa)] (viscous base: m/(N s)); 0 keeps the valve shut.
+
+    References
+    ----------
+    .. [1] H. E. Merritt, Hydraulic Control Systems, Wiley, 1967, Ch. 5
+       (pressure-relief valves).
+    .. [2] A. Gelb, W. E. Vander Velde, Multiple-Input Describing Functions
+       and Nonlinear System Design, McGraw-Hill, 1968 (saturation).
+
+    Examples
+    --------
+    >>> from liquidamp.device.models import get_model
+    >>> from liquidamp.device import preset
+    >>> p = preset("reference")
+    >>> m = with_effects(get_model("dashpot"), ReliefValve(1e6, 1e-9))
+    >>> F_r = 1e6 * p.A_p; v = 2 * F_r / p.c_L      # twice the cracking speed
+    >>> c_o = 1 / (1 / p.c_L + 1e-9 / p.A_p**2)
+    >>> bool(np.isclose(m.force(0.0, np.zeros(0), (0.0, v, 0.0), p), F_r + c_o * v / 2))
+    True
+    """
+
+    cracking_pressure_Pa: float = 1.0e6
+    conductance_m3_per_s_Pa: float = 0.0
+    name: ClassVar[str] = "relief_valve"
+    units: ClassVar[dict] = {"cracking_pressure_Pa": "Pa",
+                             "conductance_m3_per_s_Pa": "m^3/(s Pa)"}
+    fit_keys: ClassVar[tuple] = ("conductance_m3_per_s_Pa", "cracking_pressure_Pa")
+    bounds: ClassVar[dict] = {"cracking_pressure_Pa": (1e2, 1e9),
+                              "conductance_m3_per_s_Pa": (1e-15, 1e-1)}
+    order: ClassVar[int] = 7
+    description: ClassVar[str] = "pressure-limited bypass (blow-off valve)"
+    slot: ClassVar[int] = K.S_RELIEF
+    kind: ClassVar[str] = "fluid"
+
+    def __post_init__(self):
+        check_nonnegative("relief_valve cracking_pressure_Pa", self.cracking_pressure_Pa, "Pa")
+        check_nonnegative("relief_valve conductance_m3_per_s_Pa",
+                          self.conductance_m3_per_s_Pa, "m^3/(s Pa)")
+
+    @classmethod
+    def from_force(cls, cracking_force_N: float, damping_N_s_per_m: float,
+                   open_damping_N_s_per_m: float, area_m2: float = 1.0) -> ReliefValve:
+        """The valve that saturates a dashpot c at F_r with slope c_o above it.
+
+        p_r = F_r / A, G = A^2 (1 / c_o - 1 / c); A = 1 m^2 for the viscous
+        base, A_p for ``dashpot``.
+
+        Examples
+        --------
+        >>> r = ReliefValve.from_force(5000.0, 1e5, 2e4)
+        >>> r.cracking_pressure_Pa, round(r.conductance_m3_per_s_Pa, 12)
+        (5000.0, 4e-05)
+        """
+        c = check_positive("damping_N_s_per_m", damping_N_s_per_m, "N s/m")
+        co = check_positive("open_damping_N_s_per_m", open_damping_N_s_per_m, "N s/m")
+        A = check_positive("area_m2", area_m2, "m^2")
+        if co > c:
+            raise ParameterError(f"open_damping_N_s_per_m must be <= damping_N_s_per_m "
+                                 f"({c:g} N s/m), got {co:g}")
+        return cls(float(cracking_force_N) / A, A * A * (1.0 / co - 1.0 / c))
+
+    @classmethod
+    def probe(cls, force_amplitude_N, amplitude_m, omega, params):
+        """Cracking at 70 % of the peak pressure difference, a path of 0.3 x the channel's
+        conductance at the record's flow (F_a / A_p for the peak; the viscous base: A = 1).
+
+        Examples
+        --------
+        >>> from liquidamp.device import preset
+        >>> r = ReliefValve.probe(1000.0, 0.003, 6 * math.pi, preset("reference"))
+        >>> round(r.cracking_pressure_Pa * preset("reference").A_p, 6)
+        700.0
+        """
+        if hasattr(params, "A_p"):
+            A = params.A_p
+            Q = A * omega * amplitude_m
+            c = params.c1 + 8.0 / (3.0 * math.pi) * params.c2 * Q
+        else:
+            A, c = 1.0, float(params.c)
+        return cls(0.7 * force_amplitude_N / A, 0.3 / max(c, 1e-300))
+
+    def check(self, model):
+        if model.base in ("spring", "inerter"):
+            raise ParameterError(
+                f"effect {self.name!r} needs a flow path: model {model.name!r} has none "
+                "(use a model with chamber pressures, a differential or Maxwell model, "
+                "'dashpot', 'dashpot_inerter' or 'viscous')")
+
+    describing_reason: ClassVar[str | None] = (
+        "on a model with chamber states the valve changes the fluid equations; only on "
+        "'dashpot', 'dashpot_inerter' and 'viscous' (without asymmetric_loss) is it an exact "
+        "force law")
+
+    def pack(self, ep):
+        ep[K.E_PR] = self.cracking_pressure_Pa
+        ep[K.E_GR] = self.conductance_m3_per_s_Pa
+
+    def describing_function(self, amplitude_m, omega, params, model=None):
+        """Exact on the dashpot-type bases: (0, c_eq - c, 0) (:func:`saturation_damping`).
+
+        Examples
+        --------
+        >>> from liquidamp.device.models import VISCOUS, ViscousParams
+        >>> m = with_effects(VISCOUS, ReliefValve.from_force(500.0, 1e5, 2e4))
+        >>> k, dc, b = m.effects[0].describing_function(0.002, 5.0, ViscousParams(1e5), m)
+        >>> round(1e5 + dc, 3) == round(saturation_damping(1e5, 2e4, 500.0, 0.01), 3)
+        True
+        """
+        Y, w = _check_harmonic(amplitude_m, omega)
+        if (model is None or model.base not in _DAMPERS
+                or model.effect("asymmetric_loss") is not None):
+            return super().describing_function(amplitude_m, omega, params, model)
+        c, area = _damper(params, model)
+        if c == 0.0:
+            return 0.0, 0.0, 0.0
+        c_o = 1.0 / (1.0 / c + self.conductance_m3_per_s_Pa / area**2)
+        F_r = self.cracking_pressure_Pa * area
+        return 0.0, saturation_damping(c, c_o, F_r, w * Y) - c, 0.0
+
+
 @dataclass(frozen=True)
 class Cavitation(Effect):
     """Vapour cavities: a chamber's pressure cannot fall below p_v.
@@ -778,7 +1021,7 @@ def _check_harmonic(amplitude_m, omega) -> tuple[float, float]:
 EFFECTS: dict[str, type[Effect]] = {
     cls.name: cls
     for cls in (CoulombFriction, SmoothFriction, ForceOffset, MovingMass, SeriesCompliance,
-                Freeplay, Leakage, Cavitation)
+                Freeplay, Leakage, Cavitation, ReliefValve)
 }
 """Registry: effect name -> class."""
 
@@ -790,7 +1033,7 @@ def effect_names() -> tuple[str, ...]:
     --------
     >>> effect_names()
     ('coulomb_friction', 'smooth_friction', 'force_offset', 'moving_mass', \
-'series_compliance', 'freeplay', 'leakage', 'cavitation')
+'series_compliance', 'freeplay', 'leakage', 'cavitation', 'relief_valve')
     """
     return tuple(EFFECTS)
 
@@ -813,7 +1056,8 @@ def make_effect(name: str, **parameters) -> Effect:
     Traceback (most recent call last):
     ...
     liquidamp.errors.ParameterError: unknown effect 'stiction'; valid: coulomb_friction, \
-smooth_friction, force_offset, moving_mass, series_compliance, freeplay, leakage, cavitation
+smooth_friction, force_offset, moving_mass, series_compliance, freeplay, leakage, cavitation, \
+relief_valve
     """
     check_choice("effect", name, EFFECTS)
     cls = EFFECTS[name]

@@ -64,7 +64,7 @@ __all__ = [
     "MODEL_IDS", "BASE_STATES", "N_PRM", "N_SPEC", "N_EP", "pack_params",
     "bulk", "bulk_and_dp", "loss_flow", "loss_flow_dp",
     "lugre_rate", "play_contact", "piston_contact", "play_rate", "compliance_rate",
-    "cavity_width", "cavity_rates",
+    "cavity_width", "cavity_rates", "c1_ramp", "relief_flow", "relief_force",
     "model_rhs", "model_jac", "model_rhs_t", "model_force", "force_series",
     "base_force_series",
 ]
@@ -124,6 +124,7 @@ S_CPIST, S_ZPIST, S_RELIEF, S_ASYM, S_IEL, S_STOP = range(15, 21)
 N_SPEC = 22
 
 E_LEAK, E_PV, E_KC, E_GAP, E_SFC, E_SIG, E_VS, E_SR, E_CF, E_MASS, E_OFF = range(11)
+E_PR, E_GR = 11, 12  # relief valve: cracking pressure [Pa], conductance [m^3/(s Pa)]
 #: The effect slots (11-22 issue #12's effects, 23-26 reserved); the state scales
 #: follow from ``ep[N_EP]`` on.
 N_EP = 27
@@ -393,6 +394,66 @@ def cavity_rates(p, dp_base, Vc, V, B, p_v):
     else:
         sigma = _smoothstep(max(Vc, 0.0) * B / (V * delta))
     return (1.0 - sigma) * dp_base, -sigma * w
+
+
+@njit(cache=True, error_model="numpy")
+def c1_ramp(u, w):
+    """C1 ramp: 0 for u <= 0, u for u >= w, u^2 (2w - u) / w^2 between [unit of u].
+
+    Exact beyond the width w (its slope rises from 0 to at most 4/3 and is 1
+    at w), so that closed forms hold past the onset while stiff steppers
+    keep their order through it.
+
+    Examples
+    --------
+    >>> c1_ramp(-1.0, 0.1), c1_ramp(0.05, 0.1), c1_ramp(2.0, 0.1)
+    (0.0, 0.0375, 2.0)
+    """
+    if u <= 0.0:
+        return 0.0
+    if u >= w:
+        return u
+    return u * u * (2.0 * w - u) / (w * w)
+
+
+@njit(cache=True, error_model="numpy")
+def relief_flow(dp, p_r, G):
+    """Volumetric flow through a relief (blow-off) valve [m^3/s] at pressure difference dp.
+
+    ``q = sign(dp) G R(|dp| - p_r)``: closed below the cracking pressure p_r
+    [Pa], then a conductance G [m^3/(s Pa)]; R the :func:`c1_ramp` over the
+    width ``0.01 p_r + 1 Pa``.
+
+    Examples
+    --------
+    >>> relief_flow(1e6, 2e6, 1e-9), relief_flow(-3e6, 2e6, 1e-9)
+    (0.0, -0.001)
+    """
+    q = G * c1_ramp(abs(dp) - p_r, 0.01 * p_r + 1.0)
+    return q if dp >= 0.0 else -q
+
+
+@njit(cache=True, error_model="numpy")
+def relief_force(v, c, F_r, g):
+    """Force of a dashpot c [N s/m] with a relief valve, exact static law [N].
+
+    ``F = sign(v) min(c |v|, F_r + c_o (|v| - F_r / c))``, ``c_o = c / (1 +
+    c g)``: the channel carries the flow up to the cracking force F_r =
+    p_r A [N]; above it the valve's path (``g = G / A^2`` [m/(N s)]) opens
+    in parallel and the slope falls to c_o.  No regularisation (no state).
+
+    Examples
+    --------
+    >>> relief_force(0.01, 1e5, 500.0, 0.0)      # below cracking: c v
+    1000.0
+    >>> relief_force(-0.01, 1e5, 500.0, 4e-5)    # above: 500 + 2e4 (0.01 - 0.005)
+    -600.0
+    """
+    a = abs(v)
+    f = c * a
+    if f > F_r:
+        f = F_r + c / (1.0 + c * g) * (a - F_r / c)
+    return f if v >= 0.0 else -f
 
 
 # --------------------------------------------------------------- base models
@@ -702,14 +763,46 @@ def _state_force(mid, d, prm):
 
 # -------------------------------------------------------- composed models
 @njit(cache=True, error_model="numpy")
+def _relief_differential(mid, x, y, prm, ep, out):
+    """The relief flow in the differential and linear models (eqs. 15, 16, 18)."""
+    Ap = prm[P_AP]
+    if mid == M_MAXWELL:  # dF/dt = A_p B (A_p v - q - q_r), k_D = A_p^2 B
+        out[0] -= prm[P_KD] / Ap * relief_flow(x[0] / Ap, ep[E_PR], ep[E_GR])
+    elif mid == M_SINGLE_STATE or mid == M_INERTIAL_2STATE:
+        B = prm[P_B01] / (prm[P_V01] - Ap * y) + prm[P_B02] / (prm[P_V02] + Ap * y)
+        out[0] -= B * relief_flow(x[0], ep[E_PR], ep[E_GR])
+
+
+@njit(cache=True, error_model="numpy")
+def _damper_force(spec, v, prm, ep):
+    """Force of a stateless dashpot-type base (dashpot, dashpot_inerter's dashpot, viscous)
+    with the relief valve as an exact force saturation [N] (the viscous damper is read as
+    a dashpot of unit piston area)."""
+    if spec[S_MID] == M_VISCOUS:
+        c, area = prm[P_CV], 1.0
+    else:
+        c, area = prm[P_CL], prm[P_AP]
+    if spec[S_RELIEF] != 0 and c > 0.0:
+        return relief_force(v, c, ep[E_PR] * area, ep[E_GR] / (area * area))
+    return c * v
+
+
+@njit(cache=True, error_model="numpy")
 def _fluid_rhs(spec, x, y, v, prm, ep, out):
     """Base model with the fluid effects (leakage, cavitation) at piston stroke (y, v)."""
     mid = spec[S_MID]
     kL = ep[E_LEAK] if spec[S_LEAK] != 0 else 0.0
+    i1 = spec[S_I1]
+    if spec[S_RELIEF] != 0 and i1 >= 0:  # a second path beside the channel: its secant
+        dp = x[i1] - x[spec[S_I2]]    # conductance joins the leakage's
+        if dp != 0.0:
+            kL += relief_flow(dp, ep[E_PR], ep[E_GR]) / dp
     base_rhs(mid, x, y, v, prm, kL, out)
+    if spec[S_RELIEF] != 0 and i1 < 0:
+        _relief_differential(mid, x, y, prm, ep, out)
     ic = spec[S_ICAV]
     if ic >= 0:
-        i1, i2 = spec[S_I1], spec[S_I2]
+        i2 = spec[S_I2]
         Ap = prm[P_AP]
         V1 = prm[P_V01] - Ap * y
         V2 = prm[P_V02] + Ap * y
@@ -749,7 +842,7 @@ def model_rhs(spec, x, y, v, prm, ep, out):
     friction's bristle state follows the rod velocity, or the piston's
     behind a dead band (``spec[S_ZPIST]``: friction at the piston).
     """
-    if spec[S_N] == spec[S_NB] and spec[S_LEAK] == 0:
+    if spec[S_N] == spec[S_NB] and spec[S_LEAK] == 0 and spec[S_RELIEF] == 0:
         base_rhs_inline(spec[S_MID], x, y, v, prm, 0.0, out)
         return
     yi = y
@@ -885,7 +978,13 @@ def model_force(spec, x, y, v, a, prm, ep, with_friction):
         yi = x[ifp]
     if spec[S_IC] >= 0:
         yi = x[spec[S_IC]]
-    f = base_force(mid, x, yi, vi, a, prm)
+    if spec[S_RELIEF] != 0 and (mid == M_DASHPOT or mid == M_DASHPOT_INERTER
+                                or mid == M_VISCOUS):
+        f = _damper_force(spec, vi, prm, ep)
+        if mid == M_DASHPOT_INERTER:
+            f += prm[P_BLM] * a
+    else:
+        f = base_force(mid, x, yi, vi, a, prm)
     iz = spec[S_IZ]
     if iz >= 0:
         f += ep[E_SFC] * x[iz]

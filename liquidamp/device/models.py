@@ -201,7 +201,7 @@ class DeviceModel:
         if "p1" in names[:self.n_base_states]:
             spec[K.S_I1], spec[K.S_I2] = names.index("p1"), names.index("p2")
         fd = spec[K.S_ICAV] >= 0 or spec[K.S_IC] >= 0 or spec[K.S_IFP] >= 0 or (
-            spec[K.S_LEAK] and self.base not in ("full", "no_inertia"))
+            spec[K.S_LEAK] and self.base not in ("full", "no_inertia")) or spec[K.S_RELIEF]
         spec[K.S_ANALYTIC] = 0 if fd else 1
         spec[K.S_EFFECTS] = len(self.effects)
         return spec

@@ -25,6 +25,7 @@ from liquidamp.device.effects import (
     Freeplay,
     Leakage,
     MovingMass,
+    ReliefValve,
     SeriesCompliance,
     SmoothFriction,
     with_effects,
@@ -57,6 +58,8 @@ def _with_all_effects(model):
     effects.append(Freeplay(5e-5) if model.n_states else MovingMass(0.5))
     if "p1" in model.state_names:
         effects += [Leakage(3e-12), Cavitation(2339.0)]
+    if model.base not in ("spring", "inerter"):
+        effects.append(ReliefValve(2e5, 2e-10 if model.n_states else 1e-8))
     return with_effects(model, *effects)
 
 

@@ -206,8 +206,25 @@ def device_lti(device: Device, *, amplitude_m: float | None = None,
     if (amplitude_m is None) != (frequency_hz is None):
         raise ParameterError("give both amplitude_m [m] and frequency_hz [Hz], or neither")
     if isinstance(p, ViscousParams):
-        return DeviceLTI(np.zeros((0, 0)), np.zeros((0, 3)), np.zeros((1, 0)),
-                         np.array([[0.0, p.c, 0.0]]), device.label, "exact")
+        D = np.array([[0.0, p.c, 0.0]])
+        if not m.effects:
+            return DeviceLTI(np.zeros((0, 0)), np.zeros((0, 3)), np.zeros((1, 0)), D,
+                             device.label, "exact")
+        if amplitude_m is None:  # the effects must be linear to hold at rest
+            for e in m.effects:
+                e.check_small_signal(p)
+            raise ParameterError(
+                f"no small-signal model of the viscous damper with effects "
+                f"({', '.join(e.name for e in m.effects)}); give amplitude_m and frequency_hz "
+                "for the equivalent linearization")
+        check_positive("amplitude", amplitude_m, "m")
+        check_positive("frequency", frequency_hz, "Hz")
+        w = 2.0 * math.pi * frequency_hz
+        for e in m.effects:
+            D = D + np.asarray(e.describing_function(amplitude_m, w, p, model=m))[None, :]
+        return DeviceLTI(np.zeros((0, 0)), np.zeros((0, 3)), np.zeros((1, 0)), D,
+                         device.label, f"equivalent (Y = {amplitude_m:.4g} m, f = "
+                         f"{frequency_hz:.4g} Hz) with " + ", ".join(e.name for e in m.effects))
     base = m.base
     if amplitude_m is None:
         # stateless parallel force effects (moving mass, offset) are exact parallel elements:
@@ -217,7 +234,8 @@ def device_lti(device: Device, *, amplitude_m: float | None = None,
         if parallel:
             rest = with_effects(BASES[base], *[e for e in m.effects if e not in parallel])
             lti = device_lti(Device(rest, p, device.label))
-            extra = sum(np.asarray(e.describing_function(1.0, 1.0, p)) for e in parallel)
+            extra = sum(np.asarray(e.describing_function(1.0, 1.0, p, model=m))
+                        for e in parallel)
             return DeviceLTI(lti.A, lti.B, lti.C, lti.D + extra[None, :], device.label,
                              lti.kind)
         lin = linearize(m, p)
@@ -246,7 +264,7 @@ def device_lti(device: Device, *, amplitude_m: float | None = None,
     w = 2.0 * math.pi * frequency_hz
     extra = np.zeros(3)
     for e in m.effects:
-        extra += e.describing_function(amplitude_m, w, p)
+        extra += e.describing_function(amplitude_m, w, p, model=m)
     eq = equivalent_linearization(p, frequency_hz, amplitude_m, base, bulk=bulk)
     kind = f"equivalent (Y = {amplitude_m:.4g} m, f = {frequency_hz:.4g} Hz)"
     if m.effects:
