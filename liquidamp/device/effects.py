@@ -106,6 +106,7 @@ __all__ = [
     "Leakage",
     "Cavitation",
     "ReliefValve",
+    "AsymmetricLoss",
     "saturation_damping",
     "EFFECTS",
     "effect_names",
@@ -920,8 +921,7 @@ class ReliefValve(Effect):
 
     describing_reason: ClassVar[str | None] = (
         "on a model with chamber states the valve changes the fluid equations; only on "
-        "'dashpot', 'dashpot_inerter' and 'viscous' (without asymmetric_loss) is it an exact "
-        "force law")
+        "'dashpot', 'dashpot_inerter' and 'viscous' is it an exact force law")
 
     def pack(self, ep):
         ep[K.E_PR] = self.cracking_pressure_Pa
@@ -939,15 +939,118 @@ class ReliefValve(Effect):
         True
         """
         Y, w = _check_harmonic(amplitude_m, omega)
-        if (model is None or model.base not in _DAMPERS
-                or model.effect("asymmetric_loss") is not None):
+        if model is None or model.base not in _DAMPERS:
             return super().describing_function(amplitude_m, omega, params, model)
         c, area = _damper(params, model)
         if c == 0.0:
             return 0.0, 0.0, 0.0
-        c_o = 1.0 / (1.0 / c + self.conductance_m3_per_s_Pa / area**2)
+        asym = model.effect("asymmetric_loss")
         F_r = self.cracking_pressure_Pa * area
-        return 0.0, saturation_damping(c, c_o, F_r, w * Y) - c, 0.0
+        g = self.conductance_m3_per_s_Pa / area**2
+        # each half cycle contributes half the first harmonic; with asymmetric_loss the
+        # rebound half saturates the dashpot r c (its own describing function holds the
+        # unsaturated average c (1 + r) / 2, this one the saturation on top)
+        out = 0.0
+        for ci in ((c,) if asym is None else (c, c * asym.rebound_ratio)):
+            out += saturation_damping(ci, 1.0 / (1.0 / ci + g), F_r, w * Y) - ci
+        return 0.0, out if asym is None else 0.5 * out, 0.0
+
+
+@dataclass(frozen=True)
+class AsymmetricLoss(Effect):
+    """Direction-dependent losses: rebound unlike compression.
+
+    The channel's loss coefficients are multiplied by the rebound ratio r
+    while the flow runs from chamber 2 to chamber 1 (rebound; compression,
+    y increasing, drives it from 1 to 2): c1, c2 (volumetric models), g1, g2
+    (mass-flow models), T_D = c1 / B (``maxwell``), c_L (``dashpot``,
+    ``dashpot_inerter``) and the viscous c, where the direction is the
+    channel flow's sign (a state, or the pressure difference it follows;
+    :func:`~liquidamp.device.kernels.flow_direction`) or the piston
+    velocity's on the stateless bases.  The force stays continuous (every
+    loss vanishes at zero flow); the ratio is piecewise constant, so the
+    analytic Jacobian holds off zero flow.  A relief valve's path is not
+    scaled.  On the stateless bases F = c v (compression), r c v (rebound):
+    the first harmonic's damping is the average c (1 + r) / 2 and the
+    energy of the rebound half cycle is r times the compression half's.
+
+    Parameters
+    ----------
+    rebound_ratio : float
+        r > 0 [-]: rebound loss / compression loss (1: symmetric).
+
+    References
+    ----------
+    .. [1] J. C. Dixon, The Shock Absorber Handbook, 2nd ed., Wiley, 2007,
+       Ch. 1 and 5 (bump and rebound damping).
+
+    Examples
+    --------
+    >>> from liquidamp.device.models import get_model
+    >>> from liquidamp.device import preset
+    >>> p = preset("reference")
+    >>> m = with_effects(get_model("dashpot"), AsymmetricLoss(2.5))
+    >>> u = (np.zeros(2), np.array([0.01, -0.01]), np.zeros(2))
+    >>> [round(float(f / (0.01 * p.c_L)), 12) for f in m.force(0.0, np.zeros((0, 2)), u, p)]
+    [1.0, -2.5]
+    """
+
+    rebound_ratio: float = 1.0
+    name: ClassVar[str] = "asymmetric_loss"
+    units: ClassVar[dict] = {"rebound_ratio": "-"}
+    fit_keys: ClassVar[tuple] = ("rebound_ratio",)
+    bounds: ClassVar[dict] = {"rebound_ratio": (0.05, 20.0)}
+    order: ClassVar[int] = 3
+    description: ClassVar[str] = "rebound losses r times the compression losses"
+    slot: ClassVar[int] = K.S_ASYM
+    kind: ClassVar[str] = "fluid"
+
+    def __post_init__(self):
+        r = check_finite("asymmetric_loss rebound_ratio", self.rebound_ratio, "-")
+        if not r > 0:
+            raise ParameterError(f"asymmetric_loss rebound_ratio must be > 0 [-], got {r:g}")
+
+    def check(self, model):
+        if model.base in ("spring", "inerter"):
+            raise ParameterError(
+                f"effect {self.name!r} needs a loss: model {model.name!r} has none")
+
+    def check_small_signal(self, params) -> None:
+        """The slope of the loss jumps at zero flow unless the ratio is 1."""
+        if self.rebound_ratio != 1.0:
+            raise ParameterError(
+                f"effect {self.name!r} has no small-signal model at rest: the loss slope "
+                f"jumps by the rebound ratio {self.rebound_ratio:g} at zero flow; give an "
+                "amplitude and a frequency for an equivalent linearization, or use the time "
+                "domain")
+
+    describing_reason: ClassVar[str | None] = (
+        "on a model with chamber states it changes the fluid equations; only on 'dashpot', "
+        "'dashpot_inerter' and 'viscous' is it an exact force law")
+
+    def pack(self, ep):
+        ep[K.E_RR] = self.rebound_ratio
+
+    @classmethod
+    def probe(cls, force_amplitude_N, amplitude_m, omega, params):
+        """Rebound losses 20 % above compression's."""
+        return cls(1.2)
+
+    def describing_function(self, amplitude_m, omega, params, model=None):
+        """Exact on the dashpot-type bases: (0, c (r - 1) / 2, 0) (the average damping).
+
+        Examples
+        --------
+        >>> from liquidamp.device.models import VISCOUS, ViscousParams
+        >>> m = with_effects(VISCOUS, AsymmetricLoss(3.0))
+        >>> m.effects[0].describing_function(1e-3, 10.0, ViscousParams(100.0), m)
+        (0.0, 100.0, 0.0)
+        """
+        _check_harmonic(amplitude_m, omega)
+        if model is None or model.base not in _DAMPERS:
+            return super().describing_function(amplitude_m, omega, params, model)
+        c = _damper(params, model)[0]
+        return 0.0, 0.5 * c * (self.rebound_ratio - 1.0), 0.0
 
 
 @dataclass(frozen=True)
@@ -1021,7 +1124,7 @@ def _check_harmonic(amplitude_m, omega) -> tuple[float, float]:
 EFFECTS: dict[str, type[Effect]] = {
     cls.name: cls
     for cls in (CoulombFriction, SmoothFriction, ForceOffset, MovingMass, SeriesCompliance,
-                Freeplay, Leakage, Cavitation, ReliefValve)
+                Freeplay, Leakage, Cavitation, ReliefValve, AsymmetricLoss)
 }
 """Registry: effect name -> class."""
 
@@ -1033,7 +1136,7 @@ def effect_names() -> tuple[str, ...]:
     --------
     >>> effect_names()
     ('coulomb_friction', 'smooth_friction', 'force_offset', 'moving_mass', \
-'series_compliance', 'freeplay', 'leakage', 'cavitation', 'relief_valve')
+'series_compliance', 'freeplay', 'leakage', 'cavitation', 'relief_valve', 'asymmetric_loss')
     """
     return tuple(EFFECTS)
 
@@ -1057,7 +1160,7 @@ def make_effect(name: str, **parameters) -> Effect:
     ...
     liquidamp.errors.ParameterError: unknown effect 'stiction'; valid: coulomb_friction, \
 smooth_friction, force_offset, moving_mass, series_compliance, freeplay, leakage, cavitation, \
-relief_valve
+relief_valve, asymmetric_loss
     """
     check_choice("effect", name, EFFECTS)
     cls = EFFECTS[name]

@@ -65,6 +65,7 @@ __all__ = [
     "bulk", "bulk_and_dp", "loss_flow", "loss_flow_dp",
     "lugre_rate", "play_contact", "piston_contact", "play_rate", "compliance_rate",
     "cavity_width", "cavity_rates", "c1_ramp", "relief_flow", "relief_force",
+    "flow_direction", "loss_params",
     "model_rhs", "model_jac", "model_rhs_t", "model_force", "force_series",
     "base_force_series",
 ]
@@ -125,6 +126,7 @@ N_SPEC = 22
 
 E_LEAK, E_PV, E_KC, E_GAP, E_SFC, E_SIG, E_VS, E_SR, E_CF, E_MASS, E_OFF = range(11)
 E_PR, E_GR = 11, 12  # relief valve: cracking pressure [Pa], conductance [m^3/(s Pa)]
+E_RR = 13  # direction-dependent losses: rebound ratio [-]
 #: The effect slots (11-22 issue #12's effects, 23-26 reserved); the state scales
 #: follow from ``ep[N_EP]`` on.
 N_EP = 27
@@ -763,6 +765,44 @@ def _state_force(mid, d, prm):
 
 # -------------------------------------------------------- composed models
 @njit(cache=True, error_model="numpy")
+def flow_direction(mid, spec, x, v):
+    """Sign of the channel flow (compression > 0, rebound < 0) of base ``mid`` [-].
+
+    The channel mass flow where it is a state (``full``, ``inertial``), the
+    volumetric flow (``inertial_2state``), the pressure difference it follows
+    (``no_inertia``, ``constant_bulk``, ``volumetric``, ``single_state``),
+    the Maxwell force, or the piston velocity ``v`` (stateless bases).
+    """
+    if mid == M_FULL:
+        d = x[4]
+    elif mid == M_INERTIAL or mid == M_INERTIAL_2STATE:
+        d = x[2] if mid == M_INERTIAL else x[1]
+    elif mid == M_NO_INERTIA or mid == M_CONSTANT_BULK or mid == M_VOLUMETRIC:
+        d = x[spec[S_I1]] - x[spec[S_I2]]
+    elif mid == M_SINGLE_STATE or mid == M_MAXWELL:
+        d = x[0]
+    else:
+        d = v
+    return 1.0 if d > 0.0 else (-1.0 if d < 0.0 else 0.0)
+
+
+@njit(cache=True, error_model="numpy")
+def loss_params(spec, x, v, prm, ep):
+    """Copy of ``prm`` with the channel's loss coefficients of the flow's direction.
+
+    In rebound (:func:`flow_direction` < 0) c1, c2, g1, g2, c_L, the viscous
+    c and T_D (= c1 / B) are multiplied by the rebound ratio ``ep[E_RR]``;
+    piecewise constant, so the analytic Jacobian stays exact off zero flow.
+    """
+    q = prm.copy()
+    if flow_direction(spec[S_MID], spec, x, v) < 0.0:
+        r = ep[E_RR]
+        for k in (P_G1, P_G2, P_C1, P_C2, P_CL, P_CV, P_TD):
+            q[k] = q[k] * r
+    return q
+
+
+@njit(cache=True, error_model="numpy")
 def _relief_differential(mid, x, y, prm, ep, out):
     """The relief flow in the differential and linear models (eqs. 15, 16, 18)."""
     Ap = prm[P_AP]
@@ -776,12 +816,14 @@ def _relief_differential(mid, x, y, prm, ep, out):
 @njit(cache=True, error_model="numpy")
 def _damper_force(spec, v, prm, ep):
     """Force of a stateless dashpot-type base (dashpot, dashpot_inerter's dashpot, viscous)
-    with the relief valve as an exact force saturation [N] (the viscous damper is read as
-    a dashpot of unit piston area)."""
+    with the rebound ratio and the relief valve as an exact force saturation [N] (the
+    viscous damper is read as a dashpot of unit piston area)."""
     if spec[S_MID] == M_VISCOUS:
         c, area = prm[P_CV], 1.0
     else:
         c, area = prm[P_CL], prm[P_AP]
+    if spec[S_ASYM] != 0 and v < 0.0:
+        c *= ep[E_RR]
     if spec[S_RELIEF] != 0 and c > 0.0:
         return relief_force(v, c, ep[E_PR] * area, ep[E_GR] / (area * area))
     return c * v
@@ -797,7 +839,10 @@ def _fluid_rhs(spec, x, y, v, prm, ep, out):
         dp = x[i1] - x[spec[S_I2]]    # conductance joins the leakage's
         if dp != 0.0:
             kL += relief_flow(dp, ep[E_PR], ep[E_GR]) / dp
-    base_rhs(mid, x, y, v, prm, kL, out)
+    if spec[S_ASYM] != 0:
+        base_rhs(mid, x, y, v, loss_params(spec, x, v, prm, ep), kL, out)
+    else:
+        base_rhs(mid, x, y, v, prm, kL, out)
     if spec[S_RELIEF] != 0 and i1 < 0:
         _relief_differential(mid, x, y, prm, ep, out)
     ic = spec[S_ICAV]
@@ -842,7 +887,8 @@ def model_rhs(spec, x, y, v, prm, ep, out):
     friction's bristle state follows the rod velocity, or the piston's
     behind a dead band (``spec[S_ZPIST]``: friction at the piston).
     """
-    if spec[S_N] == spec[S_NB] and spec[S_LEAK] == 0 and spec[S_RELIEF] == 0:
+    if (spec[S_N] == spec[S_NB] and spec[S_LEAK] == 0 and spec[S_RELIEF] == 0
+            and spec[S_ASYM] == 0):
         base_rhs_inline(spec[S_MID], x, y, v, prm, 0.0, out)
         return
     yi = y
@@ -910,7 +956,10 @@ def model_jac(spec, x, y, v, prm, ep, J):
             J[i, j] = 0.0
     if spec[S_ANALYTIC] != 0:
         kL = ep[E_LEAK] if spec[S_LEAK] != 0 else 0.0
-        base_jac(spec[S_MID], x, y, v, prm, kL, J)
+        if spec[S_ASYM] != 0:
+            base_jac(spec[S_MID], x, y, v, loss_params(spec, x, v, prm, ep), kL, J)
+        else:
+            base_jac(spec[S_MID], x, y, v, prm, kL, J)
         iz = spec[S_IZ]
         if iz >= 0:
             J[iz, iz] = _lugre_dz_dv(v, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR])[0]
@@ -939,7 +988,10 @@ def model_rhs_t(spec, x, y, v, yd, vd, prm, ep, out):
     n = spec[S_N]
     if spec[S_ANALYTIC] != 0:
         kL = ep[E_LEAK] if spec[S_LEAK] != 0 else 0.0
-        base_rhs_t(spec[S_MID], x, y, v, yd, vd, prm, kL, out)
+        if spec[S_ASYM] != 0:
+            base_rhs_t(spec[S_MID], x, y, v, yd, vd, loss_params(spec, x, v, prm, ep), kL, out)
+        else:
+            base_rhs_t(spec[S_MID], x, y, v, yd, vd, prm, kL, out)
         iz = spec[S_IZ]
         if iz >= 0:
             out[iz] = _lugre_dz_dv(v, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR])[1] * vd
@@ -978,8 +1030,8 @@ def model_force(spec, x, y, v, a, prm, ep, with_friction):
         yi = x[ifp]
     if spec[S_IC] >= 0:
         yi = x[spec[S_IC]]
-    if spec[S_RELIEF] != 0 and (mid == M_DASHPOT or mid == M_DASHPOT_INERTER
-                                or mid == M_VISCOUS):
+    if (spec[S_RELIEF] != 0 or spec[S_ASYM] != 0) and (
+            mid == M_DASHPOT or mid == M_DASHPOT_INERTER or mid == M_VISCOUS):
         f = _damper_force(spec, vi, prm, ep)
         if mid == M_DASHPOT_INERTER:
             f += prm[P_BLM] * a

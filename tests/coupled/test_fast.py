@@ -19,6 +19,7 @@ from liquidamp.coupled.testrig import simulate, steady_state
 from liquidamp.device import kernels as DK
 from liquidamp.device import preset
 from liquidamp.device.effects import (
+    AsymmetricLoss,
     Cavitation,
     CoulombFriction,
     ForceOffset,
@@ -59,7 +60,7 @@ def _with_all_effects(model):
     if "p1" in model.state_names:
         effects += [Leakage(3e-12), Cavitation(2339.0)]
     if model.base not in ("spring", "inerter"):
-        effects.append(ReliefValve(2e5, 2e-10 if model.n_states else 1e-8))
+        effects += [ReliefValve(2e5, 2e-10 if model.n_states else 1e-8), AsymmetricLoss(1.7)]
     return with_effects(model, *effects)
 
 
