@@ -83,6 +83,7 @@ from liquidamp.device.kernels import (
     S_ASYM,
     S_COUL,
     S_IC,
+    S_IEL,
     S_IFP,
     S_IZ,
     S_LEAK,
@@ -91,6 +92,7 @@ from liquidamp.device.kernels import (
     S_N,
     S_NB,
     S_OFF,
+    S_STOP,
     base_force,
     base_jac,
     base_rhs,
@@ -520,7 +522,8 @@ def _integrate_source(spec, prm, ep, kind, sp, st, sy, sv, sa, x0, t0, t1, teval
     # the load-cell force needs the stroke only for stateless bases and stroke-driven terms
     force_needs_stroke = (spec[S_NB] == 0 or spec[S_IFP] >= 0 or spec[S_IC] >= 0
                           or spec[S_IZ] >= 0 or spec[S_COUL] != 0 or spec[S_MASS] != 0
-                          or spec[S_OFF] != 0 or prm[P_FRIC] > 0.0)
+                          or spec[S_OFF] != 0 or prm[P_FRIC] > 0.0 or spec[S_IEL] >= 0
+                          or spec[S_STOP] != 0)
     nf = max(ne - 1, 1)
     force_now = np.empty(nf)
     force_prev = np.empty(nf)

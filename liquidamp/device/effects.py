@@ -107,6 +107,7 @@ __all__ = [
     "Cavitation",
     "ReliefValve",
     "AsymmetricLoss",
+    "Elastomer",
     "saturation_damping",
     "EFFECTS",
     "effect_names",
@@ -175,6 +176,9 @@ class Effect:
     slot: ClassVar[int] = -1
     kind: ClassVar[str] = "force"
     uses_acceleration: ClassVar[bool] = False
+    #: True where the effect's force is linear (affine) in the stroke: its describing
+    #: function is then its exact element at any amplitude, also at rest.
+    linear: ClassVar[bool] = False
 
     @classmethod
     def parameter_keys(cls) -> tuple[str, ...]:
@@ -424,6 +428,7 @@ class ForceOffset(Effect):
     order: ClassVar[int] = 50
     description: ClassVar[str] = "constant load-cell bias"
     slot: ClassVar[int] = K.S_OFF
+    linear: ClassVar[bool] = True
 
     def __post_init__(self):
         check_finite("force_offset offset_N", self.offset_N, "N")
@@ -458,6 +463,7 @@ class MovingMass(Effect):
     description: ClassVar[str] = "piston and rod inertia m a"
     slot: ClassVar[int] = K.S_MASS
     uses_acceleration: ClassVar[bool] = True
+    linear: ClassVar[bool] = True
 
     def __post_init__(self):
         check_nonnegative("moving_mass mass_kg", self.mass_kg, "kg")
@@ -592,6 +598,101 @@ class SmoothFriction(Effect):
         F1 = 2.0 / N * np.sum(self.force_N * z[:N] * np.exp(-1j * w * sol.t[:N]))
         K = 1j * F1 / Y  # y = Y sin(w t) = Im(Y e^{iwt}): K = F1 / (-i Y)
         return float(K.real), float(K.imag / w), 0.0
+
+
+@dataclass(frozen=True)
+class Elastomer(Effect):
+    """Elastomer branch in parallel on the rod: the standard linear solid.
+
+    A spring k0 in parallel with a spring k1 in series with a dashpot c1
+    (a Zener / standard linear solid, e.g. an elastomeric lead-lag element
+    beside the fluid device), acting on the measured rod stroke:
+    F += k0 y + F_e, dF_e/dt = k1 v - F_e / tau, tau = c1 / k1
+    (:func:`~liquidamp.device.kernels.elastomer_rate`).  One state
+    ``F_elastomer`` [N], 0 at rest.  Linear, so its small-signal model and
+    its describing function are exact and equal:
+
+    K(i w) = k0 + k1 i w tau / (1 + i w tau).
+
+    Parameters
+    ----------
+    parallel_stiffness_N_per_m : float
+        k0 >= 0 [N/m].
+    branch_stiffness_N_per_m : float
+        k1 >= 0 [N/m].
+    branch_damping_N_s_per_m : float
+        c1 > 0 [N s/m].
+
+    References
+    ----------
+    .. [1] C. Zener, Elasticity and Anelasticity of Metals, Univ. of Chicago
+       Press, 1948 (the standard linear solid).
+    .. [2] D. L. Kunz, "Nonlinear analysis of helicopter ground resonance",
+       Nonlinear Dyn. 2002 (elastomeric lag dampers).
+
+    Examples
+    --------
+    >>> e = Elastomer(1e5, 4e5, 4e5 / (2 * math.pi * 3.0))   # w tau = 1 at 3 Hz
+    >>> k, c, b = e.describing_function(1e-3, 2 * math.pi * 3.0, None)
+    >>> round(k), round(c * 2 * math.pi * 3.0)               # k0 + k1/2, k1/2
+    (300000, 200000)
+    """
+
+    parallel_stiffness_N_per_m: float = 0.0
+    branch_stiffness_N_per_m: float = 0.0
+    branch_damping_N_s_per_m: float = 1.0
+    name: ClassVar[str] = "elastomer"
+    units: ClassVar[dict] = {"parallel_stiffness_N_per_m": "N/m",
+                             "branch_stiffness_N_per_m": "N/m",
+                             "branch_damping_N_s_per_m": "N s/m"}
+    fit_keys: ClassVar[tuple] = ("branch_stiffness_N_per_m", "branch_damping_N_s_per_m",
+                                 "parallel_stiffness_N_per_m")
+    bounds: ClassVar[dict] = {"parallel_stiffness_N_per_m": (1.0, 1e9),
+                              "branch_stiffness_N_per_m": (1.0, 1e9),
+                              "branch_damping_N_s_per_m": (1e-2, 1e8)}
+    order: ClassVar[int] = 42
+    description: ClassVar[str] = "parallel elastomer (standard linear solid) on the rod"
+    state_names: ClassVar[tuple] = ("F_elastomer",)
+    state_units: ClassVar[tuple] = ("N",)
+    slot: ClassVar[int] = K.S_IEL
+    linear: ClassVar[bool] = True
+
+    def __post_init__(self):
+        check_nonnegative("elastomer parallel_stiffness_N_per_m",
+                          self.parallel_stiffness_N_per_m, "N/m")
+        check_nonnegative("elastomer branch_stiffness_N_per_m",
+                          self.branch_stiffness_N_per_m, "N/m")
+        check_positive("elastomer branch_damping_N_s_per_m", self.branch_damping_N_s_per_m,
+                       "N s/m")
+
+    describing_reason: ClassVar[str | None] = None
+
+    def pack(self, ep):
+        ep[K.E_K0] = self.parallel_stiffness_N_per_m
+        ep[K.E_K1] = self.branch_stiffness_N_per_m
+        ep[K.E_C1E] = self.branch_damping_N_s_per_m
+
+    def state_scales(self, params):
+        return np.array([max(self.branch_stiffness_N_per_m * 1e-4, 1.0)])
+
+    def stiffness(self, omega: float) -> complex:
+        """K(i w) = k0 + k1 i w tau / (1 + i w tau) [N/m] at w [rad/s]."""
+        k1, c1 = self.branch_stiffness_N_per_m, self.branch_damping_N_s_per_m
+        iwc = 1j * float(omega) * c1
+        branch = 0j if k1 == 0.0 else k1 * iwc / (k1 + iwc)
+        return self.parallel_stiffness_N_per_m + branch
+
+    def describing_function(self, amplitude_m, omega, params, model=None):
+        """Exact (linear): (Re K, Im K / w, 0)."""
+        _, w = _check_harmonic(amplitude_m, omega)
+        K_ = self.stiffness(w)
+        return float(K_.real), float(K_.imag / w), 0.0
+
+    @classmethod
+    def probe(cls, force_amplitude_N, amplitude_m, omega, params):
+        """A branch of 5 % of the record's force amplitude at w tau = 1, k0 = k1 / 2."""
+        k1 = 0.05 * force_amplitude_N / amplitude_m
+        return cls(0.5 * k1, k1, k1 / omega)
 
 
 @dataclass(frozen=True)
@@ -1124,7 +1225,7 @@ def _check_harmonic(amplitude_m, omega) -> tuple[float, float]:
 EFFECTS: dict[str, type[Effect]] = {
     cls.name: cls
     for cls in (CoulombFriction, SmoothFriction, ForceOffset, MovingMass, SeriesCompliance,
-                Freeplay, Leakage, Cavitation, ReliefValve, AsymmetricLoss)
+                Freeplay, Leakage, Cavitation, ReliefValve, AsymmetricLoss, Elastomer)
 }
 """Registry: effect name -> class."""
 
@@ -1136,7 +1237,8 @@ def effect_names() -> tuple[str, ...]:
     --------
     >>> effect_names()
     ('coulomb_friction', 'smooth_friction', 'force_offset', 'moving_mass', \
-'series_compliance', 'freeplay', 'leakage', 'cavitation', 'relief_valve', 'asymmetric_loss')
+'series_compliance', 'freeplay', 'leakage', 'cavitation', 'relief_valve', 'asymmetric_loss', \
+'elastomer')
     """
     return tuple(EFFECTS)
 
@@ -1160,7 +1262,7 @@ def make_effect(name: str, **parameters) -> Effect:
     ...
     liquidamp.errors.ParameterError: unknown effect 'stiction'; valid: coulomb_friction, \
 smooth_friction, force_offset, moving_mass, series_compliance, freeplay, leakage, cavitation, \
-relief_valve, asymmetric_loss
+relief_valve, asymmetric_loss, elastomer
     """
     check_choice("effect", name, EFFECTS)
     cls = EFFECTS[name]

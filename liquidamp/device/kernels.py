@@ -65,7 +65,7 @@ __all__ = [
     "bulk", "bulk_and_dp", "loss_flow", "loss_flow_dp",
     "lugre_rate", "play_contact", "piston_contact", "play_rate", "compliance_rate",
     "cavity_width", "cavity_rates", "c1_ramp", "relief_flow", "relief_force",
-    "flow_direction", "loss_params",
+    "flow_direction", "loss_params", "elastomer_rate",
     "model_rhs", "model_jac", "model_rhs_t", "model_force", "force_series",
     "base_force_series",
 ]
@@ -127,6 +127,7 @@ N_SPEC = 22
 E_LEAK, E_PV, E_KC, E_GAP, E_SFC, E_SIG, E_VS, E_SR, E_CF, E_MASS, E_OFF = range(11)
 E_PR, E_GR = 11, 12  # relief valve: cracking pressure [Pa], conductance [m^3/(s Pa)]
 E_RR = 13  # direction-dependent losses: rebound ratio [-]
+E_K0, E_K1, E_C1E = 14, 15, 16  # elastomer: k0, k1 [N/m], c1 [N s/m]
 #: The effect slots (11-22 issue #12's effects, 23-26 reserved); the state scales
 #: follow from ``ep[N_EP]`` on.
 N_EP = 27
@@ -866,6 +867,22 @@ def _fluid_rhs(spec, x, y, v, prm, ep, out):
 
 
 @njit(cache=True, error_model="numpy")
+def elastomer_rate(v, F, k1, c1):
+    """dF/dt of the elastomer's Maxwell branch (spring k1 in series with dashpot c1) [N/s].
+
+    ``dF/dt = k1 v - (k1 / c1) F`` (tau = c1 / k1); with the parallel
+    spring k0 the branch is the standard linear solid,
+    K(i w) = k0 + k1 i w tau / (1 + i w tau).
+
+    Examples
+    --------
+    >>> elastomer_rate(0.01, 50.0, 1e5, 1e3)
+    -4000.0
+    """
+    return k1 * v - k1 / c1 * F
+
+
+@njit(cache=True, error_model="numpy")
 def _fp_contact(spec, x, y, v, ep):
     """Contact factor of the freeplay (needs ``spec[S_IFP] >= 0``) [-].
 
@@ -924,6 +941,9 @@ def model_rhs(spec, x, y, v, prm, ep, out):
     if iz >= 0:  # the bristles move with the rod, or with the piston behind the dead band
         vz = vi if spec[S_ZPIST] != 0 else v
         out[iz] = lugre_rate(vz, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR])
+    iel = spec[S_IEL]
+    if iel >= 0:
+        out[iel] = elastomer_rate(v, x[iel], ep[E_K1], ep[E_C1E])
 
 
 @njit(cache=True, error_model="numpy")
@@ -963,6 +983,9 @@ def model_jac(spec, x, y, v, prm, ep, J):
         iz = spec[S_IZ]
         if iz >= 0:
             J[iz, iz] = _lugre_dz_dv(v, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR])[0]
+        iel = spec[S_IEL]
+        if iel >= 0:
+            J[iel, iel] = -ep[E_K1] / ep[E_C1E]
         return
     xp = x.copy()
     fp = np.empty(n)
@@ -995,6 +1018,9 @@ def model_rhs_t(spec, x, y, v, yd, vd, prm, ep, out):
         iz = spec[S_IZ]
         if iz >= 0:
             out[iz] = _lugre_dz_dv(v, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR])[1] * vd
+        iel = spec[S_IEL]
+        if iel >= 0:
+            out[iel] = ep[E_K1] * vd
         return
     dt = 1.0e-7
     fm = np.empty(n)
@@ -1043,6 +1069,9 @@ def model_force(spec, x, y, v, a, prm, ep, with_friction):
     if spec[S_COUL] != 0:
         # at the piston the dead band passes the friction force only in contact
         f += ep[E_CF] * _sign(v) * (cfp if spec[S_CPIST] != 0 else 1.0)
+    iel = spec[S_IEL]
+    if iel >= 0:  # the elastomer on the rod: k0 y plus its Maxwell branch
+        f += ep[E_K0] * y + x[iel]
     if spec[S_MASS] != 0:
         f += ep[E_MASS] * a
     if spec[S_OFF] != 0:

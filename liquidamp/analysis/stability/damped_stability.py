@@ -230,7 +230,7 @@ def device_lti(device: Device, *, amplitude_m: float | None = None,
         # stateless parallel force effects (moving mass, offset) are exact parallel elements:
         # add their (k, c, b) to the feedthrough of the rest of the model
         parallel = [e for e in m.effects if e.kind == "force" and not e.state_names
-                    and e.small_signal_reason is None]
+                    and e.small_signal_reason is None and e.linear]
         if parallel:
             rest = with_effects(BASES[base], *[e for e in m.effects if e not in parallel])
             lti = device_lti(Device(rest, p, device.label))
@@ -240,11 +240,12 @@ def device_lti(device: Device, *, amplitude_m: float | None = None,
                              lti.kind)
         lin = linearize(m, p)
         k = lin.output_names.index("force")
-        if not lin.is_proper_in_stroke:
-            if lin.n_states:
+        if not lin.is_proper_in_stroke:  # a rate (dashpot) or acceleration feedthrough
+            if lin.n_states and not m.effects:  # (kept by the unreduced form below)
                 raise ParameterError(f"model {m.name!r}: improper with states; not supported")
-            return DeviceLTI(np.zeros((0, 0)), np.zeros((0, 3)), np.zeros((1, 0)),
-                             lin.D[k:k + 1].copy(), device.label, "small-signal")
+            if not lin.n_states:
+                return DeviceLTI(np.zeros((0, 0)), np.zeros((0, 3)), np.zeros((1, 0)),
+                                 lin.D[k:k + 1].copy(), device.label, "small-signal")
         if not m.effects:
             mn = lin.minimal()
             Bm = np.zeros((mn.nstates, 3))
