@@ -25,16 +25,33 @@ name                    parameters                             states added
 ``freeplay``            gap_m                                  y_fp [m] (play operator)
 ``leakage``             coefficient_m3_per_s_Pa                none: bypass mass flow
 ``cavitation``          vapour_pressure_Pa                     Vc1, Vc2 [m^3] (vapour cavities)
+``relief_valve``        cracking_pressure_Pa,                  none: second path beside the
+                        conductance_m3_per_s_Pa                channel above p_r (dashpot types:
+                                                               exact force saturation)
+``asymmetric_loss``     rebound_ratio                          none: loss coefficients x r in
+                                                               rebound
+``elastomer``           parallel_stiffness_N_per_m,            F_elastomer [N] (k0 parallel to
+                        branch_stiffness_N_per_m,              k1 in series with c1: standard
+                        branch_damping_N_s_per_m               linear solid on the rod)
+``end_stops``           stiffness_N_per_m, clearance_m,        none: contact beyond centre +/-
+                        damping_N_s_per_m, centre_m            clearance (C1 onset)
 ======================  =====================================  =================================
 
-Composition order is canonical whatever order the effects are given in:
-fluid effects (leakage, then cavitation) act on the chamber equations
-innermost; the kinematic effects (series compliance, then freeplay) turn the
-measured rod stroke into the piston stroke the fluid sees; the force effects
-(friction, mass, offset) act on the measured (rod) stroke and add to the
-load-cell force outermost.  Force effects therefore use the rod velocity and
-acceleration, which is exact without a kinematic effect and a first-order
-approximation with one.
+Composition order is canonical whatever order the effects are given in
+(``order``, innermost first): the fluid effects act on the chamber equations
+innermost (asymmetric_loss 3 on the channel's coefficients, leakage 5 and
+relief_valve 7 as paths beside the channel, cavitation 10 on the pressure
+rates); the kinematic effects (series_compliance 20, then freeplay 30) turn
+the measured rod stroke into the piston stroke the fluid sees; the force
+effects (smooth_friction 35, coulomb_friction 40, elastomer 42, moving_mass
+45, end_stops 47, force_offset 50) act on the measured (rod) stroke and add
+to the load-cell force outermost, except friction at ``location="piston"``,
+which sits behind the kinematic effects with the fluid.  Force effects
+therefore use the rod velocity and acceleration, which is exact without a
+kinematic effect and a first-order approximation with one.  On the
+stateless dashpot-type bases (``dashpot``, ``dashpot_inerter``,
+``viscous``) the flow effects relief_valve and asymmetric_loss act as the
+exact force laws they imply.
 
 Composition fields: a field declared with :func:`dataclasses.field` metadata
 ``composition`` (the allowed words) says where an effect sits rather than how
@@ -67,6 +84,11 @@ References
    leakage, Ch. 3; cavitation and air release).
 .. [5] M. A. Krasnosel'skii, A. V. Pokrovskii, Systems with Hysteresis,
    Springer, 1989 (the play operator used for freeplay).
+.. [6] A. Gelb, W. E. Vander Velde, Multiple-Input Describing Functions and
+   Nonlinear System Design, McGraw-Hill, 1968 (saturation and dead-zone
+   describing functions: relief valve, end stops).
+.. [7] C. Zener, Elasticity and Anelasticity of Metals, Univ. of Chicago
+   Press, 1948 (standard linear solid: elastomer).
 """
 
 from __future__ import annotations
@@ -108,6 +130,7 @@ __all__ = [
     "ReliefValve",
     "AsymmetricLoss",
     "Elastomer",
+    "EndStops",
     "saturation_damping",
     "EFFECTS",
     "effect_names",
@@ -695,6 +718,92 @@ class Elastomer(Effect):
         return cls(0.5 * k1, k1, k1 / omega)
 
 
+def _contact_fraction(rho: float) -> float:
+    """First-harmonic share of one one-sided stop with threshold rho = a / Y [-]."""
+    if rho >= 1.0:
+        return 0.0
+    if rho <= -1.0:
+        return 1.0
+    return (0.5 * math.pi - math.asin(rho) - rho * math.sqrt(1.0 - rho * rho)) / math.pi
+
+
+@dataclass(frozen=True)
+class EndStops(Effect):
+    """Stiff end stops: contact when the rod stroke leaves centre +/- clearance.
+
+    F += sign(u) (k (|u| - clearance) + c v) beyond the clearance,
+    u = y - centre, nothing inside; the onset is C1 over a width
+    w = 0.01 clearance + 1e-7 m (:func:`~liquidamp.device.kernels.stop_force`:
+    the elastic force is exact beyond it).  The elastic part is a force of
+    the stroke alone, so it does no net work over a cycle; the damping is
+    Kelvin-Voigt.  Describing function (exact up to the onset width): with
+    rho_+ = (clearance + centre) / Y, rho_- = (clearance - centre) / Y and
+    n(rho) = (pi/2 - arcsin rho - rho sqrt(1 - rho^2)) / pi per stop
+    (0 for rho >= 1, 1 for rho <= -1), (k, c) = (k_s, c_s) (n(rho_+) + n(rho_-));
+    a centre off zero also gives a mean force, which has no first harmonic.
+
+    Parameters
+    ----------
+    stiffness_N_per_m : float
+        Contact stiffness k >= 0 [N/m].
+    clearance_m : float
+        Free stroke on either side of the centre >= 0 [m].
+    damping_N_s_per_m : float
+        Contact damping c >= 0 [N s/m].
+    centre_m : float
+        Stroke at the middle of the free travel [m].
+
+    References
+    ----------
+    .. [1] A. Gelb, W. E. Vander Velde, Multiple-Input Describing Functions
+       and Nonlinear System Design, McGraw-Hill, 1968 (dead zone).
+
+    Examples
+    --------
+    >>> k, c, b = EndStops(1e6, 1e-3).describing_function(2e-3, 10.0, None)
+    >>> round(k / 1e6, 6)          # 1 - (2/pi)(pi/6 + sqrt(3)/4)
+    0.391002
+    """
+
+    stiffness_N_per_m: float = 0.0
+    clearance_m: float = 1.0e-2
+    damping_N_s_per_m: float = 0.0
+    centre_m: float = 0.0
+    name: ClassVar[str] = "end_stops"
+    units: ClassVar[dict] = {"stiffness_N_per_m": "N/m", "clearance_m": "m",
+                             "damping_N_s_per_m": "N s/m", "centre_m": "m"}
+    fit_keys: ClassVar[tuple] = ("stiffness_N_per_m", "clearance_m")
+    bounds: ClassVar[dict] = {"stiffness_N_per_m": (1e2, 1e10), "clearance_m": (1e-6, 1e-1),
+                              "damping_N_s_per_m": (1e-1, 1e6), "centre_m": (-1e-1, 1e-1)}
+    order: ClassVar[int] = 47
+    description: ClassVar[str] = "stiff contact beyond a clearance"
+    slot: ClassVar[int] = K.S_STOP
+
+    def __post_init__(self):
+        check_nonnegative("end_stops stiffness_N_per_m", self.stiffness_N_per_m, "N/m")
+        check_nonnegative("end_stops clearance_m", self.clearance_m, "m")
+        check_nonnegative("end_stops damping_N_s_per_m", self.damping_N_s_per_m, "N s/m")
+        check_finite("end_stops centre_m", self.centre_m, "m")
+
+    describing_reason: ClassVar[str | None] = None
+
+    def pack(self, ep):
+        ep[K.E_KS], ep[K.E_CS] = self.stiffness_N_per_m, self.damping_N_s_per_m
+        ep[K.E_CLR], ep[K.E_CTR] = self.clearance_m, self.centre_m
+
+    def describing_function(self, amplitude_m, omega, params, model=None):
+        """(k_s N, c_s N, 0), N = n(rho_+) + n(rho_-) (class docstring)."""
+        Y, _ = _check_harmonic(amplitude_m, omega)
+        N = (_contact_fraction((self.clearance_m + self.centre_m) / Y)
+             + _contact_fraction((self.clearance_m - self.centre_m) / Y))
+        return self.stiffness_N_per_m * N, self.damping_N_s_per_m * N, 0.0
+
+    @classmethod
+    def probe(cls, force_amplitude_N, amplitude_m, omega, params):
+        """Stops at 90 % of the stroke, 5 x the record's force over the stroke."""
+        return cls(5.0 * force_amplitude_N / amplitude_m, 0.9 * amplitude_m)
+
+
 @dataclass(frozen=True)
 class SeriesCompliance(Effect):
     """Rig or attachment elasticity k between the measured stroke and the piston.
@@ -1225,7 +1334,7 @@ def _check_harmonic(amplitude_m, omega) -> tuple[float, float]:
 EFFECTS: dict[str, type[Effect]] = {
     cls.name: cls
     for cls in (CoulombFriction, SmoothFriction, ForceOffset, MovingMass, SeriesCompliance,
-                Freeplay, Leakage, Cavitation, ReliefValve, AsymmetricLoss, Elastomer)
+                Freeplay, Leakage, Cavitation, ReliefValve, AsymmetricLoss, Elastomer, EndStops)
 }
 """Registry: effect name -> class."""
 
@@ -1238,7 +1347,7 @@ def effect_names() -> tuple[str, ...]:
     >>> effect_names()
     ('coulomb_friction', 'smooth_friction', 'force_offset', 'moving_mass', \
 'series_compliance', 'freeplay', 'leakage', 'cavitation', 'relief_valve', 'asymmetric_loss', \
-'elastomer')
+'elastomer', 'end_stops')
     """
     return tuple(EFFECTS)
 
@@ -1262,7 +1371,7 @@ def make_effect(name: str, **parameters) -> Effect:
     ...
     liquidamp.errors.ParameterError: unknown effect 'stiction'; valid: coulomb_friction, \
 smooth_friction, force_offset, moving_mass, series_compliance, freeplay, leakage, cavitation, \
-relief_valve, asymmetric_loss, elastomer
+relief_valve, asymmetric_loss, elastomer, end_stops
     """
     check_choice("effect", name, EFFECTS)
     cls = EFFECTS[name]

@@ -27,18 +27,23 @@ A composed model travels as three arrays, built by
 Composition (the order of :mod:`liquidamp.device.effects`): the kinematic
 effects turn the measured rod stroke into the piston stroke the fluid sees
 (freeplay outermost, then series compliance); the fluid effects act on the
-chamber equations (leakage as a second flow path, cavitation on the
-pressure rates); smooth friction's bristle state is driven by the rod
-velocity, or by the piston's behind a dead band (``S_ZPIST``: friction at
+chamber equations (direction-dependent loss coefficients ``S_ASYM``,
+:func:`loss_params`; leakage and the relief valve ``S_RELIEF`` as second
+flow paths, :func:`relief_flow`; cavitation on the pressure rates); on the
+stateless dashpot-type bases the relief valve and the rebound ratio are
+the exact force law :func:`relief_force`; smooth friction's bristle state
+is driven by the rod velocity, or by the piston's behind a dead band (``S_ZPIST``: friction at
 the piston, :func:`piston_contact`); the force effects add to the load-cell
 force (Coulomb friction at the piston through the dead band's contact
-factor, ``S_CPIST``).
+factor, ``S_CPIST``; the elastomer branch ``S_IEL``, :func:`elastomer_rate`;
+end stops ``S_STOP``, :func:`stop_force`).
 
 The Jacobian is analytic for every base model, with leakage on ``full`` and
-``no_inertia`` and with smooth friction; compositions with cavitation,
-series compliance, freeplay or leakage on the reductions use central
-differences of the same compiled right-hand side (exact to about 1e-10
-relative, which the Rosenbrock stepper's error control absorbs).
+``no_inertia``, with smooth friction, the elastomer and direction-dependent
+losses; compositions with cavitation, series compliance, freeplay, a relief
+valve or leakage on the reductions use central differences of the same
+compiled right-hand side (exact to about 1e-10 relative, which the
+Rosenbrock stepper's error control absorbs).
 
 References
 ----------
@@ -65,7 +70,7 @@ __all__ = [
     "bulk", "bulk_and_dp", "loss_flow", "loss_flow_dp",
     "lugre_rate", "play_contact", "piston_contact", "play_rate", "compliance_rate",
     "cavity_width", "cavity_rates", "c1_ramp", "relief_flow", "relief_force",
-    "flow_direction", "loss_params", "elastomer_rate",
+    "flow_direction", "loss_params", "elastomer_rate", "stop_force",
     "model_rhs", "model_jac", "model_rhs_t", "model_force", "force_series",
     "base_force_series",
 ]
@@ -128,6 +133,7 @@ E_LEAK, E_PV, E_KC, E_GAP, E_SFC, E_SIG, E_VS, E_SR, E_CF, E_MASS, E_OFF = range
 E_PR, E_GR = 11, 12  # relief valve: cracking pressure [Pa], conductance [m^3/(s Pa)]
 E_RR = 13  # direction-dependent losses: rebound ratio [-]
 E_K0, E_K1, E_C1E = 14, 15, 16  # elastomer: k0, k1 [N/m], c1 [N s/m]
+E_KS, E_CS, E_CLR, E_CTR = 17, 18, 19, 20  # end stops: k [N/m], c [N s/m], clearance, centre [m]
 #: The effect slots (11-22 issue #12's effects, 23-26 reserved); the state scales
 #: follow from ``ep[N_EP]`` on.
 N_EP = 27
@@ -883,6 +889,32 @@ def elastomer_rate(v, F, k1, c1):
 
 
 @njit(cache=True, error_model="numpy")
+def stop_force(y, v, k, c, clearance, centre):
+    """Force of a pair of end stops on the rod [N] (0 inside the clearance).
+
+    ``F = sign(u) (k R(|u| - clearance) + c v S((|u| - clearance) / w))``,
+    ``u = y - centre``, R the :func:`c1_ramp` and S the C1 smoothstep over
+    the onset width ``w = 0.01 clearance + 1e-7 m``: exactly
+    k (|u| - clearance) sign(u) beyond the width; the damping is
+    Kelvin-Voigt (it may pull briefly while the contact separates).
+
+    Examples
+    --------
+    >>> stop_force(0.5e-3, 0.0, 1e6, 0.0, 1e-3, 0.0), stop_force(-2e-3, 0.0, 1e6, 0.0, 1e-3, 0.0)
+    (0.0, -1000.0)
+    """
+    u = y - centre
+    pen = abs(u) - clearance
+    if pen <= 0.0:
+        return 0.0
+    w = 0.01 * clearance + 1.0e-7
+    f = k * c1_ramp(pen, w) * (1.0 if u > 0.0 else -1.0)
+    if c != 0.0:
+        f += c * v * _smoothstep(pen / w)
+    return f
+
+
+@njit(cache=True, error_model="numpy")
 def _fp_contact(spec, x, y, v, ep):
     """Contact factor of the freeplay (needs ``spec[S_IFP] >= 0``) [-].
 
@@ -1072,6 +1104,8 @@ def model_force(spec, x, y, v, a, prm, ep, with_friction):
     iel = spec[S_IEL]
     if iel >= 0:  # the elastomer on the rod: k0 y plus its Maxwell branch
         f += ep[E_K0] * y + x[iel]
+    if spec[S_STOP] != 0:
+        f += stop_force(y, v, ep[E_KS], ep[E_CS], ep[E_CLR], ep[E_CTR])
     if spec[S_MASS] != 0:
         f += ep[E_MASS] * a
     if spec[S_OFF] != 0:

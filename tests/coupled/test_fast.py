@@ -23,6 +23,7 @@ from liquidamp.device.effects import (
     Cavitation,
     CoulombFriction,
     Elastomer,
+    EndStops,
     ForceOffset,
     Freeplay,
     Leakage,
@@ -125,7 +126,7 @@ def _with_chain(model):
     branch (kept out of the Jacobian test above, whose random states it would change)."""
     return with_effects(model, Freeplay(5e-5), CoulombFriction(4.0, location="piston"),
                         SmoothFriction(15.0, 2e5, 0.01, 1.3, location="piston"),
-                        Elastomer(3e4, 1e5, 2e3))
+                        Elastomer(3e4, 1e5, 2e3), EndStops(2e6, 1.5e-3, 300.0, 2e-4))
 
 
 @pytest.mark.parametrize("name", list(REGISTRY))
