@@ -504,7 +504,8 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
         As for :func:`~liquidamp.analysis.measured.calibration.calibrate` (default:
         ``full`` from ``paper_initial`` with the paper's four multipliers free).
     candidates : sequence of str, optional
-        Effects to consider (default: the whole catalogue).
+        Effects to consider (default: the catalogue effects with ``screened`` set;
+        the others, e.g. ``relief_valve``, only when named here).
     max_steps : int
         Largest number of effects added.
     top : int
@@ -554,7 +555,8 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
     # before any model run: noise-only records, spikes (a 30 mm displacement spike made
     # the integration crawl for minutes) and a stroke past the chamber end are refused
     check_records(calibration + validation, check_params, what="diagnose")
-    names = tuple(EFFECTS) if candidates is None else tuple(candidates)
+    names = (tuple(n for n, c in EFFECTS.items() if c.screened) if candidates is None
+             else tuple(candidates))
     for n in names:
         check_choice("candidate effect", n, EFFECTS)
     options = resolve_options(options, "fit")

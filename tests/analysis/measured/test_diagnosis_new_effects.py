@@ -1,6 +1,8 @@
 """Issue #12's effects are diagnosis candidates (the catalogue is the effects registry).
 
-Each states its own probe (:meth:`liquidamp.device.effects.Effect.probe`); a record made
+They are screened only when named (``Effect.screened`` False: the default screen stays
+the original catalogue, which the leakage case of test_diagnosis.py guards: a relief
+valve at a low cracking pressure is a laminar bypass).  Each states its own probe (:meth:`liquidamp.device.effects.Effect.probe`); a record made
 with a hidden relief valve on the paper's calibrated device must be traced to it among
 the new candidates, with its cracking pressure and conductance recovered.
 """
@@ -41,3 +43,4 @@ def test_hidden_relief_valve_is_found_among_the_new_candidates():
     assert step.parameters["cracking_pressure_Pa"] == pytest.approx(p_r, rel=0.05)
     assert step.parameters["conductance_m3_per_s_Pa"] == pytest.approx(3e-10, rel=0.1)
     assert d.final.nrmse_validation < 0.1 * d.baseline.nrmse_validation
+
