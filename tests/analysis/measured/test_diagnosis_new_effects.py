@@ -2,9 +2,10 @@
 
 They are screened only when named (``Effect.screened`` False: the default screen stays
 the original catalogue, which the leakage case of test_diagnosis.py guards: a relief
-valve at a low cracking pressure is a laminar bypass).  Each states its own probe (:meth:`liquidamp.device.effects.Effect.probe`); a record made
-with a hidden relief valve on the paper's calibrated device must be traced to it among
-the new candidates, with its cracking pressure and conductance recovered.
+valve at a low cracking pressure is a laminar bypass).  Each states its own probe
+(:meth:`liquidamp.device.effects.Effect.probe`); a record made with a hidden relief
+valve on the paper's calibrated device must be traced to it among the new candidates,
+with its cracking pressure and conductance recovered.
 """
 
 import numpy as np
