@@ -324,7 +324,7 @@ def _probe(name: str, result: CalibrationResult) -> Effect:
         resp = simulate_record(result.device_model, p, recs[0], options=FIT_OPTIONS)
         pmin = float(min(resp.p1.min(), resp.p2.min()))
         return cls(vapour_pressure_Pa=max(pmin + 0.3 * (p.p0 - pmin), 1.0))
-    raise ParameterError(f"no probe for effect {name!r}")  # pragma: no cover
+    return cls.probe(Fa, Y, w, p)  # the other catalogue effects state their own probe
 
 
 def _free_columns(result, r, tol: float = 1e-3):
@@ -507,9 +507,10 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
         As for :func:`~liquidamp.analysis.measured.calibration.calibrate` (default:
         ``full`` from ``paper_initial`` with the paper's four multipliers free).
     candidates : sequence of str, optional
-        Effects to consider (default: every catalogue effect with fitted
-        parameters, ``fit_keys``; operating conditions such as
-        ``rotating_frame`` are given, not diagnosed).
+        Effects to consider (default: the catalogue effects with ``screened`` set
+        and fitted parameters, ``fit_keys``; the others, e.g. ``relief_valve``,
+        only when named here; operating conditions such as ``rotating_frame`` are
+        given, not diagnosed).
     max_steps : int
         Largest number of effects added.
     top : int
@@ -559,7 +560,8 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
     # before any model run: noise-only records, spikes (a 30 mm displacement spike made
     # the integration crawl for minutes) and a stroke past the chamber end are refused
     check_records(calibration + validation, check_params, what="diagnose")
-    names = (tuple(n for n, cls in EFFECTS.items() if cls.fit_keys) if candidates is None
+    names = (tuple(n for n, c in EFFECTS.items() if c.screened and c.fit_keys)
+             if candidates is None
              else tuple(candidates))
     for n in names:
         check_choice("candidate effect", n, EFFECTS)
