@@ -468,7 +468,8 @@ def add_effect_argument(parser, extra: str = "") -> None:
     parser.add_argument(
         "--effect", action="append", default=[], metavar="NAME[:KEY=VALUE,...]",
         help="add a catalogue effect to the device model; repeatable, values in SI, e.g. "
-        "cavitation or coulomb_friction:force_N=30. Effects: {effects}." + extra)
+        "cavitation, coulomb_friction:force_N=30 or coulomb_friction:force_N=30,"
+        "location=piston (friction behind freeplay). Effects: {effects}." + extra)
 
 
 def parse_effect(text: str):
@@ -477,7 +478,9 @@ def parse_effect(text: str):
     Parameters
     ----------
     text : str
-        E.g. ``"coulomb_friction:force_N=30"`` or ``"cavitation"``.
+        E.g. ``"coulomb_friction:force_N=30"``, ``"cavitation"`` or
+        ``"coulomb_friction:force_N=30,location=piston"`` (a composition
+        choice is a word, every other value a number).
 
     Returns
     -------
@@ -493,6 +496,8 @@ def parse_effect(text: str):
     --------
     >>> parse_effect("freeplay:gap_m=1e-4").parameters
     {'gap_m': 0.0001}
+    >>> parse_effect("coulomb_friction:force_N=100,location=piston").as_dict()
+    {'force_N': 100.0, 'location': 'piston'}
     >>> parse_effect("freeplay:gap_m=wide")
     Traceback (most recent call last):
     ...
@@ -503,7 +508,9 @@ def parse_effect(text: str):
 
     name, _, rest = str(text).partition(":")
     name = name.strip()
-    keys = list(make_effect(name).parameters)  # the registry names an unknown effect
+    effect = make_effect(name)  # the registry names an unknown effect
+    keys = list(effect.as_dict())
+    composition = effect.composition_keys()
     params = {}
     for entry in (e for e in rest.split(",") if e.strip()):
         key, eq, value = entry.partition("=")
@@ -513,6 +520,9 @@ def parse_effect(text: str):
         check_choice(f"{name} parameter", key, keys)
         if key in params:
             raise ParameterError(f"--effect {name}: {key} given twice")
+        if key in composition:  # a composition choice (e.g. location=piston), not a number
+            params[key] = value.strip()
+            continue
         try:
             params[key] = float(value)
         except ValueError:

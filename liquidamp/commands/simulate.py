@@ -84,7 +84,7 @@ def run(args) -> int:
     response = steady_state(model, params, stroke, options=options)
     data = summary(response)
     if effects:
-        data["effects"] = {e.name: e.parameters for e in effects}
+        data["effects"] = {e.name: e.as_dict() for e in effects}
     if args.json:
         write_json(args.json, data)
     else:

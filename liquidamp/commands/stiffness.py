@@ -178,7 +178,7 @@ def run(args) -> int:
         "failures": list(nl.failures),
     }
     if effects:
-        data["effects"] = {e.name: e.parameters for e in effects}
+        data["effects"] = {e.name: e.as_dict() for e in effects}
         data["effects_note"] = (f"nonlinear points: model {nl.model}; the linear and "
                                 f"equivalent curves are of {model} without the effects")
     for i, Y in enumerate(amps):

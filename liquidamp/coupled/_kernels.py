@@ -80,8 +80,10 @@ from liquidamp.device.kernels import (
     M_FULL,
     P_FRIC,
     S_ANALYTIC,
+    S_ASYM,
     S_COUL,
     S_IC,
+    S_IEL,
     S_IFP,
     S_IZ,
     S_LEAK,
@@ -91,6 +93,7 @@ from liquidamp.device.kernels import (
     S_NB,
     S_OFF,
     S_ROT,
+    S_STOP,
     base_force,
     base_jac,
     base_rhs,
@@ -514,12 +517,14 @@ def _integrate_source(spec, prm, ep, kind, sp, st, sy, sv, sa, x0, t0, t1, teval
     kk = np.empty((7, n))
     pc = np.empty((5, n))
     ks = np.zeros(nj)
-    full_fused = spec[S_MID] == M_FULL and spec[S_N] == 5 and spec[S_ANALYTIC] != 0
+    full_fused = (spec[S_MID] == M_FULL and spec[S_N] == 5 and spec[S_ANALYTIC] != 0
+                  and spec[S_ASYM] == 0)  # the fused laws have no rebound ratio
     kL = ep[E_LEAK] if spec[S_LEAK] != 0 else 0.0
     # the load-cell force needs the stroke only for stateless bases and stroke-driven terms
     force_needs_stroke = (spec[S_NB] == 0 or spec[S_IFP] >= 0 or spec[S_IC] >= 0
                           or spec[S_IZ] >= 0 or spec[S_COUL] != 0 or spec[S_MASS] != 0
-                          or spec[S_OFF] != 0 or spec[S_ROT] > 0 or prm[P_FRIC] > 0.0)
+                          or spec[S_OFF] != 0 or spec[S_ROT] > 0 or prm[P_FRIC] > 0.0
+                          or spec[S_IEL] >= 0 or spec[S_STOP] != 0)
     nf = max(ne - 1, 1)
     force_now = np.empty(nf)
     force_prev = np.empty(nf)

@@ -15,20 +15,16 @@ composed ``fluid_force`` holds every effect force, so ``DeviceModel.force``
 ======================  =====================================  =================================
 name                    parameters                             states added
 ======================  =====================================  =================================
-``coulomb_friction``    force_N                                none: F += F_c sign(v)
+``coulomb_friction``    force_N; location (rod | piston)       none: F += F_c sign(v)
 ``smooth_friction``     force_N, stiffness_N_per_m,            z_friction [-] (LuGre bristle
                         stribeck_velocity_m_per_s,             state without bristle damping:
-                        static_ratio                           Dahl when static_ratio = 1)
+                        static_ratio; location (rod | piston)  Dahl when static_ratio = 1)
 ``force_offset``        offset_N                               none: F += offset (load-cell bias)
 ``moving_mass``         mass_kg                                none: F += m a
 ``series_compliance``   stiffness_N_per_m                      y_piston [m]
 ``freeplay``            gap_m                                  y_fp [m] (play operator)
 ``leakage``             coefficient_m3_per_s_Pa                none: bypass mass flow
 ``cavitation``          vapour_pressure_Pa                     Vc1, Vc2 [m^3] (vapour cavities)
-``rotating_frame``      rotor_speed_rad_per_s,                 none: centrifugal pressure rise
-                        mounting_radius_m, axis_angle_rad      dp_c on every flow path and the
-                                                               force; rest state on the rotor
-======================  =====================================  =================================
 
 Composition order is canonical whatever order the effects are given in:
 fluid effects (leakage, the rotating frame, then cavitation) act on the chamber
@@ -39,6 +35,62 @@ measured rod stroke into the piston stroke the fluid sees; the force effects
 load-cell force outermost.  Force effects therefore use the rod velocity and
 acceleration, which is exact without a kinematic effect and a first-order
 approximation with one.
+``rotating_frame``      rotor_speed_rad_per_s,                 none: centrifugal pressure rise
+                        mounting_radius_m, axis_angle_rad      dp_c on every flow path and the
+                                                               force; rest state on the rotor
+=======
+``relief_valve``        cracking_pressure_Pa,                  none: second path beside the
+                        conductance_m3_per_s_Pa                channel above p_r (dashpot types:
+                                                               exact force saturation)
+``asymmetric_loss``     rebound_ratio                          none: loss coefficients x r in
+                                                               rebound
+``elastomer``           parallel_stiffness_N_per_m,            F_elastomer [N] (k0 parallel to
+                        branch_stiffness_N_per_m,              k1 in series with c1: standard
+                        branch_damping_N_s_per_m               linear solid on the rod)
+``end_stops``           stiffness_N_per_m, clearance_m,        none: contact beyond centre +/-
+                        damping_N_s_per_m, centre_m            clearance (C1 onset)
+======================  =====================================  =================================
+
+Composition order is canonical whatever order the effects are given in
+(``order``, innermost first): the fluid effects act on the chamber equations
+innermost (asymmetric_loss 3 on the channel's coefficients, leakage 5 and
+relief_valve 7 as paths beside the channel, rotating_frame 8 driving every
+flow path, cavitation 10 on the pressure rates, so that it sees the rotating
+frame's lowered inboard pressures); the kinematic effects (series_compliance
+20, then freeplay 30) turn the measured rod stroke into the piston stroke the fluid sees; the force
+effects (smooth_friction 35, coulomb_friction 40, elastomer 42, moving_mass
+45, end_stops 47, force_offset 50) act on the measured (rod) stroke and add
+to the load-cell force outermost, except friction at ``location="piston"``,
+which sits behind the kinematic effects with the fluid.  Force effects
+therefore use the rod velocity and acceleration, which is exact without a
+kinematic effect and a first-order approximation with one.  On the
+stateless dashpot-type bases (``dashpot``, ``dashpot_inerter``,
+``viscous``) the flow effects relief_valve and asymmetric_loss act as the
+exact force laws they imply.
+
+Diagnosis: every effect states a probe (:meth:`Effect.probe`), so each is a
+candidate of :func:`liquidamp.analysis.measured.diagnosis.diagnose`; the
+four of issue #12 (relief_valve, asymmetric_loss, elastomer, end_stops) are
+screened only when named (``Effect.screened`` False): a relief valve whose
+cracking pressure falls towards zero is a laminar bypass, and on the leakage
+record of the diagnosis tests it out-scores ``leakage`` (whose linear
+signature the free c1 absorbs) and is refitted to p_r = 2 kPa, G = 1.97e-11
+m^3/(s Pa) against the hidden 2e-11; likewise an elastomer's springs trade
+with the air.
+
+Composition fields: a field declared with :func:`dataclasses.field` metadata
+``composition`` (the allowed words) says where an effect sits rather than how
+strong it is: ``location`` of the two friction effects, ``"rod"`` (default:
+on the measured stroke, outermost) or ``"piston"`` (behind the kinematic
+effects, in series with a dead band like the fluid: the chain rod -> dead
+band -> friction element).  It is part of the model, not a fitted parameter:
+:attr:`Effect.parameters` (and so fits, bounds and fit keys) holds the
+numbers only, :meth:`Effect.as_dict` both (device files, JSON, synthetic
+recipes), and ``str(effect)``, :func:`make_effect`, device files and the
+command line's ``--effect coulomb_friction:force_N=100,location=piston``
+accept it.  A diagnosis that wants "freeplay in series with the existing
+friction" composes ``Freeplay(g)`` with the friction it already has
+re-placed: ``friction.replace(location="piston")``.
 
 The scalar laws (:func:`lugre_rate`, :func:`play_rate`,
 :func:`compliance_rate`, :func:`cavity_rates`) are the compiled ones of
@@ -57,6 +109,11 @@ References
    leakage, Ch. 3; cavitation and air release).
 .. [5] M. A. Krasnosel'skii, A. V. Pokrovskii, Systems with Hysteresis,
    Springer, 1989 (the play operator used for freeplay).
+.. [6] A. Gelb, W. E. Vander Velde, Multiple-Input Describing Functions and
+   Nonlinear System Design, McGraw-Hill, 1968 (saturation and dead-zone
+   describing functions: relief valve, end stops).
+.. [7] C. Zener, Elasticity and Anelasticity of Metals, Univ. of Chicago
+   Press, 1948 (standard linear solid: elastomer).
 """
 
 from __future__ import annotations
@@ -78,7 +135,13 @@ from liquidamp.device.kernels import (
 )
 from liquidamp.device.models import BASES, DeviceModel
 from liquidamp.device.rotating import ROTATING_BASES, heads, least_pressures, rest_state
-from liquidamp.errors import ParameterError, check_choice, check_finite, check_nonnegative
+from liquidamp.errors import (
+    ParameterError,
+    check_choice,
+    check_finite,
+    check_nonnegative,
+    check_positive,
+)
 
 __all__ = [
     "Effect",
@@ -90,6 +153,11 @@ __all__ = [
     "Freeplay",
     "Leakage",
     "Cavitation",
+    "ReliefValve",
+    "AsymmetricLoss",
+    "Elastomer",
+    "EndStops",
+    "saturation_damping",
     "RotatingFrame",
     "EFFECTS",
     "effect_names",
@@ -106,6 +174,29 @@ __all__ = [
 
 # ---------------------------------------------------------------------------
 # effect classes
+
+#: Field metadata key of a composition field (a choice of where the effect sits; not a
+#: fitted parameter): the allowed values.
+_COMPOSITION = "composition"
+
+#: Where a friction effect sits: on the rod (the measured stroke), or at the piston
+#: behind the kinematic effects (in series with a dead band, like the fluid).
+LOCATIONS = ("rod", "piston")
+
+
+def _location_field():
+    return dataclasses.field(default="rod", metadata={_COMPOSITION: LOCATIONS})
+
+
+def _check_location(effect, effects) -> None:
+    if effect.location != "piston":
+        return
+    if any(e.name == "series_compliance" for e in effects):
+        raise ParameterError(
+            f"effect {effect.name!r} at location 'piston' cannot sit behind "
+            "series_compliance: a massless piston between a spring and dry friction is a "
+            "stick-slip element without a rate while it sticks; put the friction at "
+            "location 'rod' or drop series_compliance")
 
 
 @dataclass(frozen=True)
@@ -136,17 +227,93 @@ class Effect:
     slot: ClassVar[int] = -1
     kind: ClassVar[str] = "force"
     uses_acceleration: ClassVar[bool] = False
+    #: True where the effect's force is linear (affine) in the stroke: its describing
+    #: function is then its exact element at any amplitude, also at rest.
+    linear: ClassVar[bool] = False
+    #: True where a diagnosis screens the effect when no candidates are named; the
+    #: others are candidates on request (``diagnose(..., candidates=...)``).
+    screened: ClassVar[bool] = True
+
+    @classmethod
+    def parameter_keys(cls) -> tuple[str, ...]:
+        """Keys of the numeric (fittable) parameters, SI.
+
+        Examples
+        --------
+        >>> CoulombFriction.parameter_keys(), CoulombFriction.composition_keys()
+        (('force_N',), {'location': ('rod', 'piston')})
+        """
+        return tuple(f.name for f in dataclasses.fields(cls) if _COMPOSITION not in f.metadata)
+
+    @classmethod
+    def composition_keys(cls) -> dict[str, tuple[str, ...]]:
+        """Composition fields (key -> allowed values): where the effect sits, never fitted."""
+        return {f.name: f.metadata[_COMPOSITION] for f in dataclasses.fields(cls)
+                if _COMPOSITION in f.metadata}
 
     @property
     def parameters(self) -> dict[str, float]:
-        """Parameter values by key (SI)."""
-        return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+        """Numeric parameter values by key (SI): what a fit may vary."""
+        return {k: getattr(self, k) for k in self.parameter_keys()}
+
+    @property
+    def composition(self) -> dict[str, str]:
+        """Composition choices by key (e.g. ``location``): part of the model, not fitted."""
+        return {k: getattr(self, k) for k in self.composition_keys()}
+
+    def as_dict(self) -> dict:
+        """Parameters and composition choices: what rebuilds the effect (device files, JSON).
+
+        Examples
+        --------
+        >>> e = make_effect("coulomb_friction", force_N=100.0, location="piston")
+        >>> e.as_dict(), str(e)
+        ({'force_N': 100.0, 'location': 'piston'}, 'coulomb_friction(force_N=100, location=piston)')
+        >>> make_effect(**{"name": "coulomb_friction", **e.as_dict()}) == e
+        True
+        """
+        return {**self.parameters, **self.composition}
 
     def replace(self, **changes) -> Effect:
         """Validated copy with ``changes`` applied; unknown keys raise ParameterError."""
         for key in changes:
-            check_choice(f"{self.name} parameter", key, self.parameters)
+            check_choice(f"{self.name} parameter", key, self.as_dict())
         return dataclasses.replace(self, **changes)
+
+    def _check_composition(self) -> None:
+        for key, allowed in self.composition_keys().items():
+            value = getattr(self, key)
+            if value not in allowed:
+                raise ParameterError(f"{self.name} {key} must be one of "
+                                     f"{', '.join(map(repr, allowed))}, got {value!r}")
+
+    @classmethod
+    def probe(cls, force_amplitude_N: float, amplitude_m: float, omega: float, params
+              ) -> Effect:
+        """The effect at a small probe strength for a record (the diagnosis's score test).
+
+        Parameters
+        ----------
+        force_amplitude_N : float
+            Amplitude of the measured force [N].
+        amplitude_m, omega : float
+            Stroke amplitude [m] and angular frequency [rad/s] of the records.
+        params : DeviceParams or ViscousParams
+            The calibrated parameters.
+
+        Raises
+        ------
+        ParameterError
+            For an effect that states no probe.
+        """
+        raise ParameterError(f"no probe for effect {cls.name!r}")
+
+    def spec_flags(self) -> dict[int, int]:
+        """Extra composition slots (``kernels.S_*`` -> value) beyond :attr:`slot`."""
+        return {}
+
+    def check_with(self, effects: tuple) -> None:
+        """Raise ParameterError if the effect cannot be composed with the other ``effects``."""
 
     def pack(self, ep: np.ndarray) -> None:  # pragma: no cover - abstract
         """Write the parameters into their slots of the compiled effect vector ``ep``."""
@@ -176,7 +343,7 @@ class Effect:
                 f"{self.small_signal_reason}; give an amplitude and a frequency for an "
                 "equivalent linearization, or use the time domain")
 
-    def describing_function(self, amplitude_m: float, omega: float, params
+    def describing_function(self, amplitude_m: float, omega: float, params, model=None
                             ) -> tuple[float, float, float]:
         """Equivalent parallel element of the effect at y = Y sin(w t) (first harmonic).
 
@@ -186,8 +353,11 @@ class Effect:
             Stroke amplitude Y > 0 [m].
         omega : float
             Angular frequency w > 0 [rad/s].
-        params : DeviceParams
+        params : DeviceParams or ViscousParams
             Device parameters.
+        model : DeviceModel, optional
+            The composed model (effects whose first harmonic depends on the
+            base equation need it).
 
         Returns
         -------
@@ -224,18 +394,34 @@ class Effect:
         return np.ones(len(self.state_names))
 
     def __str__(self) -> str:
-        pars = ", ".join(f"{k}={v:.4g}" for k, v in self.parameters.items())
-        return f"{self.name}({pars})"
+        pars = [f"{k}={v:.4g}" for k, v in self.parameters.items()]
+        pars += [f"{k}={v}" for k, v in self.composition.items()]
+        return f"{self.name}({', '.join(pars)})"
 
 
 @dataclass(frozen=True)
 class CoulombFriction(Effect):
     """Coulomb seal friction F += F_c sign(v) (the paper's |F_f|, Sec. IV.C).
 
+    At ``location="piston"`` the friction element sits behind the kinematic
+    effects, in series with a dead band (``freeplay``) like the fluid: the
+    kinematic chain rod -> dead band -> friction element of a friction
+    damper with backlash.  The contact is massless: inside the gap no force
+    is transmitted and the element stays put; in contact it moves with the
+    rod and transmits F_c sign(v), so F = F_c sign(v) C with C the dead
+    band's C1 contact factor (:func:`~liquidamp.device.kernels.play_contact`,
+    0 in the gap, 1 in contact).  Under y = A sin(w t) with A > g the loop
+    is flat while the rod crosses the gap 2g after each reversal and the
+    energy dissipated per cycle is 2 F_c (2A - 2g).  Without freeplay the
+    piston moves with the rod and both locations agree.  Not behind
+    ``series_compliance`` (a stick-slip element: ParameterError).
+
     Parameters
     ----------
     force_N : float
         Friction force level F_c >= 0 [N] (paper: 30 N).
+    location : {"rod", "piston"}
+        Where the friction sits (a composition choice, not fitted).
 
     Examples
     --------
@@ -248,6 +434,7 @@ class CoulombFriction(Effect):
     """
 
     force_N: float = 0.0
+    location: str = _location_field()
     name: ClassVar[str] = "coulomb_friction"
     units: ClassVar[dict] = {"force_N": "N"}
     fit_keys: ClassVar[tuple] = ("force_N",)
@@ -258,6 +445,13 @@ class CoulombFriction(Effect):
 
     def __post_init__(self):
         check_nonnegative("coulomb_friction force_N", self.force_N, "N")
+        self._check_composition()
+
+    def spec_flags(self):
+        return {K.S_CPIST: int(self.location == "piston")}
+
+    def check_with(self, effects):
+        _check_location(self, effects)
 
     small_signal_reason: ClassVar[str | None] = (
         "Coulomb friction sticks at rest (infinite slope of sign(v))")
@@ -266,7 +460,7 @@ class CoulombFriction(Effect):
     def pack(self, ep):
         ep[K.E_CF] = self.force_N
 
-    def describing_function(self, amplitude_m, omega, params):
+    def describing_function(self, amplitude_m, omega, params, model=None):
         """Equivalent damping 4 F_c / (pi w Y) [N s/m] (no stiffness, no inertance).
 
         Examples
@@ -297,6 +491,7 @@ class ForceOffset(Effect):
     order: ClassVar[int] = 50
     description: ClassVar[str] = "constant load-cell bias"
     slot: ClassVar[int] = K.S_OFF
+    linear: ClassVar[bool] = True
 
     def __post_init__(self):
         check_finite("force_offset offset_N", self.offset_N, "N")
@@ -306,7 +501,7 @@ class ForceOffset(Effect):
     def pack(self, ep):
         ep[K.E_OFF] = self.offset_N
 
-    def describing_function(self, amplitude_m, omega, params):
+    def describing_function(self, amplitude_m, omega, params, model=None):
         """A constant force has no first harmonic: (0, 0, 0)."""
         _check_harmonic(amplitude_m, omega)
         return 0.0, 0.0, 0.0
@@ -331,6 +526,7 @@ class MovingMass(Effect):
     description: ClassVar[str] = "piston and rod inertia m a"
     slot: ClassVar[int] = K.S_MASS
     uses_acceleration: ClassVar[bool] = True
+    linear: ClassVar[bool] = True
 
     def __post_init__(self):
         check_nonnegative("moving_mass mass_kg", self.mass_kg, "kg")
@@ -340,7 +536,7 @@ class MovingMass(Effect):
     def pack(self, ep):
         ep[K.E_MASS] = self.mass_kg
 
-    def describing_function(self, amplitude_m, omega, params):
+    def describing_function(self, amplitude_m, omega, params, model=None):
         """An inertance m [kg] in parallel (exact: F = m a is linear)."""
         _check_harmonic(amplitude_m, omega)
         return 0.0, 0.0, self.mass_kg
@@ -359,6 +555,19 @@ class SmoothFriction(Effect):
     with r = 1 is Coulomb friction.  Extra state ``z_friction`` [-],
     starting at 0, driven by the measured rod velocity.
 
+    At ``location="piston"`` the seal sits behind a dead band (``freeplay``):
+    the bristles are driven by the piston velocity (the dead band's output
+    rate) and the load cell reads the bristle force F_c z, which the
+    massless piston can only pass through the contact.  Derived rather than
+    scaled: when the rod backs off, the loaded bristles keep the piston
+    pressed against it (its elastic spring-back, a stroke of at most about
+    F_c / sigma0) until their force has gone, and only then does the gap
+    open (:func:`~liquidamp.device.kernels.piston_contact`); inside the gap
+    the piston and its bristles stay put, unloaded (the force there is below
+    about 1 % of F_c, the regularisation ``Z_HOLD``).  The freeplay state
+    ``y_fp`` is the piston position including that spring-back.  Not behind
+    ``series_compliance`` (ParameterError).
+
     Parameters
     ----------
     force_N : float
@@ -369,12 +578,15 @@ class SmoothFriction(Effect):
         Stribeck velocity v_s > 0 [m/s].
     static_ratio : float
         Static-to-sliding force ratio r >= 1 [-] (1: no Stribeck dip, Dahl-like).
+    location : {"rod", "piston"}
+        Where the seal sits (a composition choice, not fitted).
     """
 
     force_N: float = 0.0
     stiffness_N_per_m: float = 1.0e5
     stribeck_velocity_m_per_s: float = 0.005
     static_ratio: float = 1.0
+    location: str = _location_field()
     name: ClassVar[str] = "smooth_friction"
     units: ClassVar[dict] = {"force_N": "N", "stiffness_N_per_m": "N/m",
                              "stribeck_velocity_m_per_s": "m/s", "static_ratio": "-"}
@@ -397,6 +609,13 @@ class SmoothFriction(Effect):
         r = check_finite("smooth_friction static_ratio", self.static_ratio, "-")
         if r < 1.0:
             raise ParameterError(f"smooth_friction static_ratio must be >= 1 [-], got {r:g}")
+        self._check_composition()
+
+    def spec_flags(self):
+        return {K.S_ZPIST: int(self.location == "piston")}
+
+    def check_with(self, effects):
+        _check_location(self, effects)
 
     describing_reason: ClassVar[str | None] = None
 
@@ -404,7 +623,7 @@ class SmoothFriction(Effect):
         ep[K.E_SFC], ep[K.E_SIG] = self.force_N, self.stiffness_N_per_m
         ep[K.E_VS], ep[K.E_SR] = self.stribeck_velocity_m_per_s, self.static_ratio
 
-    def describing_function(self, amplitude_m, omega, params):
+    def describing_function(self, amplitude_m, omega, params, model=None):
         """Equivalent (k, c, 0) from the first harmonic of F_c z on its periodic orbit.
 
         The bristle state is driven by the stroke alone, so its describing
@@ -442,6 +661,189 @@ class SmoothFriction(Effect):
         F1 = 2.0 / N * np.sum(self.force_N * z[:N] * np.exp(-1j * w * sol.t[:N]))
         K = 1j * F1 / Y  # y = Y sin(w t) = Im(Y e^{iwt}): K = F1 / (-i Y)
         return float(K.real), float(K.imag / w), 0.0
+
+
+@dataclass(frozen=True)
+class Elastomer(Effect):
+    """Elastomer branch in parallel on the rod: the standard linear solid.
+
+    A spring k0 in parallel with a spring k1 in series with a dashpot c1
+    (a Zener / standard linear solid, e.g. an elastomeric lead-lag element
+    beside the fluid device), acting on the measured rod stroke:
+    F += k0 y + F_e, dF_e/dt = k1 v - F_e / tau, tau = c1 / k1
+    (:func:`~liquidamp.device.kernels.elastomer_rate`).  One state
+    ``F_elastomer`` [N], 0 at rest.  Linear, so its small-signal model and
+    its describing function are exact and equal:
+
+    K(i w) = k0 + k1 i w tau / (1 + i w tau).
+
+    Parameters
+    ----------
+    parallel_stiffness_N_per_m : float
+        k0 >= 0 [N/m].
+    branch_stiffness_N_per_m : float
+        k1 >= 0 [N/m].
+    branch_damping_N_s_per_m : float
+        c1 > 0 [N s/m].
+
+    References
+    ----------
+    .. [1] C. Zener, Elasticity and Anelasticity of Metals, Univ. of Chicago
+       Press, 1948 (the standard linear solid).
+    .. [2] D. L. Kunz, "Nonlinear analysis of helicopter ground resonance",
+       Nonlinear Dyn. 2002 (elastomeric lag dampers).
+
+    Examples
+    --------
+    >>> e = Elastomer(1e5, 4e5, 4e5 / (2 * math.pi * 3.0))   # w tau = 1 at 3 Hz
+    >>> k, c, b = e.describing_function(1e-3, 2 * math.pi * 3.0, None)
+    >>> round(k), round(c * 2 * math.pi * 3.0)               # k0 + k1/2, k1/2
+    (300000, 200000)
+    """
+
+    parallel_stiffness_N_per_m: float = 0.0
+    branch_stiffness_N_per_m: float = 0.0
+    branch_damping_N_s_per_m: float = 1.0
+    name: ClassVar[str] = "elastomer"
+    units: ClassVar[dict] = {"parallel_stiffness_N_per_m": "N/m",
+                             "branch_stiffness_N_per_m": "N/m",
+                             "branch_damping_N_s_per_m": "N s/m"}
+    fit_keys: ClassVar[tuple] = ("branch_stiffness_N_per_m", "branch_damping_N_s_per_m",
+                                 "parallel_stiffness_N_per_m")
+    bounds: ClassVar[dict] = {"parallel_stiffness_N_per_m": (1.0, 1e9),
+                              "branch_stiffness_N_per_m": (1.0, 1e9),
+                              "branch_damping_N_s_per_m": (1e-2, 1e8)}
+    order: ClassVar[int] = 42
+    description: ClassVar[str] = "parallel elastomer (standard linear solid) on the rod"
+    state_names: ClassVar[tuple] = ("F_elastomer",)
+    state_units: ClassVar[tuple] = ("N",)
+    slot: ClassVar[int] = K.S_IEL
+    linear: ClassVar[bool] = True
+    screened: ClassVar[bool] = False  # a candidate on request (see the module notes)
+
+    def __post_init__(self):
+        check_nonnegative("elastomer parallel_stiffness_N_per_m",
+                          self.parallel_stiffness_N_per_m, "N/m")
+        check_nonnegative("elastomer branch_stiffness_N_per_m",
+                          self.branch_stiffness_N_per_m, "N/m")
+        check_positive("elastomer branch_damping_N_s_per_m", self.branch_damping_N_s_per_m,
+                       "N s/m")
+
+    describing_reason: ClassVar[str | None] = None
+
+    def pack(self, ep):
+        ep[K.E_K0] = self.parallel_stiffness_N_per_m
+        ep[K.E_K1] = self.branch_stiffness_N_per_m
+        ep[K.E_C1E] = self.branch_damping_N_s_per_m
+
+    def state_scales(self, params):
+        return np.array([max(self.branch_stiffness_N_per_m * 1e-4, 1.0)])
+
+    def stiffness(self, omega: float) -> complex:
+        """K(i w) = k0 + k1 i w tau / (1 + i w tau) [N/m] at w [rad/s]."""
+        k1, c1 = self.branch_stiffness_N_per_m, self.branch_damping_N_s_per_m
+        iwc = 1j * float(omega) * c1
+        branch = 0j if k1 == 0.0 else k1 * iwc / (k1 + iwc)
+        return self.parallel_stiffness_N_per_m + branch
+
+    def describing_function(self, amplitude_m, omega, params, model=None):
+        """Exact (linear): (Re K, Im K / w, 0)."""
+        _, w = _check_harmonic(amplitude_m, omega)
+        K_ = self.stiffness(w)
+        return float(K_.real), float(K_.imag / w), 0.0
+
+    @classmethod
+    def probe(cls, force_amplitude_N, amplitude_m, omega, params):
+        """A branch of 5 % of the record's force amplitude at w tau = 1, k0 = k1 / 2."""
+        k1 = 0.05 * force_amplitude_N / amplitude_m
+        return cls(0.5 * k1, k1, k1 / omega)
+
+
+def _contact_fraction(rho: float) -> float:
+    """First-harmonic share of one one-sided stop with threshold rho = a / Y [-]."""
+    if rho >= 1.0:
+        return 0.0
+    if rho <= -1.0:
+        return 1.0
+    return (0.5 * math.pi - math.asin(rho) - rho * math.sqrt(1.0 - rho * rho)) / math.pi
+
+
+@dataclass(frozen=True)
+class EndStops(Effect):
+    """Stiff end stops: contact when the rod stroke leaves centre +/- clearance.
+
+    F += sign(u) (k (|u| - clearance) + c v) beyond the clearance,
+    u = y - centre, nothing inside; the onset is C1 over a width
+    w = 0.01 clearance + 1e-7 m (:func:`~liquidamp.device.kernels.stop_force`:
+    the elastic force is exact beyond it).  The elastic part is a force of
+    the stroke alone, so it does no net work over a cycle; the damping is
+    Kelvin-Voigt.  Describing function (exact up to the onset width): with
+    rho_+ = (clearance + centre) / Y, rho_- = (clearance - centre) / Y and
+    n(rho) = (pi/2 - arcsin rho - rho sqrt(1 - rho^2)) / pi per stop
+    (0 for rho >= 1, 1 for rho <= -1), (k, c) = (k_s, c_s) (n(rho_+) + n(rho_-));
+    a centre off zero also gives a mean force, which has no first harmonic.
+
+    Parameters
+    ----------
+    stiffness_N_per_m : float
+        Contact stiffness k >= 0 [N/m].
+    clearance_m : float
+        Free stroke on either side of the centre >= 0 [m].
+    damping_N_s_per_m : float
+        Contact damping c >= 0 [N s/m].
+    centre_m : float
+        Stroke at the middle of the free travel [m].
+
+    References
+    ----------
+    .. [1] A. Gelb, W. E. Vander Velde, Multiple-Input Describing Functions
+       and Nonlinear System Design, McGraw-Hill, 1968 (dead zone).
+
+    Examples
+    --------
+    >>> k, c, b = EndStops(1e6, 1e-3).describing_function(2e-3, 10.0, None)
+    >>> round(k / 1e6, 6)          # 1 - (2/pi)(pi/6 + sqrt(3)/4)
+    0.391002
+    """
+
+    stiffness_N_per_m: float = 0.0
+    clearance_m: float = 1.0e-2
+    damping_N_s_per_m: float = 0.0
+    centre_m: float = 0.0
+    name: ClassVar[str] = "end_stops"
+    units: ClassVar[dict] = {"stiffness_N_per_m": "N/m", "clearance_m": "m",
+                             "damping_N_s_per_m": "N s/m", "centre_m": "m"}
+    fit_keys: ClassVar[tuple] = ("stiffness_N_per_m", "clearance_m")
+    bounds: ClassVar[dict] = {"stiffness_N_per_m": (1e2, 1e10), "clearance_m": (1e-6, 1e-1),
+                              "damping_N_s_per_m": (1e-1, 1e6), "centre_m": (-1e-1, 1e-1)}
+    order: ClassVar[int] = 47
+    description: ClassVar[str] = "stiff contact beyond a clearance"
+    slot: ClassVar[int] = K.S_STOP
+    screened: ClassVar[bool] = False  # a candidate on request (see the module notes)
+
+    def __post_init__(self):
+        check_nonnegative("end_stops stiffness_N_per_m", self.stiffness_N_per_m, "N/m")
+        check_nonnegative("end_stops clearance_m", self.clearance_m, "m")
+        check_nonnegative("end_stops damping_N_s_per_m", self.damping_N_s_per_m, "N s/m")
+        check_finite("end_stops centre_m", self.centre_m, "m")
+
+    describing_reason: ClassVar[str | None] = None
+
+    def pack(self, ep):
+        ep[K.E_KS], ep[K.E_CS] = self.stiffness_N_per_m, self.damping_N_s_per_m
+        ep[K.E_CLR], ep[K.E_CTR] = self.clearance_m, self.centre_m
+
+    def describing_function(self, amplitude_m, omega, params, model=None):
+        """(k_s N, c_s N, 0), N = n(rho_+) + n(rho_-) (class docstring)."""
+        Y, _ = _check_harmonic(amplitude_m, omega)
+        N = (_contact_fraction((self.clearance_m + self.centre_m) / Y)
+             + _contact_fraction((self.clearance_m - self.centre_m) / Y))
+        return self.stiffness_N_per_m * N, self.damping_N_s_per_m * N, 0.0
+
+    @classmethod
+    def probe(cls, force_amplitude_N, amplitude_m, omega, params):
+        """Stops at 90 % of the stroke, 5 x the record's force over the stroke."""
+        return cls(5.0 * force_amplitude_N / amplitude_m, 0.9 * amplitude_m)
 
 
 @dataclass(frozen=True)
@@ -588,6 +990,321 @@ class Leakage(Effect):
 
     def pack(self, ep):
         ep[K.E_LEAK] = self.coefficient_m3_per_s_Pa
+
+
+#: Stateless bases on which the flow effects act as a force law on the dashpot.
+_DAMPERS = ("dashpot", "dashpot_inerter", "viscous")
+
+
+def _damper(params, model) -> tuple[float, float]:
+    """(c [N s/m], piston area [m^2]) of a stateless dashpot-type base (viscous: area 1)."""
+    if model.base == "viscous":
+        return float(params.c), 1.0
+    return float(params.c_L), float(params.A_p)
+
+
+def saturation_damping(c: float, c_open: float, force_r: float,
+                       velocity_amplitude: float) -> float:
+    """Equivalent damping of a relief-valve saturated dashpot at v = V cos(w t) [N s/m].
+
+    The static law F(v) = sign(v) min(c |v|, F_r + c_o (|v| - F_r / c)) is
+    c_o v plus (c - c_o) times a unit saturation at F_r / c, whose describing
+    function is exact (Gelb and Vander Velde, 1968): with rho = F_r / (c V),
+
+    c_eq = c_o + (c - c_o) (2 / pi) (arcsin(rho) + rho sqrt(1 - rho^2))
+
+    for c V > F_r, and c otherwise.  (For a small second harmonic on top of
+    a large motion the incremental damping is the time average of the slope,
+    c_o + (c - c_o) (2 / pi) arcsin(rho), without the second term.)
+
+    Parameters
+    ----------
+    c : float
+        Damping below cracking > 0 [N s/m].
+    c_open : float
+        Slope above cracking, 0 <= c_open <= c [N s/m].
+    force_r : float
+        Cracking force F_r >= 0 [N].
+    velocity_amplitude : float
+        V > 0 [m/s].
+
+    Returns
+    -------
+    float
+        c_eq [N s/m]: the first harmonic of F is c_eq V cos(w t).
+
+    Examples
+    --------
+    >>> saturation_damping(1e5, 1e4, 500.0, 0.004)     # below cracking: c
+    100000.0
+    >>> round(saturation_damping(1e5, 0.0, 0.0, 0.01), 12)   # Coulomb-like limit 0
+    0.0
+    """
+    for name, v in (("c", c), ("c_open", c_open), ("force_r", force_r),
+                    ("velocity_amplitude", velocity_amplitude)):
+        check_nonnegative(f"saturation_damping {name}", v, "SI")
+    if not c > 0 or not velocity_amplitude > 0 or c_open > c:
+        raise ParameterError(f"saturation_damping needs c > 0, V > 0 and c_open <= c, got "
+                             f"c = {c:g}, V = {velocity_amplitude:g}, c_open = {c_open:g}")
+    rho = force_r / (c * velocity_amplitude)
+    if rho >= 1.0:
+        return float(c)
+    return float(c_open + (c - c_open) * 2.0 / math.pi
+                 * (math.asin(rho) + rho * math.sqrt(1.0 - rho * rho)))
+
+
+@dataclass(frozen=True)
+class ReliefValve(Effect):
+    """Relief (blow-off) valve: a pressure-limited second flow path beside the channel.
+
+    No flow below the cracking pressure p_r; above it the valve passes
+    q_r = sign(dp) G (|dp| - p_r) [m^3/s] in parallel with the channel
+    (:func:`~liquidamp.device.kernels.relief_flow`, C1 over a pressure width
+    0.01 p_r + 1 Pa so that stiff steppers keep their order).  On the models
+    with chamber pressures the mass flow rho_l q_r joins the chamber balances
+    like leakage's (mass conserved exactly); on the differential models
+    (eqs. 15, 18) d(dp)/dt loses B q_r, on ``maxwell`` dF/dt loses
+    k_D q_r(F / A_p) / A_p.  On the stateless dashpot-type bases it is the
+    exact static force saturation (no regularisation: no state)
+
+    F(v) = sign(v) min(c |v|, F_r + c_o (|v| - F_r / c)),
+
+    F_r = p_r A_p, c_o = 1 / (1 / c + G / A_p^2), c = c_L (``dashpot``; the
+    dashpot part of ``dashpot_inerter``): the channel's laminar loss with
+    the valve path in parallel above cracking.  The ``viscous`` base F = c v
+    is read as a dashpot of unit piston area: cracking force F_r [N] =
+    cracking_pressure_Pa x 1 m^2 and c_o = 1 / (1 / c + G x 1 m^-4), i.e. give
+    the relief as a force with :meth:`from_force`.  Its describing function
+    there is exact (:func:`saturation_damping`).  Closed at rest, so the
+    small-signal model at rest holds it (it has no effect there).
+
+    Parameters
+    ----------
+    cracking_pressure_Pa : float
+        p_r >= 0 [Pa] (viscous base: the cracking force in N).
+    conductance_m3_per_s_Pa : float
+        G >= 0 [m^3/(s Pa)] (viscous base: m/(N s)); 0 keeps the valve shut.
+
+    References
+    ----------
+    .. [1] H. E. Merritt, Hydraulic Control Systems, Wiley, 1967, Ch. 5
+       (pressure-relief valves).
+    .. [2] A. Gelb, W. E. Vander Velde, Multiple-Input Describing Functions
+       and Nonlinear System Design, McGraw-Hill, 1968 (saturation).
+
+    Examples
+    --------
+    >>> from liquidamp.device.models import get_model
+    >>> from liquidamp.device import preset
+    >>> p = preset("reference")
+    >>> m = with_effects(get_model("dashpot"), ReliefValve(1e6, 1e-9))
+    >>> F_r = 1e6 * p.A_p; v = 2 * F_r / p.c_L      # twice the cracking speed
+    >>> c_o = 1 / (1 / p.c_L + 1e-9 / p.A_p**2)
+    >>> bool(np.isclose(m.force(0.0, np.zeros(0), (0.0, v, 0.0), p), F_r + c_o * v / 2))
+    True
+    """
+
+    cracking_pressure_Pa: float = 1.0e6
+    conductance_m3_per_s_Pa: float = 0.0
+    name: ClassVar[str] = "relief_valve"
+    units: ClassVar[dict] = {"cracking_pressure_Pa": "Pa",
+                             "conductance_m3_per_s_Pa": "m^3/(s Pa)"}
+    fit_keys: ClassVar[tuple] = ("conductance_m3_per_s_Pa", "cracking_pressure_Pa")
+    bounds: ClassVar[dict] = {"cracking_pressure_Pa": (1e2, 1e9),
+                              "conductance_m3_per_s_Pa": (1e-15, 1e-1)}
+    order: ClassVar[int] = 7
+    description: ClassVar[str] = "pressure-limited bypass (blow-off valve)"
+    slot: ClassVar[int] = K.S_RELIEF
+    kind: ClassVar[str] = "fluid"
+    screened: ClassVar[bool] = False  # a candidate on request (see the module notes)
+
+    def __post_init__(self):
+        check_nonnegative("relief_valve cracking_pressure_Pa", self.cracking_pressure_Pa, "Pa")
+        check_nonnegative("relief_valve conductance_m3_per_s_Pa",
+                          self.conductance_m3_per_s_Pa, "m^3/(s Pa)")
+
+    @classmethod
+    def from_force(cls, cracking_force_N: float, damping_N_s_per_m: float,
+                   open_damping_N_s_per_m: float, area_m2: float = 1.0) -> ReliefValve:
+        """The valve that saturates a dashpot c at F_r with slope c_o above it.
+
+        p_r = F_r / A, G = A^2 (1 / c_o - 1 / c); A = 1 m^2 for the viscous
+        base, A_p for ``dashpot``.
+
+        Examples
+        --------
+        >>> r = ReliefValve.from_force(5000.0, 1e5, 2e4)
+        >>> r.cracking_pressure_Pa, round(r.conductance_m3_per_s_Pa, 12)
+        (5000.0, 4e-05)
+        """
+        c = check_positive("damping_N_s_per_m", damping_N_s_per_m, "N s/m")
+        co = check_positive("open_damping_N_s_per_m", open_damping_N_s_per_m, "N s/m")
+        A = check_positive("area_m2", area_m2, "m^2")
+        if co > c:
+            raise ParameterError(f"open_damping_N_s_per_m must be <= damping_N_s_per_m "
+                                 f"({c:g} N s/m), got {co:g}")
+        return cls(float(cracking_force_N) / A, A * A * (1.0 / co - 1.0 / c))
+
+    @classmethod
+    def probe(cls, force_amplitude_N, amplitude_m, omega, params):
+        """Cracking at 70 % of the peak pressure difference, a path of 0.3 x the channel's
+        conductance at the record's flow (F_a / A_p for the peak; the viscous base: A = 1).
+
+        Examples
+        --------
+        >>> from liquidamp.device import preset
+        >>> r = ReliefValve.probe(1000.0, 0.003, 6 * math.pi, preset("reference"))
+        >>> round(r.cracking_pressure_Pa * preset("reference").A_p, 6)
+        700.0
+        """
+        if hasattr(params, "A_p"):
+            A = params.A_p
+            Q = A * omega * amplitude_m
+            c = params.c1 + 8.0 / (3.0 * math.pi) * params.c2 * Q
+        else:
+            A, c = 1.0, float(params.c)
+        return cls(0.7 * force_amplitude_N / A, 0.3 / max(c, 1e-300))
+
+    def check(self, model):
+        if model.base in ("spring", "inerter"):
+            raise ParameterError(
+                f"effect {self.name!r} needs a flow path: model {model.name!r} has none "
+                "(use a model with chamber pressures, a differential or Maxwell model, "
+                "'dashpot', 'dashpot_inerter' or 'viscous')")
+
+    describing_reason: ClassVar[str | None] = (
+        "on a model with chamber states the valve changes the fluid equations; only on "
+        "'dashpot', 'dashpot_inerter' and 'viscous' is it an exact force law")
+
+    def pack(self, ep):
+        ep[K.E_PR] = self.cracking_pressure_Pa
+        ep[K.E_GR] = self.conductance_m3_per_s_Pa
+
+    def describing_function(self, amplitude_m, omega, params, model=None):
+        """Exact on the dashpot-type bases: (0, c_eq - c, 0) (:func:`saturation_damping`).
+
+        Examples
+        --------
+        >>> from liquidamp.device.models import VISCOUS, ViscousParams
+        >>> m = with_effects(VISCOUS, ReliefValve.from_force(500.0, 1e5, 2e4))
+        >>> k, dc, b = m.effects[0].describing_function(0.002, 5.0, ViscousParams(1e5), m)
+        >>> round(1e5 + dc, 3) == round(saturation_damping(1e5, 2e4, 500.0, 0.01), 3)
+        True
+        """
+        Y, w = _check_harmonic(amplitude_m, omega)
+        if model is None or model.base not in _DAMPERS:
+            return super().describing_function(amplitude_m, omega, params, model)
+        c, area = _damper(params, model)
+        if c == 0.0:
+            return 0.0, 0.0, 0.0
+        asym = model.effect("asymmetric_loss")
+        F_r = self.cracking_pressure_Pa * area
+        g = self.conductance_m3_per_s_Pa / area**2
+        # each half cycle contributes half the first harmonic; with asymmetric_loss the
+        # rebound half saturates the dashpot r c (its own describing function holds the
+        # unsaturated average c (1 + r) / 2, this one the saturation on top)
+        out = 0.0
+        for ci in ((c,) if asym is None else (c, c * asym.rebound_ratio)):
+            out += saturation_damping(ci, 1.0 / (1.0 / ci + g), F_r, w * Y) - ci
+        return 0.0, out if asym is None else 0.5 * out, 0.0
+
+
+@dataclass(frozen=True)
+class AsymmetricLoss(Effect):
+    """Direction-dependent losses: rebound unlike compression.
+
+    The channel's loss coefficients are multiplied by the rebound ratio r
+    while the flow runs from chamber 2 to chamber 1 (rebound; compression,
+    y increasing, drives it from 1 to 2): c1, c2 (volumetric models), g1, g2
+    (mass-flow models), T_D = c1 / B (``maxwell``), c_L (``dashpot``,
+    ``dashpot_inerter``) and the viscous c, where the direction is the
+    channel flow's sign (a state, or the pressure difference it follows;
+    :func:`~liquidamp.device.kernels.flow_direction`) or the piston
+    velocity's on the stateless bases.  The force stays continuous (every
+    loss vanishes at zero flow); the ratio is piecewise constant, so the
+    analytic Jacobian holds off zero flow.  A relief valve's path is not
+    scaled.  On the stateless bases F = c v (compression), r c v (rebound):
+    the first harmonic's damping is the average c (1 + r) / 2 and the
+    energy of the rebound half cycle is r times the compression half's.
+
+    Parameters
+    ----------
+    rebound_ratio : float
+        r > 0 [-]: rebound loss / compression loss (1: symmetric).
+
+    References
+    ----------
+    .. [1] J. C. Dixon, The Shock Absorber Handbook, 2nd ed., Wiley, 2007,
+       Ch. 1 and 5 (bump and rebound damping).
+
+    Examples
+    --------
+    >>> from liquidamp.device.models import get_model
+    >>> from liquidamp.device import preset
+    >>> p = preset("reference")
+    >>> m = with_effects(get_model("dashpot"), AsymmetricLoss(2.5))
+    >>> u = (np.zeros(2), np.array([0.01, -0.01]), np.zeros(2))
+    >>> [round(float(f / (0.01 * p.c_L)), 12) for f in m.force(0.0, np.zeros((0, 2)), u, p)]
+    [1.0, -2.5]
+    """
+
+    rebound_ratio: float = 1.0
+    name: ClassVar[str] = "asymmetric_loss"
+    units: ClassVar[dict] = {"rebound_ratio": "-"}
+    fit_keys: ClassVar[tuple] = ("rebound_ratio",)
+    bounds: ClassVar[dict] = {"rebound_ratio": (0.05, 20.0)}
+    order: ClassVar[int] = 3
+    description: ClassVar[str] = "rebound losses r times the compression losses"
+    slot: ClassVar[int] = K.S_ASYM
+    kind: ClassVar[str] = "fluid"
+    screened: ClassVar[bool] = False  # a candidate on request (see the module notes)
+
+    def __post_init__(self):
+        r = check_finite("asymmetric_loss rebound_ratio", self.rebound_ratio, "-")
+        if not r > 0:
+            raise ParameterError(f"asymmetric_loss rebound_ratio must be > 0 [-], got {r:g}")
+
+    def check(self, model):
+        if model.base in ("spring", "inerter"):
+            raise ParameterError(
+                f"effect {self.name!r} needs a loss: model {model.name!r} has none")
+
+    def check_small_signal(self, params) -> None:
+        """The slope of the loss jumps at zero flow unless the ratio is 1."""
+        if self.rebound_ratio != 1.0:
+            raise ParameterError(
+                f"effect {self.name!r} has no small-signal model at rest: the loss slope "
+                f"jumps by the rebound ratio {self.rebound_ratio:g} at zero flow; give an "
+                "amplitude and a frequency for an equivalent linearization, or use the time "
+                "domain")
+
+    describing_reason: ClassVar[str | None] = (
+        "on a model with chamber states it changes the fluid equations; only on 'dashpot', "
+        "'dashpot_inerter' and 'viscous' is it an exact force law")
+
+    def pack(self, ep):
+        ep[K.E_RR] = self.rebound_ratio
+
+    @classmethod
+    def probe(cls, force_amplitude_N, amplitude_m, omega, params):
+        """Rebound losses 20 % above compression's."""
+        return cls(1.2)
+
+    def describing_function(self, amplitude_m, omega, params, model=None):
+        """Exact on the dashpot-type bases: (0, c (r - 1) / 2, 0) (the average damping).
+
+        Examples
+        --------
+        >>> from liquidamp.device.models import VISCOUS, ViscousParams
+        >>> m = with_effects(VISCOUS, AsymmetricLoss(3.0))
+        >>> m.effects[0].describing_function(1e-3, 10.0, ViscousParams(100.0), m)
+        (0.0, 100.0, 0.0)
+        """
+        _check_harmonic(amplitude_m, omega)
+        if model is None or model.base not in _DAMPERS:
+            return super().describing_function(amplitude_m, omega, params, model)
+        c = _damper(params, model)[0]
+        return 0.0, 0.5 * c * (self.rebound_ratio - 1.0), 0.0
 
 
 @dataclass(frozen=True)
@@ -740,7 +1457,7 @@ class RotatingFrame(Effect):
                              "axis_angle_rad": "rad"}
     fit_keys: ClassVar[tuple] = ()
     bounds: ClassVar[dict] = {}
-    order: ClassVar[int] = 7
+    order: ClassVar[int] = 8
     description: ClassVar[str] = "centrifugal field of a device turning with a rotor"
     slot: ClassVar[int] = K.S_ROT
     kind: ClassVar[str] = "fluid"
@@ -847,7 +1564,8 @@ def _check_harmonic(amplitude_m, omega) -> tuple[float, float]:
 EFFECTS: dict[str, type[Effect]] = {
     cls.name: cls
     for cls in (CoulombFriction, SmoothFriction, ForceOffset, MovingMass, SeriesCompliance,
-                Freeplay, Leakage, Cavitation, RotatingFrame)
+                Freeplay, Leakage, Cavitation, ReliefValve, AsymmetricLoss, Elastomer, EndStops,
+                RotatingFrame)
 }
 """Registry: effect name -> class."""
 
@@ -859,7 +1577,8 @@ def effect_names() -> tuple[str, ...]:
     --------
     >>> effect_names()
     ('coulomb_friction', 'smooth_friction', 'force_offset', 'moving_mass', \
-'series_compliance', 'freeplay', 'leakage', 'cavitation', 'rotating_frame')
+'series_compliance', 'freeplay', 'leakage', 'cavitation', 'relief_valve', 'asymmetric_loss', \
+'elastomer', 'end_stops', 'rotating_frame')
     """
     return tuple(EFFECTS)
 
@@ -871,19 +1590,39 @@ def make_effect(name: str, **parameters) -> Effect:
     --------
     >>> make_effect("freeplay", gap_m=1e-4).parameters
     {'gap_m': 0.0001}
+    >>> make_effect("coulomb_friction", force_N=30, location="piston").location
+    'piston'
+    >>> make_effect("coulomb_friction", location="seal")
+    Traceback (most recent call last):
+    ...
+    liquidamp.errors.ParameterError: coulomb_friction location must be one of 'rod', \
+'piston', got 'seal'
     >>> make_effect("stiction")
     Traceback (most recent call last):
     ...
     liquidamp.errors.ParameterError: unknown effect 'stiction'; valid: coulomb_friction, \
 smooth_friction, force_offset, moving_mass, series_compliance, freeplay, leakage, cavitation, \
-rotating_frame
+relief_valve, asymmetric_loss, elastomer, end_stops, rotating_frame
     """
     check_choice("effect", name, EFFECTS)
     cls = EFFECTS[name]
-    keys = [f.name for f in dataclasses.fields(cls)]
+    comp = cls.composition_keys()
+    keys = list(cls.parameter_keys()) + list(comp)
     for key in parameters:
         check_choice(f"{name} parameter", key, keys)
-    return cls(**{k: float(v) for k, v in parameters.items()})
+    values = {}
+    for k, v in parameters.items():
+        if k in comp:
+            if not isinstance(v, str):
+                raise ParameterError(f"{name} {k} must be one of "
+                                     f"{', '.join(map(repr, comp[k]))}, got {v!r}")
+            values[k] = v
+        else:
+            try:
+                values[k] = float(v)
+            except (TypeError, ValueError):
+                raise ParameterError(f"{name} {k} must be a number (SI), got {v!r}") from None
+    return cls(**values)
 
 
 def _piston_stroke(model_effects, n_base: int):
@@ -958,6 +1697,7 @@ states p1, p2; model 'single_state' has states (dp); use 'full', 'no_inertia', \
     ordered = tuple(sorted(model.effects + tuple(effects), key=lambda e: e.order))
     for e in ordered:
         e.check(bare)
+        e.check_with(ordered)
     nb = bare.n_states
     ip = _piston_stroke(ordered, nb)
     base_x0, base_sc = bare.initial_state, bare.state_scales

@@ -27,15 +27,23 @@ A composed model travels as three arrays, built by
 Composition (the order of :mod:`liquidamp.device.effects`): the kinematic
 effects turn the measured rod stroke into the piston stroke the fluid sees
 (freeplay outermost, then series compliance); the fluid effects act on the
-chamber equations (leakage as a second flow path, cavitation on the
-pressure rates); smooth friction's bristle state is driven by the rod
-velocity; the force effects add to the load-cell force.
+chamber equations (direction-dependent loss coefficients ``S_ASYM``,
+:func:`loss_params`; leakage and the relief valve ``S_RELIEF`` as second
+flow paths, :func:`relief_flow`; cavitation on the pressure rates); on the
+stateless dashpot-type bases the relief valve and the rebound ratio are
+the exact force law :func:`relief_force`; smooth friction's bristle state
+is driven by the rod velocity, or by the piston's behind a dead band (``S_ZPIST``: friction at
+the piston, :func:`piston_contact`); the force effects add to the load-cell
+force (Coulomb friction at the piston through the dead band's contact
+factor, ``S_CPIST``; the elastomer branch ``S_IEL``, :func:`elastomer_rate`;
+end stops ``S_STOP``, :func:`stop_force`).
 
 The Jacobian is analytic for every base model, with leakage on ``full`` and
-``no_inertia`` and with smooth friction; compositions with cavitation,
-series compliance, freeplay or leakage on the reductions use central
-differences of the same compiled right-hand side (exact to about 1e-10
-relative, which the Rosenbrock stepper's error control absorbs).
+``no_inertia``, with smooth friction, the elastomer and direction-dependent
+losses; compositions with cavitation, series compliance, freeplay, a relief
+valve or leakage on the reductions use central differences of the same
+compiled right-hand side (exact to about 1e-10 relative, which the
+Rosenbrock stepper's error control absorbs).
 
 References
 ----------
@@ -60,7 +68,9 @@ from numba import njit
 __all__ = [
     "MODEL_IDS", "BASE_STATES", "N_PRM", "N_SPEC", "N_EP", "pack_params",
     "bulk", "bulk_and_dp", "loss_flow", "loss_flow_dp",
-    "lugre_rate", "play_rate", "compliance_rate", "cavity_width", "cavity_rates",
+    "lugre_rate", "play_contact", "piston_contact", "play_rate", "compliance_rate",
+    "cavity_width", "cavity_rates", "c1_ramp", "relief_flow", "relief_force",
+    "flow_direction", "loss_params", "elastomer_rate", "stop_force",
     "rotating_heads", "rotating_slope", "rotating_offset_slopes",
     "model_rhs", "model_jac", "model_rhs_t", "model_force", "force_series",
     "base_force_series",
@@ -113,15 +123,21 @@ N_PRM = 24
 # ------------------------------------------------------------ composition
 S_MID, S_N, S_NB, S_ICAV, S_IC, S_IFP, S_IZ = range(7)
 S_LEAK, S_COUL, S_MASS, S_OFF, S_ANALYTIC, S_I1, S_I2, S_EFFECTS = range(7, 15)
-# spec slots 15..20 are reserved for effects added in parallel (unused here)
+#: Composition flags of issue #12 (slots 15-20): friction behind the kinematic effects
+#: (Coulomb, smooth), relief valve, direction-dependent losses, the elastomer branch's
+#: state index, end stops.
+S_CPIST, S_ZPIST, S_RELIEF, S_ASYM, S_IEL, S_STOP = range(15, 21)
 #: Rotating frame (centrifugal field along the device axis): 1 when composed, else -1.
 S_ROT = 21
 N_SPEC = 22
 
 E_LEAK, E_PV, E_KC, E_GAP, E_SFC, E_SIG, E_VS, E_SR, E_CF, E_MASS, E_OFF = range(11)
-# effect slots 11..22 are reserved for effects added in parallel (unused here)
+E_PR, E_GR = 11, 12  # relief valve: cracking pressure [Pa], conductance [m^3/(s Pa)]
+E_RR = 13  # direction-dependent losses: rebound ratio [-]
+E_K0, E_K1, E_C1E = 14, 15, 16  # elastomer: k0, k1 [N/m], c1 [N s/m]
+E_KS, E_CS, E_CLR, E_CTR = 17, 18, 19, 20  # end stops: k [N/m], c [N s/m], clearance, centre [m]
 #: Rotating frame: rotor speed [rad/s], radius of the device mid-point [m], cos(axis angle) [-]
-#: (slot 26 is reserved for it and unused).
+#: (slots 21, 22 and 26 are unused).
 E_OMEGA, E_RM, E_COSA = 23, 24, 25
 #: The effect slots; the state scales follow from ``ep[N_EP]`` on.
 N_EP = 27
@@ -252,6 +268,62 @@ def _smoothstep(s):
 
 
 @njit(cache=True, error_model="numpy")
+def play_contact(e, v, gap):
+    """Contact factor of the dead band's driven side, 0 in the gap and 1 in contact [-].
+
+    ``S(s)``, ``s = (e sign(v) - gap) / delta + 1`` with ``e = y - y_fp`` and
+    the smoothing width ``delta = 0.05 gap + 1e-7 m`` (:func:`play_rate`); 0
+    at v = 0.
+
+    Examples
+    --------
+    >>> play_contact(0.0, 0.1, 1e-3), play_contact(1e-3, 0.1, 1e-3)
+    (0.0, 1.0)
+    """
+    delta = 0.05 * gap + 1.0e-7
+    if v > 0.0:
+        s = (e - gap) / delta + 1.0
+    elif v < 0.0:
+        s = (-e - gap) / delta + 1.0
+    else:
+        return 0.0
+    return _smoothstep(s)
+
+
+#: Width of the bristle contact's switch in units of the pre-sliding stroke F_c / sigma0
+#: [-] (:func:`piston_contact`): the bristle force left in the gap is of this order.
+Z_HOLD = 0.01
+
+
+@njit(cache=True, error_model="numpy")
+def piston_contact(e, z, lam, gap):
+    """Contact factor of a dead band in series with LuGre bristles (friction at the piston) [-].
+
+    The driven side (the piston with its seal) is massless, so the bristle
+    force F_c z must pass through the contact.  The dead band and the
+    bristle spring are in series between the rod and the bristle root
+    ``w = y_fp - lam z`` (``lam = F_c / sigma0`` [m], the pre-sliding
+    stroke): the contact is closed while |y - w| = |e + lam z| exceeds the
+    gap, i.e. while the rod pushes into it or the loaded bristles press the
+    piston against a rod that backs off (the elastic spring-back of the
+    pre-sliding deflection); it opens when their force has gone.
+    ``C = S((|e + lam z| - gap) / delta_c + 1)``, S the C1 smoothstep,
+    ``delta_c = min(0.05 gap + 1e-7 m, Z_HOLD lam)``: the bristle force left
+    in the gap is of order ``Z_HOLD`` F_c (:data:`Z_HOLD` = 0.01).  The
+    piston then moves at C v and the bristles are driven by it.
+
+    Examples
+    --------
+    >>> piston_contact(1e-3, 0.5, 1e-4, 1e-3)   # loaded bristles: held (any direction)
+    1.0
+    >>> piston_contact(0.5e-3, 0.0, 1e-4, 1e-3)  # unloaded, inside the gap: open
+    0.0
+    """
+    delta = min(0.05 * gap + 1.0e-7, Z_HOLD * lam)
+    return _smoothstep((abs(e + lam * z) - gap) / delta + 1.0)
+
+
+@njit(cache=True, error_model="numpy")
 def play_rate(y, y_fp, v, gap):
     """Rate of the driven side of a dead band of half-width ``gap`` [m/s].
 
@@ -271,15 +343,7 @@ def play_rate(y, y_fp, v, gap):
     >>> play_rate(1e-3, 0.0, 0.1, 1e-3)    # in contact: it follows the rod
     0.1
     """
-    delta = 0.05 * gap + 1.0e-7
-    e = y - y_fp
-    if v > 0.0:
-        s = (e - gap) / delta + 1.0
-    elif v < 0.0:
-        s = (-e - gap) / delta + 1.0
-    else:
-        return 0.0
-    return v * _smoothstep(s)
+    return v * play_contact(y - y_fp, v, gap)
 
 
 @njit(cache=True, error_model="numpy")
@@ -427,6 +491,66 @@ def rotating_slope(prm, ep):
     """
     return -prm[P_RHO0] * ep[E_OMEGA] * ep[E_OMEGA] * (prm[P_V01] + prm[P_V02]) / (
         6.0 * prm[P_AP])
+
+
+@njit(cache=True, error_model="numpy")
+def c1_ramp(u, w):
+    """C1 ramp: 0 for u <= 0, u for u >= w, u^2 (2w - u) / w^2 between [unit of u].
+
+    Exact beyond the width w (its slope rises from 0 to at most 4/3 and is 1
+    at w), so that closed forms hold past the onset while stiff steppers
+    keep their order through it.
+
+    Examples
+    --------
+    >>> c1_ramp(-1.0, 0.1), c1_ramp(0.05, 0.1), c1_ramp(2.0, 0.1)
+    (0.0, 0.0375, 2.0)
+    """
+    if u <= 0.0:
+        return 0.0
+    if u >= w:
+        return u
+    return u * u * (2.0 * w - u) / (w * w)
+
+
+@njit(cache=True, error_model="numpy")
+def relief_flow(dp, p_r, G):
+    """Volumetric flow through a relief (blow-off) valve [m^3/s] at pressure difference dp.
+
+    ``q = sign(dp) G R(|dp| - p_r)``: closed below the cracking pressure p_r
+    [Pa], then a conductance G [m^3/(s Pa)]; R the :func:`c1_ramp` over the
+    width ``0.01 p_r + 1 Pa``.
+
+    Examples
+    --------
+    >>> relief_flow(1e6, 2e6, 1e-9), relief_flow(-3e6, 2e6, 1e-9)
+    (0.0, -0.001)
+    """
+    q = G * c1_ramp(abs(dp) - p_r, 0.01 * p_r + 1.0)
+    return q if dp >= 0.0 else -q
+
+
+@njit(cache=True, error_model="numpy")
+def relief_force(v, c, F_r, g):
+    """Force of a dashpot c [N s/m] with a relief valve, exact static law [N].
+
+    ``F = sign(v) min(c |v|, F_r + c_o (|v| - F_r / c))``, ``c_o = c / (1 +
+    c g)``: the channel carries the flow up to the cracking force F_r =
+    p_r A [N]; above it the valve's path (``g = G / A^2`` [m/(N s)]) opens
+    in parallel and the slope falls to c_o.  No regularisation (no state).
+
+    Examples
+    --------
+    >>> relief_force(0.01, 1e5, 500.0, 0.0)      # below cracking: c v
+    1000.0
+    >>> relief_force(-0.01, 1e5, 500.0, 4e-5)    # above: 500 + 2e4 (0.01 - 0.005)
+    -600.0
+    """
+    a = abs(v)
+    f = c * a
+    if f > F_r:
+        f = F_r + c / (1.0 + c * g) * (a - F_r / c)
+    return f if v >= 0.0 else -f
 
 
 # --------------------------------------------------------------- base models
@@ -741,6 +865,73 @@ def _state_force(mid, d, prm):
 
 # -------------------------------------------------------- composed models
 @njit(cache=True, error_model="numpy")
+def flow_direction(mid, spec, x, v, dpc=0.0):
+    """Sign of the channel flow (compression > 0, rebound < 0) of base ``mid`` [-].
+
+    The channel mass flow where it is a state (``full``, ``inertial``), the
+    volumetric flow (``inertial_2state``), the pressure difference it follows
+    (``no_inertia``, ``constant_bulk``, ``volumetric``, ``single_state``),
+    the Maxwell force, or the piston velocity ``v`` (stateless bases).
+    """
+    if mid == M_FULL:
+        d = x[4]
+    elif mid == M_INERTIAL or mid == M_INERTIAL_2STATE:
+        d = x[2] if mid == M_INERTIAL else x[1]
+    elif mid == M_NO_INERTIA or mid == M_CONSTANT_BULK or mid == M_VOLUMETRIC:
+        d = x[spec[S_I1]] - x[spec[S_I2]] + dpc
+    elif mid == M_SINGLE_STATE:
+        d = x[0] + dpc
+    elif mid == M_MAXWELL:
+        d = x[0]
+    else:
+        d = v
+    return 1.0 if d > 0.0 else (-1.0 if d < 0.0 else 0.0)
+
+
+@njit(cache=True, error_model="numpy")
+def loss_params(spec, x, v, prm, ep, dpc=0.0):
+    """Copy of ``prm`` with the channel's loss coefficients of the flow's direction.
+
+    In rebound (:func:`flow_direction` < 0) c1, c2, g1, g2, c_L, the viscous
+    c and T_D (= c1 / B) are multiplied by the rebound ratio ``ep[E_RR]``;
+    piecewise constant, so the analytic Jacobian stays exact off zero flow.
+    """
+    q = prm.copy()
+    if flow_direction(spec[S_MID], spec, x, v, dpc) < 0.0:
+        r = ep[E_RR]
+        for k in (P_G1, P_G2, P_C1, P_C2, P_CL, P_CV, P_TD):
+            q[k] = q[k] * r
+    return q
+
+
+@njit(cache=True, error_model="numpy")
+def _relief_differential(mid, x, y, prm, ep, dpc, out):
+    """The relief flow in the differential and linear models (eqs. 15, 16, 18)."""
+    Ap = prm[P_AP]
+    if mid == M_MAXWELL:  # dF/dt = A_p B (A_p v - q - q_r), k_D = A_p^2 B
+        out[0] -= prm[P_KD] / Ap * relief_flow(x[0] / Ap, ep[E_PR], ep[E_GR])
+    elif mid == M_SINGLE_STATE or mid == M_INERTIAL_2STATE:
+        B = prm[P_B01] / (prm[P_V01] - Ap * y) + prm[P_B02] / (prm[P_V02] + Ap * y)
+        out[0] -= B * relief_flow(x[0] + dpc, ep[E_PR], ep[E_GR])
+
+
+@njit(cache=True, error_model="numpy")
+def _damper_force(spec, v, prm, ep):
+    """Force of a stateless dashpot-type base (dashpot, dashpot_inerter's dashpot, viscous)
+    with the rebound ratio and the relief valve as an exact force saturation [N] (the
+    viscous damper is read as a dashpot of unit piston area)."""
+    if spec[S_MID] == M_VISCOUS:
+        c, area = prm[P_CV], 1.0
+    else:
+        c, area = prm[P_CL], prm[P_AP]
+    if spec[S_ASYM] != 0 and v < 0.0:
+        c *= ep[E_RR]
+    if spec[S_RELIEF] != 0 and c > 0.0:
+        return relief_force(v, c, ep[E_PR] * area, ep[E_GR] / (area * area))
+    return c * v
+
+
+@njit(cache=True, error_model="numpy")
 def _fluid_rhs(spec, x, y, v, prm, ep, out):
     """Base model with the fluid effects (leakage, rotating frame, cavitation) at piston
     stroke (y, v)."""
@@ -751,10 +942,20 @@ def _fluid_rhs(spec, x, y, v, prm, ep, out):
     o2 = 0.0
     if spec[S_ROT] > 0:
         dpc, o1, o2 = rotating_heads(y, prm, ep)
-    base_rhs(mid, x, y, v, prm, kL, dpc, out)
+    i1 = spec[S_I1]
+    if spec[S_RELIEF] != 0 and i1 >= 0:  # a second path beside the channel, driven like
+        dp = x[i1] - x[spec[S_I2]] + dpc  # it: its secant conductance joins the leakage's
+        if dp != 0.0:
+            kL += relief_flow(dp, ep[E_PR], ep[E_GR]) / dp
+    if spec[S_ASYM] != 0:
+        base_rhs(mid, x, y, v, loss_params(spec, x, v, prm, ep, dpc), kL, dpc, out)
+    else:
+        base_rhs(mid, x, y, v, prm, kL, dpc, out)
+    if spec[S_RELIEF] != 0 and i1 < 0:
+        _relief_differential(mid, x, y, prm, ep, dpc, out)
     ic = spec[S_ICAV]
     if ic >= 0:
-        i1, i2 = spec[S_I1], spec[S_I2]
+        i2 = spec[S_I2]
         Ap = prm[P_AP]
         V1 = prm[P_V01] - Ap * y
         V2 = prm[P_V02] + Ap * y
@@ -780,22 +981,80 @@ def _fluid_rhs(spec, x, y, v, prm, ep, out):
         out[ic + 1] = dc2
 
 
+@njit(cache=True, error_model="numpy")
+def elastomer_rate(v, F, k1, c1):
+    """dF/dt of the elastomer's Maxwell branch (spring k1 in series with dashpot c1) [N/s].
+
+    ``dF/dt = k1 v - (k1 / c1) F`` (tau = c1 / k1); with the parallel
+    spring k0 the branch is the standard linear solid,
+    K(i w) = k0 + k1 i w tau / (1 + i w tau).
+
+    Examples
+    --------
+    >>> elastomer_rate(0.01, 50.0, 1e5, 1e3)
+    -4000.0
+    """
+    return k1 * v - k1 / c1 * F
+
+
+@njit(cache=True, error_model="numpy")
+def stop_force(y, v, k, c, clearance, centre):
+    """Force of a pair of end stops on the rod [N] (0 inside the clearance).
+
+    ``F = sign(u) (k R(|u| - clearance) + c v S((|u| - clearance) / w))``,
+    ``u = y - centre``, R the :func:`c1_ramp` and S the C1 smoothstep over
+    the onset width ``w = 0.01 clearance + 1e-7 m``: exactly
+    k (|u| - clearance) sign(u) beyond the width; the damping is
+    Kelvin-Voigt (it may pull briefly while the contact separates).
+
+    Examples
+    --------
+    >>> stop_force(0.5e-3, 0.0, 1e6, 0.0, 1e-3, 0.0), stop_force(-2e-3, 0.0, 1e6, 0.0, 1e-3, 0.0)
+    (0.0, -1000.0)
+    """
+    u = y - centre
+    pen = abs(u) - clearance
+    if pen <= 0.0:
+        return 0.0
+    w = 0.01 * clearance + 1.0e-7
+    f = k * c1_ramp(pen, w) * (1.0 if u > 0.0 else -1.0)
+    if c != 0.0:
+        f += c * v * _smoothstep(pen / w)
+    return f
+
+
+@njit(cache=True, error_model="numpy")
+def _fp_contact(spec, x, y, v, ep):
+    """Contact factor of the freeplay (needs ``spec[S_IFP] >= 0``) [-].
+
+    :func:`play_contact`, or :func:`piston_contact` where smooth friction
+    sits behind the dead band (its loaded bristles hold the contact).
+    """
+    e = y - x[spec[S_IFP]]
+    if spec[S_ZPIST] != 0 and spec[S_IZ] >= 0:
+        return piston_contact(e, x[spec[S_IZ]], ep[E_SFC] / ep[E_SIG], ep[E_GAP])
+    return play_contact(e, v, ep[E_GAP])
+
+
 @njit(cache=True, error_model="numpy", fastmath=_FM)
 def model_rhs(spec, x, y, v, prm, ep, out):
     """dx/dt of a composed model at the measured rod stroke (y [m], v [m/s]), into ``out``.
 
     Freeplay (``y_fp``) and series compliance (``y_piston``) map the rod
     stroke to the piston stroke; the fluid sees the piston; smooth
-    friction's bristle state follows the rod velocity.
+    friction's bristle state follows the rod velocity, or the piston's
+    behind a dead band (``spec[S_ZPIST]``: friction at the piston).
     """
-    if spec[S_N] == spec[S_NB] and spec[S_LEAK] == 0 and spec[S_ROT] <= 0:
+    if (spec[S_N] == spec[S_NB] and spec[S_LEAK] == 0 and spec[S_RELIEF] == 0
+            and spec[S_ASYM] == 0 and spec[S_ROT] <= 0):
         base_rhs_inline(spec[S_MID], x, y, v, prm, 0.0, 0.0, out)
         return
     yi = y
     vi = v
     ifp = spec[S_IFP]
+    iz = spec[S_IZ]
     if ifp >= 0:
-        r = play_rate(y, x[ifp], v, ep[E_GAP])
+        r = v * _fp_contact(spec, x, y, v, ep)
         out[ifp] = r
         yi = x[ifp]
         vi = r
@@ -822,9 +1081,12 @@ def model_rhs(spec, x, y, v, prm, ep, out):
             out[icp] = vp
     else:
         _fluid_rhs(spec, x, yi, vi, prm, ep, out)
-    iz = spec[S_IZ]
-    if iz >= 0:
-        out[iz] = lugre_rate(v, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR])
+    if iz >= 0:  # the bristles move with the rod, or with the piston behind the dead band
+        vz = vi if spec[S_ZPIST] != 0 else v
+        out[iz] = lugre_rate(vz, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR])
+    iel = spec[S_IEL]
+    if iel >= 0:
+        out[iel] = elastomer_rate(v, x[iel], ep[E_K1], ep[E_C1E])
 
 
 @njit(cache=True, error_model="numpy")
@@ -857,10 +1119,16 @@ def model_jac(spec, x, y, v, prm, ep, J):
             J[i, j] = 0.0
     if spec[S_ANALYTIC] != 0:
         kL = ep[E_LEAK] if spec[S_LEAK] != 0 else 0.0
-        base_jac(spec[S_MID], x, y, v, prm, kL, J)
+        if spec[S_ASYM] != 0:
+            base_jac(spec[S_MID], x, y, v, loss_params(spec, x, v, prm, ep), kL, J)
+        else:
+            base_jac(spec[S_MID], x, y, v, prm, kL, J)
         iz = spec[S_IZ]
         if iz >= 0:
             J[iz, iz] = _lugre_dz_dv(v, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR])[0]
+        iel = spec[S_IEL]
+        if iel >= 0:
+            J[iel, iel] = -ep[E_K1] / ep[E_C1E]
         return
     xp = x.copy()
     fp = np.empty(n)
@@ -886,10 +1154,16 @@ def model_rhs_t(spec, x, y, v, yd, vd, prm, ep, out):
     n = spec[S_N]
     if spec[S_ANALYTIC] != 0:
         kL = ep[E_LEAK] if spec[S_LEAK] != 0 else 0.0
-        base_rhs_t(spec[S_MID], x, y, v, yd, vd, prm, kL, out)
+        if spec[S_ASYM] != 0:
+            base_rhs_t(spec[S_MID], x, y, v, yd, vd, loss_params(spec, x, v, prm, ep), kL, out)
+        else:
+            base_rhs_t(spec[S_MID], x, y, v, yd, vd, prm, kL, out)
         iz = spec[S_IZ]
         if iz >= 0:
             out[iz] = _lugre_dz_dv(v, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR])[1] * vd
+        iel = spec[S_IEL]
+        if iel >= 0:
+            out[iel] = ep[E_K1] * vd
         return
     dt = 1.0e-7
     fm = np.empty(n)
@@ -908,7 +1182,9 @@ def _sign(v):
 def model_force(spec, x, y, v, a, prm, ep, with_friction):
     """Load-cell force of a composed model [N] at the rod stroke (y, v, a).
 
-    The fluid force at the piston stroke plus the effect forces; with
+    The fluid force at the piston stroke plus the effect forces (Coulomb
+    friction behind a dead band, ``spec[S_CPIST]``: F_c sign(v) C, C the
+    dead band's contact factor, 0 in the gap); with
     ``with_friction`` also the parameter set's Coulomb friction
     ``friction_N sign(v)`` (:attr:`DeviceParams.friction_N`).
     """
@@ -916,19 +1192,33 @@ def model_force(spec, x, y, v, a, prm, ep, with_friction):
     yi = y
     vi = v
     ifp = spec[S_IFP]
+    cfp = 1.0  # contact factor of the dead band (1: no freeplay)
     if ifp >= 0:
-        vi = play_rate(y, x[ifp], v, ep[E_GAP])
+        cfp = _fp_contact(spec, x, y, v, ep)
+        vi = v * cfp
         yi = x[ifp]
     if spec[S_IC] >= 0:
         yi = x[spec[S_IC]]
-    f = base_force(mid, x, yi, vi, a, prm)
-    if spec[S_ROT] > 0:  # piston faces: A_p (p1 - p2 + dp_c) (rotating_heads)
-        f += prm[P_AP] * rotating_heads(yi, prm, ep)[0]
+    if (spec[S_RELIEF] != 0 or spec[S_ASYM] != 0) and (
+            mid == M_DASHPOT or mid == M_DASHPOT_INERTER or mid == M_VISCOUS):
+        f = _damper_force(spec, vi, prm, ep)
+        if mid == M_DASHPOT_INERTER:
+            f += prm[P_BLM] * a
+    else:
+        f = base_force(mid, x, yi, vi, a, prm)
+        if spec[S_ROT] > 0:  # piston faces: A_p (p1 - p2 + dp_c) (rotating_heads)
+            f += prm[P_AP] * rotating_heads(yi, prm, ep)[0]
     iz = spec[S_IZ]
     if iz >= 0:
         f += ep[E_SFC] * x[iz]
     if spec[S_COUL] != 0:
-        f += ep[E_CF] * _sign(v)
+        # at the piston the dead band passes the friction force only in contact
+        f += ep[E_CF] * _sign(v) * (cfp if spec[S_CPIST] != 0 else 1.0)
+    iel = spec[S_IEL]
+    if iel >= 0:  # the elastomer on the rod: k0 y plus its Maxwell branch
+        f += ep[E_K0] * y + x[iel]
+    if spec[S_STOP] != 0:
+        f += stop_force(y, v, ep[E_KS], ep[E_CS], ep[E_CLR], ep[E_CTR])
     if spec[S_MASS] != 0:
         f += ep[E_MASS] * a
     if spec[S_OFF] != 0:

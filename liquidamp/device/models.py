@@ -182,7 +182,8 @@ class DeviceModel:
         spec[K.S_MID] = K.MODEL_IDS[self.base]
         spec[K.S_N] = self.n_states
         spec[K.S_NB] = self.n_base_states
-        for slot in (K.S_LEAK, K.S_COUL, K.S_MASS, K.S_OFF):
+        for slot in (K.S_LEAK, K.S_COUL, K.S_MASS, K.S_OFF, K.S_CPIST, K.S_ZPIST,
+                     K.S_RELIEF, K.S_ASYM, K.S_STOP):  # flags; state indices stay -1
             spec[slot] = 0
         i = self.n_base_states
         for e in self.effects:
@@ -191,6 +192,8 @@ class DeviceModel:
                 i += len(e.state_names)
             else:
                 spec[e.slot] = 1
+            for slot, value in e.spec_flags().items():
+                spec[slot] = value
         if i != self.n_states:
             raise ParameterError(
                 f"model {self.name!r}: {self.n_states} state names for {i} states")
@@ -198,7 +201,8 @@ class DeviceModel:
         if "p1" in names[:self.n_base_states]:
             spec[K.S_I1], spec[K.S_I2] = names.index("p1"), names.index("p2")
         fd = spec[K.S_ICAV] >= 0 or spec[K.S_IC] >= 0 or spec[K.S_IFP] >= 0 or (
-            spec[K.S_LEAK] and self.base not in ("full", "no_inertia")) or spec[K.S_ROT] > 0
+            spec[K.S_LEAK] and self.base not in ("full", "no_inertia")) or spec[K.S_RELIEF] \
+            or spec[K.S_ROT] > 0
         spec[K.S_ANALYTIC] = 0 if fd else 1
         spec[K.S_EFFECTS] = len(self.effects)
         return spec

@@ -233,7 +233,7 @@ def _multipliers(where: str, raw) -> dict:
 
 
 def _effects(where: str, raw) -> tuple:
-    from liquidamp.device.effects import effect_names, make_effect
+    from liquidamp.device.effects import EFFECTS, effect_names, make_effect
 
     allowed = f"a table of [effects.NAME] tables, NAME from: {', '.join(effect_names())}"
     if not isinstance(raw, dict):
@@ -243,7 +243,13 @@ def _effects(where: str, raw) -> tuple:
         if not isinstance(pars, dict):
             raise _type_error(where, f"effects.{name}", pars,
                               "a table of the effect's parameters (key = number, SI)")
+        comp = EFFECTS[name].composition_keys() if name in EFFECTS else {}
         for key, value in pars.items():
+            if key in comp:  # a composition choice (e.g. location = "piston")
+                if not isinstance(value, str):
+                    raise _type_error(where, f"effects.{name}.{key}", value,
+                                      f"one of {', '.join(map(repr, comp[key]))}")
+                continue
             _number(where, f"effects.{name}.{key}", value, "a number (SI)")
         try:
             out.append(make_effect(name, **pars))
@@ -439,7 +445,7 @@ def device_file_dict(params: DeviceParams, effects=(), *, derived: bool = False)
                                  f"{type(e).__name__}")
         if e.name in tables:
             raise ParameterError(f"effect {e.name!r} given twice")
-        tables[e.name] = dict(e.parameters)
+        tables[e.name] = e.as_dict()
     if tables:
         out["effects"] = tables
     if derived:

@@ -41,6 +41,9 @@ ZERO = {"coulomb_friction": {"force_N": 0.0}, "smooth_friction": {"force_N": 0.0
         "force_offset": {"offset_N": 0.0}, "moving_mass": {"mass_kg": 0.0},
         "series_compliance": {"stiffness_N_per_m": math.inf}, "freeplay": {"gap_m": 0.0},
         "leakage": {"coefficient_m3_per_s_Pa": 0.0}, "cavitation": {"vapour_pressure_Pa": 1.0},
+        "relief_valve": {"conductance_m3_per_s_Pa": 0.0}, "asymmetric_loss": {"rebound_ratio": 1.0},
+        "elastomer": {"parallel_stiffness_N_per_m": 0.0, "branch_stiffness_N_per_m": 0.0},
+        "end_stops": {"stiffness_N_per_m": 0.0},
         "rotating_frame": {"rotor_speed_rad_per_s": 0.0, "mounting_radius_m": 0.5}}
 
 

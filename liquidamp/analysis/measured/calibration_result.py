@@ -455,7 +455,7 @@ class CalibrationResult:
             "multipliers": mult,
             "device": {k: getattr(self.params, k) for k in SCALABLE
                        if getattr(self.params, k) is not None},
-            "effects": {e.name: e.parameters for e in self.effects},
+            "effects": {e.name: e.as_dict() for e in self.effects},
             "stderr": dict(self.stderr),
         }
 

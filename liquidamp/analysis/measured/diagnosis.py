@@ -326,9 +326,10 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
         As for :func:`~liquidamp.analysis.measured.calibration.calibrate` (default:
         ``full`` from ``paper_initial`` with the paper's four multipliers free).
     candidates : sequence of str, optional
-        Effects to consider (default: every catalogue effect with fitted
-        parameters, ``fit_keys``, and the composite candidates of :data:`COMPOSITES`,
-        e.g. ``"backlash"``: freeplay in series with the friction already in the model;
+        Effects to consider (default: the catalogue effects with ``screened`` set
+        and fitted parameters, ``fit_keys``, and the composite candidates of
+        :data:`COMPOSITES`, e.g. ``"backlash"``: freeplay in series with the friction
+        already in the model; the others, e.g. ``relief_valve``, only when named here;
         operating conditions such as ``rotating_frame`` are given, not diagnosed).
     max_steps : int
         Largest number of effects added.
@@ -403,7 +404,8 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
     # before any model run: noise-only records, spikes (a 30 mm displacement spike made
     # the integration crawl for minutes) and a stroke past the chamber end are refused
     check_records(calibration + validation, check_params, what="diagnose")
-    names = (tuple(n for n, cls in EFFECTS.items() if cls.fit_keys) if candidates is None
+    names = (tuple(n for n, c in EFFECTS.items() if c.screened and c.fit_keys)
+             if candidates is None
              else tuple(candidates))
     if candidates is None:
         names += tuple(COMPOSITES)

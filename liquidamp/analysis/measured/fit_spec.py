@@ -101,8 +101,7 @@ class Parameter:
         if "." in self.name:
             eff, key = self.name.split(".", 1)
             check_choice("effect", eff, EFFECTS)
-            keys = [f.name for f in dataclasses.fields(EFFECTS[eff])]
-            check_choice(f"{eff} parameter", key, keys)
+            check_choice(f"{eff} parameter", key, EFFECTS[eff].parameter_keys())
         else:
             check_choice("fitted device parameter", self.name, SCALABLE)
         for k in ("value", "min", "max", "scale"):

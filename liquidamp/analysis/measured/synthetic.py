@@ -283,7 +283,7 @@ def synthetic_record(recipe: Recipe | None = None, *, settle_cycles: int = 6,
         if isinstance(eff, dict):
             eff = tuple((n, tuple(sorted(kv.items()))) for n, kv in eff.items())
         else:
-            eff = tuple((e.name, tuple(sorted(e.parameters.items()))) if isinstance(e, Effect)
+            eff = tuple((e.name, tuple(sorted(e.as_dict().items()))) if isinstance(e, Effect)
                         else e for e in eff)
         changes["effects"] = eff
     if "multipliers" in changes and isinstance(changes["multipliers"], dict):
@@ -327,7 +327,7 @@ def synthetic_record(recipe: Recipe | None = None, *, settle_cycles: int = 6,
     t_meas = t + 1.0  # the machine clock does not start at zero
     h = window // 2  # Record drops the one-sided filter ends
     meta = {"recipe": recipe.as_dict(), "true_force": force[h:n - h],
-            "true_effects": {e.name: e.parameters for e in recipe.effect_objects()}}
+            "true_effects": {e.name: e.as_dict() for e in recipe.effect_objects()}}
     return Record.from_arrays(t_meas, y_meas, f_meas, window=window, order=order,
                               source="", meta=meta)
 

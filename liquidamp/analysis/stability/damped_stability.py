@@ -206,27 +206,46 @@ def device_lti(device: Device, *, amplitude_m: float | None = None,
     if (amplitude_m is None) != (frequency_hz is None):
         raise ParameterError("give both amplitude_m [m] and frequency_hz [Hz], or neither")
     if isinstance(p, ViscousParams):
-        return DeviceLTI(np.zeros((0, 0)), np.zeros((0, 3)), np.zeros((1, 0)),
-                         np.array([[0.0, p.c, 0.0]]), device.label, "exact")
+        D = np.array([[0.0, p.c, 0.0]])
+        if not m.effects:
+            return DeviceLTI(np.zeros((0, 0)), np.zeros((0, 3)), np.zeros((1, 0)), D,
+                             device.label, "exact")
+        if amplitude_m is None:  # the effects must be linear to hold at rest
+            for e in m.effects:
+                e.check_small_signal(p)
+            raise ParameterError(
+                f"no small-signal model of the viscous damper with effects "
+                f"({', '.join(e.name for e in m.effects)}); give amplitude_m and frequency_hz "
+                "for the equivalent linearization")
+        check_positive("amplitude", amplitude_m, "m")
+        check_positive("frequency", frequency_hz, "Hz")
+        w = 2.0 * math.pi * frequency_hz
+        for e in m.effects:
+            D = D + np.asarray(e.describing_function(amplitude_m, w, p, model=m))[None, :]
+        return DeviceLTI(np.zeros((0, 0)), np.zeros((0, 3)), np.zeros((1, 0)), D,
+                         device.label, f"equivalent (Y = {amplitude_m:.4g} m, f = "
+                         f"{frequency_hz:.4g} Hz) with " + ", ".join(e.name for e in m.effects))
     base = m.base
     if amplitude_m is None:
         # stateless parallel force effects (moving mass, offset) are exact parallel elements:
         # add their (k, c, b) to the feedthrough of the rest of the model
         parallel = [e for e in m.effects if e.kind == "force" and not e.state_names
-                    and e.small_signal_reason is None]
+                    and e.small_signal_reason is None and e.linear]
         if parallel:
             rest = with_effects(BASES[base], *[e for e in m.effects if e not in parallel])
             lti = device_lti(Device(rest, p, device.label))
-            extra = sum(np.asarray(e.describing_function(1.0, 1.0, p)) for e in parallel)
+            extra = sum(np.asarray(e.describing_function(1.0, 1.0, p, model=m))
+                        for e in parallel)
             return DeviceLTI(lti.A, lti.B, lti.C, lti.D + extra[None, :], device.label,
                              lti.kind)
         lin = linearize(m, p)
         k = lin.output_names.index("force")
-        if not lin.is_proper_in_stroke:
-            if lin.n_states:
+        if not lin.is_proper_in_stroke:  # a rate (dashpot) or acceleration feedthrough
+            if lin.n_states and not m.effects:  # (kept by the unreduced form below)
                 raise ParameterError(f"model {m.name!r}: improper with states; not supported")
-            return DeviceLTI(np.zeros((0, 0)), np.zeros((0, 3)), np.zeros((1, 0)),
-                             lin.D[k:k + 1].copy(), device.label, "small-signal")
+            if not lin.n_states:
+                return DeviceLTI(np.zeros((0, 0)), np.zeros((0, 3)), np.zeros((1, 0)),
+                                 lin.D[k:k + 1].copy(), device.label, "small-signal")
         if not m.effects:
             mn = lin.minimal()
             Bm = np.zeros((mn.nstates, 3))
@@ -246,7 +265,7 @@ def device_lti(device: Device, *, amplitude_m: float | None = None,
     w = 2.0 * math.pi * frequency_hz
     extra = np.zeros(3)
     for e in m.effects:
-        extra += e.describing_function(amplitude_m, w, p)
+        extra += e.describing_function(amplitude_m, w, p, model=m)
     eq = equivalent_linearization(p, frequency_hz, amplitude_m, base, bulk=bulk)
     kind = f"equivalent (Y = {amplitude_m:.4g} m, f = {frequency_hz:.4g} Hz)"
     if m.effects:
