@@ -27,6 +27,11 @@ def register(sub) -> None:
     add_fit_arguments(p)
     p.add_argument("--max-steps", type=count_type("--max-steps", 0, 8, "effects added at most"),
                    default=3, help="effects added at most, 0-8 (default %(default)s)")
+    p.add_argument("--sizing", choices=("auto", "preset", "data"), default="auto",
+                   help="device the baseline calibration starts from, as for calibrate: auto "
+                   "(default) the --preset/--device when the records are near it, else a "
+                   "similar device sized to the records; preset: always the given device; "
+                   "data: always the sized device")
     p.add_argument("--top", type=count_type("--top", 1, 8, "candidates refitted per step"),
                    default=2, help="candidates refitted per step, 1-8 (default %(default)s)")
     p.set_defaults(func=run)
@@ -46,7 +51,7 @@ def run(args) -> int:
     cal, val, params, effects, spec = load(args)
     d = diagnose(cal, val, model=args.model, params=params, effects=effects, spec=spec,
                  max_steps=args.max_steps, top=args.top, max_nfev=args.max_nfev,
-                 options=options, **conditioning_options(args))
+                 options=options, sizing=args.sizing, **conditioning_options(args))
     nr = d.as_dict()
     write_json(args.json, nr)
     print_warnings("diagnose", nr)

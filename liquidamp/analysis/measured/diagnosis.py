@@ -315,6 +315,7 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
              structure_factor: float = 2.0, score_ratio: float = 3.0, max_nfev: int = 60,
              preroll: int = 1, tol: float = 1e-5, force_cutoff: float | None = None,
              decimate="auto", harmonics: float = HARMONICS, average="auto",
+             sizing: str = "auto",
              baseline: CalibrationResult | None = None) -> Diagnosis:
     """Calibrate, then add catalogue effects the evidence asks for (module doc).
 
@@ -360,6 +361,10 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
     average : 'auto', True or False
         Average the whole cycles of each record into one (``'auto'``: a periodic stroke
         over at least four whole cycles).
+    sizing : {'auto', 'preset', 'data'}
+        The device the baseline calibration starts from, as for
+        :func:`~liquidamp.analysis.measured.calibration.calibrate` (the refits start from
+        the baseline's device).
     baseline : CalibrationResult, optional
         A calibration already done on the records it holds (``baseline.calibration``);
         those records and ``validation`` are used as they are (no conditioning: condition
@@ -427,7 +432,8 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
         conditioning = tuple(c for _, c in conds)
         baseline = calibrate(calibration, model=model, params=params, effects=effects,
                              spec=spec, validate=validation, options=options,
-                             max_nfev=max_nfev, preroll=preroll, tol=tol, warn=False)
+                             max_nfev=max_nfev, preroll=preroll, tol=tol, warn=False,
+                             sizing=sizing)
     else:
         calibration = baseline.calibration
         conditioning = tuple(r.meta.get("conditioning")

@@ -4,9 +4,12 @@ Downey 2022, see that folder's README).  Calibrated on the 0.5 Hz steady record,
 the 1 Hz and 0.25 Hz ones, the diagnosis must add friction and the dead band (freeplay in
 series with the friction), leave no parameter at a bound without a warning, and reach a
 validation NRMSE of at most 0.12 (0.29 with smooth friction alone before issue #12; the
-issue measured 0.22 with friction and an offset)."""
+issue measured 0.22 with friction and an offset).
 
-import math
+The diagnosis starts from ``paper_initial`` as given (``sizing="preset"``): from a fluid
+device sized to the records (``sizing="auto"``, 156 x the force) the fitted air spring and
+losses already draw a friction-like loop, the residual asks for negative friction and
+nothing of the friction damper is found (validation NRMSE 0.55)."""
 
 import pytest
 
@@ -21,7 +24,7 @@ FRICTION = {"coulomb_friction", "smooth_friction"}
 @pytest.fixture(scope="module")
 def diagnosis(friction_damper_records):
     d = friction_damper_records
-    return diagnose([read_record(d / CAL)], [read_record(d / v) for v in VAL])
+    return diagnose([read_record(d / CAL)], [read_record(d / v) for v in VAL], sizing="preset")
 
 
 def _at_bound(result):
@@ -35,19 +38,34 @@ def _at_bound(result):
     return out
 
 
-@pytest.mark.xfail(run=False, reason="needs freeplay in series with friction (effects "
-                   "branch) and the backlash candidate; validation NRMSE is 0.55 on the "
-                   "records as given without it")
+@pytest.mark.xfail(strict=False, reason="validation NRMSE 0.131 on the records as fitted and "
+                   "0.137 as given, not 0.12: the offset that stands for the friction's "
+                   "asymmetry (+13 / -10 kN) also acts inside the dead band, Dahl's "
+                   "exponential pre-sliding rounds the band's linear compliance and sharp "
+                   "slip, and the 1 Hz record rings at 10-50 Hz (its own NRMSE 0.19)")
 def test_friction_damper_diagnosis_meets_the_issue(diagnosis):
     d = diagnosis
-    assert FRICTION & set(d.added), d.added
-    assert "backlash" in d.added, d.added  # freeplay in series with the friction
+    assert d.nrmse_raw["validation"] <= 0.12
+    assert d.final.nrmse_validation <= 0.12
+
+
+def test_friction_damper_friction_and_dead_band_are_found(diagnosis):
+    """Friction first, then the friction's asymmetry as an offset, then the dead band in
+    series with the friction (freeplay, the friction moved behind it); validation NRMSE
+    0.84 -> 0.131 (0.137 on the records as given); every parameter at a bound is warned
+    about."""
+    d = diagnosis
+    assert d.added[0] in FRICTION, d.added
+    assert "backlash" in d.added, d.added
+    gap = next(s for s in d.steps if s.effect == "backlash").parameters["gap_m"]
+    assert 0.5e-3 < gap < 3e-3  # the dead band is about 2 mm wide in the loops
+    friction = next(e for e in d.final.effects if e.name in FRICTION)
+    assert friction.location == "piston" and 9e3 < friction.force_N < 13e3
     warned = " ".join(d.final.warnings + d.warnings)
     for name in _at_bound(d.final):
         assert name in warned, f"{name} at a bound without a warning"
-    assert d.nrmse_raw["validation"] <= 0.12
-    assert d.final.nrmse_validation <= 0.12
-    assert math.isfinite(d.noise_nrmse) and d.noise_nrmse > 0.01
+    assert d.final.nrmse_validation < 0.2 * d.baseline.nrmse_validation
+    assert d.nrmse_raw["validation"] < 0.15
 
 
 def test_friction_damper_conditioning_floor_and_rule(diagnosis):
