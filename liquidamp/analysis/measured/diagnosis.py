@@ -251,7 +251,7 @@ class Diagnosis:
                 "last_round": [c.as_dict() for c in self.last_candidates]}
 
 
-def _refit(cand, probe, current, validation, options, preroll, max_nfev, tol):
+def _refit(cand, probe, current, validation, options, preroll, max_nfev, tol, sizing):
     """Fit the model with the candidate added, from the current optimum and its estimate.
 
     ``probe`` is :func:`~.diagnosis_evidence.candidate_effects`' pair: the other effects of
@@ -274,13 +274,13 @@ def _refit(cand, probe, current, validation, options, preroll, max_nfev, tol):
     res = calibrate(current.calibration, model=current.model, params=current.start_params,
                     effects=others + (effect,), spec=spec, validate=validation,
                     options=options, start="spec", max_nfev=max_nfev, preroll=preroll,
-                    tol=tol, warn=False)
+                    tol=tol, warn=False, sizing=sizing)
     if res.status == "max_nfev":
-        res = _converge(res, validation, options, preroll, max_nfev, tol)
+        res = _converge(res, validation, options, preroll, max_nfev, tol, sizing)
     return res
 
 
-def _restart(res, current, validation, options, preroll, max_nfev, tol, start0):
+def _restart(res, current, validation, options, preroll, max_nfev, tol, start0, sizing):
     """Refit from the physics start of the original multipliers; the better of the two fits.
 
     The continuation from the previous optimum may sit in a local minimum of the loss
@@ -292,20 +292,26 @@ def _restart(res, current, validation, options, preroll, max_nfev, tol, start0):
         res2 = calibrate(current.calibration, model=current.model,
                          params=current.start_params, effects=res.effects,
                          spec=spec2, validate=validation, options=options, start="physics",
-                         max_nfev=max_nfev, preroll=preroll, tol=tol, warn=False)
+                         max_nfev=max_nfev, preroll=preroll, tol=tol, warn=False,
+                         sizing=sizing)
         if res2.status == "max_nfev":
-            res2 = _converge(res2, validation, options, preroll, max_nfev, tol)
+            res2 = _converge(res2, validation, options, preroll, max_nfev, tol, sizing)
     except ConvergenceError:
         return res
     return res2 if res2.cost < res.cost else res
 
 
-def _converge(result, validation, options, preroll, max_nfev, tol):
-    """Continue a fit that stopped on its evaluation budget from where it stopped."""
+def _converge(result, validation, options, preroll, max_nfev, tol, sizing):
+    """Continue a fit that stopped on its evaluation budget from where it stopped.
+
+    The refits (and their continuations) run calibrate's own rule for their start
+    (``sizing="auto"``): from the baseline's device, sized again only where the model with
+    the candidate is far from the records (RMS force more than 4x off, or the stroke past
+    half the chamber); ``sizing`` of :func:`diagnose` chooses the baseline's start."""
     return calibrate(result.calibration, model=result.model, params=result.start_params,
                      effects=result.effects, spec=result.spec, validate=validation,
                      options=options, start="spec", max_nfev=max_nfev, preroll=preroll,
-                     tol=tol, warn=False)
+                     tol=tol, warn=False, sizing=sizing)
 
 
 def diagnose(calibration, validation, *, model="full", params=None, effects=(),
@@ -363,8 +369,9 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
         over at least four whole cycles).
     sizing : {'auto', 'preset', 'data'}
         The device the baseline calibration starts from, as for
-        :func:`~liquidamp.analysis.measured.calibration.calibrate` (the refits start from
-        the baseline's device).
+        :func:`~liquidamp.analysis.measured.calibration.calibrate`; each refit starts
+        from the baseline's device, sized again only where calibrate's ``'auto'`` rule
+        finds the model with the candidate far from the records.
     baseline : CalibrationResult, optional
         A calibration already done on the records it holds (``baseline.calibration``);
         those records and ``validation`` are used as they are (no conditioning: condition
@@ -444,7 +451,9 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
     if baseline.status == "max_nfev":
         # score candidates only against a converged model: a fit stopped on its budget
         # leaves structure that a candidate would "explain" spuriously
-        baseline = _converge(baseline, validation, options, preroll, max_nfev, tol)
+        # continued from where it stopped: its device (sized or not) is kept unless far
+        baseline = _converge(baseline, validation, options, preroll, max_nfev, tol,
+                             "preset" if sizing == "preset" else "auto")
     if not baseline.converged:
         warnings.append(f"NOT CONVERGED: baseline calibration ({baseline.status}): "
                         f"{baseline.message}")
@@ -514,7 +523,8 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
             for cand in queue:
                 try:
                     refits[cand.effect] = _refit(cand, probes[cand.effect], current,
-                                                 validation, options, preroll, max_nfev, tol)
+                                                 validation, options, preroll, max_nfev, tol,
+                                                 "auto")
                 except (ConvergenceError, ParameterError) as exc:
                     i = ranked.index(cand)
                     ranked[i] = _with(cand, refitted=True, note=f"refit failed: {exc}")
@@ -523,7 +533,8 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
             for cand in queue:
                 if cand.effect in refits and not _explained(refits, level):
                     refits[cand.effect] = _restart(refits[cand.effect], current, validation,
-                                                   options, preroll, max_nfev, tol, start0)
+                                                   options, preroll, max_nfev, tol, start0,
+                                                   "auto")
             queue, extra = ([], []) if _explained(refits, level) else (extra, [])
         for cand in [c for c in ranked if c.effect in refits]:
             res = refits[cand.effect]
