@@ -50,6 +50,10 @@ CONFOUNDED = {
     "twice its value)",
     ("cavitation", "inv_gamma"): "a vapour cavity and a little more entrained air both soften "
     "the low-pressure chamber; the force waveforms can be nearly identical",
+    ("elastomer", "inv_gamma"): "the elastomer's branch (a spring in series with a dashpot) "
+    "and the fluid (the air spring in series with the channel's losses) are both Maxwell "
+    "elements; only the parallel spring is the elastomer's own, so its branch trades with "
+    "the air ratios and losses unless the records span its relaxation frequency",
 }
 """Pairs an experiment may not separate, and why."""
 
@@ -228,8 +232,10 @@ def candidate_effects(name: str, result: CalibrationResult) -> tuple[tuple, Effe
     at its probe strength (whose fit keys the refit adds).
 
     A catalogue effect is added at :func:`probe_effect`'s strength; ``"backlash"``
-    (:data:`COMPOSITES`) adds freeplay of gap 3 % of the stroke amplitude and moves the
-    friction at the rod behind it.
+    (:data:`COMPOSITES`) adds freeplay and moves the friction at the rod behind it: the gap
+    3 % of the stroke amplitude behind Coulomb friction; behind smooth friction, half its
+    pre-sliding stroke F_c / sigma0, whose bristle stiffness is doubled (the dead band
+    takes over half the compliance a soft bristle stood in for).
 
     Returns
     -------
@@ -238,9 +244,18 @@ def candidate_effects(name: str, result: CalibrationResult) -> tuple[tuple, Effe
     """
     if name == "backlash":
         Y = float(np.mean([r.amplitude for r in result.calibration]))
-        moved = tuple(e.replace(location="piston") if e in _movable_friction(result.effects)
+        movable = _movable_friction(result.effects)
+        smooth = [e for e in movable if e.name == "smooth_friction" and e.force_N > 0]
+        gap = 0.03 * Y
+        if smooth:
+            # a smooth friction's pre-sliding stroke F_c / sigma0 may stand in for a dead
+            # band: the probe trades half of it for a gap (sigma0 doubled, gap half the
+            # stroke), so that the score compares a dead band with a soft bristle
+            gap = 0.5 * smooth[0].force_N / smooth[0].stiffness_N_per_m
+        moved = tuple((e.replace(location="piston", stiffness_N_per_m=2 * e.stiffness_N_per_m)
+                       if e in smooth else e.replace(location="piston")) if e in movable
                       else e for e in result.effects)
-        return moved, EFFECTS["freeplay"](gap_m=0.03 * Y)
+        return moved, EFFECTS["freeplay"](gap_m=gap)
     return result.effects, probe_effect(name, result)
 
 
