@@ -206,8 +206,18 @@ def device_lti(device: Device, *, amplitude_m: float | None = None,
     if (amplitude_m is None) != (frequency_hz is None):
         raise ParameterError("give both amplitude_m [m] and frequency_hz [Hz], or neither")
     if isinstance(p, ViscousParams):
+        # F = c v + c2 v|v|: the quadratic part has zero slope at rest (small signal: c
+        # alone) and the describing function 8 c2 w Y / (3 pi) at (Y, f)
+        if amplitude_m is None or p.c2 == 0.0:
+            kind = "exact" if p.c2 == 0.0 else "small-signal (c2 v|v| has no slope at rest)"
+            c_eq = p.c
+        else:
+            check_positive("amplitude", amplitude_m, "m")
+            check_positive("frequency", frequency_hz, "Hz")
+            c_eq = p.describing_damping(amplitude_m, 2.0 * math.pi * frequency_hz)
+            kind = f"equivalent (Y = {amplitude_m:.4g} m, f = {frequency_hz:.4g} Hz)"
         return DeviceLTI(np.zeros((0, 0)), np.zeros((0, 3)), np.zeros((1, 0)),
-                         np.array([[0.0, p.c, 0.0]]), device.label, "exact")
+                         np.array([[0.0, c_eq, 0.0]]), device.label, kind)
     base = m.base
     if amplitude_m is None:
         # stateless parallel force effects (moving mass, offset) are exact parallel elements:
