@@ -106,7 +106,7 @@ TAIL_TOL = 5e-3
 #: quadrature of stateless models and of forces with a jump [-].
 QUADRATURE_GRID = (4096, 64)
 #: Largest torus grid along either phase [points].
-MAX_GRID = 255
+MAX_GRID = 127
 #: Samples per period of the single-frequency runs that start the harmonic balance.
 _GUESS_SAMPLES = 256
 
@@ -176,6 +176,10 @@ class DualFrequencyStiffness:
         How the answer was found.
     warnings : tuple of str
         Conditions outside the model's validity or the method's.
+    torus : ndarray or None
+        Harmonic balance: the converged states on the torus grid, shape
+        (n_states, N1, N2), ``torus[:, j, k]`` at theta1 = 2 pi j / N1,
+        theta2 = 2 pi k / N2 [state units]; None otherwise.  Read-only.
     """
 
     model: str
@@ -200,6 +204,11 @@ class DualFrequencyStiffness:
     min_pressure: float | None = None
     message: str = ""
     warnings: tuple = field(default=())
+    torus: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        if self.torus is not None:
+            self.torus.setflags(write=False)
 
     @property
     def lag_omega(self) -> float:
@@ -374,7 +383,9 @@ def torus_invariants(model: DeviceModel, params) -> TorusInvariants | None:
     ------
     ParameterError
         For ``volumetric`` (eq. 14), which does not conserve mass and has no
-        periodic state (its mean pressures drift).
+        periodic state (its mean pressures drift), and for a model with the
+        ``cavitation`` effect (cavity volumes are neutral states while the
+        cavities are closed; the time route takes it).
 
     Examples
     --------
@@ -391,6 +402,12 @@ def torus_invariants(model: DeviceModel, params) -> TorusInvariants | None:
     >>> torus_invariants(get_model("maxwell"), preset("reference")) is None
     True
     """
+    if model.effect("cavitation") is not None:
+        raise ParameterError(
+            f"model {model.name!r}: the harmonic balance does not take the 'cavitation' "
+            "effect: while the cavities are closed their volumes are neutral states (any "
+            "constant solves the equations), and while they open the chambers' "
+            "density-pressure invariants no longer hold; use method='time'")
     if model.base == "volumetric":
         raise ParameterError(
             "model 'volumetric' (eq. 14) does not conserve mass: its mean pressures drift "
@@ -640,7 +657,6 @@ def _harmonic_balance(model, params, stroke, options, grid, fine, tol, max_iter,
     X = X3.reshape(n, -1)
     u = (Y.ravel(), V.ravel(), A.ravel())
     warn = []
-    _check_cavities(model, params, X, u, options)
     quad_err = 0.0
     if _has_jump(model, params):
         K_lag, K_rev, quad_err = _force_quadrature(model, params, stroke, fine, primary, X3)
@@ -669,7 +685,7 @@ def _harmonic_balance(model, params, stroke, options, grid, fine, tol, max_iter,
                 harmonics=((N1 - 1) // 2, (N2 - 1) // 2), residual=float(residual),
                 converged=converged, iterations=iterations, truncation=truncation,
                 quadrature_error=quad_err, min_pressure=pmin, message=msg,
-                warnings=tuple(warn))
+                warnings=tuple(warn), torus=np.array(X3))
 
 
 def _grow(N1: int, N2: int, first: bool, second: bool) -> tuple[int, int]:
@@ -679,24 +695,6 @@ def _grow(N1: int, N2: int, first: bool, second: bool) -> tuple[int, int]:
         if flag:
             out[k] = min(2 * math.ceil(0.75 * (out[k] - 1)) + 1, MAX_GRID)
     return out[0], out[1]
-
-
-def _check_cavities(model, params, X, u, options) -> None:
-    """Raise where the cavitation effect would open a cavity on the torus."""
-    eff = model.effect("cavitation")
-    if eff is None:
-        return
-    from liquidamp.device.kernels import cavity_width
-
-    p1, p2 = model.pressures(X, u, params)
-    pv = eff.vapour_pressure_Pa
-    lo = float(min(np.min(p1), np.min(p2)))
-    if lo < pv + cavity_width(pv):
-        raise ParameterError(
-            f"model {model.name!r}: a chamber pressure on the torus reaches {lo:.4g} Pa, "
-            f"within the cavity switch (p_v = {pv:g} Pa + {cavity_width(pv):g} Pa): with "
-            "cavities open the chambers' density-pressure invariants, which the harmonic "
-            "balance holds, no longer hold; use method='time'")
 
 
 # ---------------------------------------------------------------------------- time domain
@@ -833,7 +831,7 @@ def dual_frequency_stiffness(model, params, rev_frequency: float, lag_frequency:
         Route (module notes).
     grid : (int, int), optional
         Torus grid of the harmonic balance, odd points along theta1 and
-        theta2 in [5, 255]; default: from the spectra of the single-frequency
+        theta2 in [5, 127]; default: from the spectra of the single-frequency
         states, refined until the spectral tail is below :data:`TAIL_TOL`.
     quadrature_grid : (int, int)
         Even points along the larger-velocity phase and the other of the
@@ -856,8 +854,9 @@ def dual_frequency_stiffness(model, params, rev_frequency: float, lag_frequency:
     ------
     ParameterError
         A2 <= 0, A1 < 0, a frequency <= 0 or above 1e4 Hz, a stroke past the
-        chamber end, an unknown method, a bad grid, or a model without a
-        steady state (``volumetric``).
+        chamber end, an unknown method, a bad grid, a model without a
+        steady state (``volumetric``), or the ``cavitation`` effect on the
+        harmonic balance (use ``method="time"``).
     ConvergenceError
         The Newton iteration or the time route did not converge (the
         message names the amplitudes and the residual).
