@@ -26,7 +26,7 @@ def test_stroke_values_and_period():
     irr = TwoFrequencyStroke(0.002, 4.2, 0.0005, 4.2 / math.sqrt(2))
     assert irr.common_period is None
     with pytest.raises(ParameterError, match="has no common period"):
-        irr.period
+        _ = irr.period
     with pytest.raises(ParameterError, match="not both 0"):
         TwoFrequencyStroke(0.0, 4.2, 0.0, 1.26)
     with pytest.raises(ParameterError, match=r"stroke frequency2 must lie in \(0, 1e4\]"):

@@ -94,8 +94,8 @@ from liquidamp.errors import (
 from liquidamp.options import resolve_options
 from liquidamp.structure.testmachine import HarmonicStroke, TwoFrequencyStroke
 
-__all__ = ["DualFrequencyStiffness", "dual_frequency_stiffness", "METHODS", "TAIL_TOL",
-           "QUADRATURE_GRID", "torus_invariants"]
+__all__ = ["DualFrequencyStiffness", "dual_frequency_stiffness", "check_inputs", "METHODS",
+           "TAIL_TOL", "QUADRATURE_GRID", "MAX_GRID", "TorusInvariants", "torus_invariants"]
 
 #: Routes of :func:`dual_frequency_stiffness`.
 METHODS = ("harmonic_balance", "time")
@@ -420,6 +420,44 @@ def torus_invariants(model: DeviceModel, params) -> TorusInvariants | None:
 
 
 # ---------------------------------------------------------------------------- inputs
+def check_inputs(model, params, rev_frequency: float, lag_frequency: float,
+                 rev_amplitude: float, lag_amplitude: float, *, offset: float = 0.0,
+                 lag_phase: float = 0.0, method: str = "harmonic_balance"):
+    """Check the inputs of :func:`dual_frequency_stiffness` before any work.
+
+    Parameters
+    ----------
+    model, params, rev_frequency, lag_frequency, rev_amplitude, lag_amplitude, offset, \
+lag_phase, method
+        As :func:`dual_frequency_stiffness` (a sweep checks its largest amplitudes).
+
+    Returns
+    -------
+    model : DeviceModel
+    stroke : TwoFrequencyStroke
+
+    Raises
+    ------
+    ParameterError
+        Naming the quantity, its value and what is allowed.
+
+    Examples
+    --------
+    >>> from liquidamp.device import preset
+    >>> check_inputs("full", preset("reference"), 4.2, 1.26, 0.02, 0.006)
+    Traceback (most recent call last):
+    ...
+    liquidamp.errors.ParameterError: two-frequency stroke reaches |y| = |offset| + A1 + A2 = \
+0.026 m, past the chamber end at 0.025 m (V0/A_p); allowed: |offset| + A1 + A2 < 0.025 m
+    """
+    model, stroke = _check_inputs(model, params, rev_frequency, lag_frequency, rev_amplitude,
+                                  lag_amplitude, offset, lag_phase)
+    check_choice("dual-frequency method", method, METHODS)
+    if method == "harmonic_balance" and model.n_states:
+        torus_invariants(model, params)  # volumetric and cavitation raise here
+    return model, stroke
+
+
 def _check_inputs(model, params, f1, f2, A1, A2, y0, phi):
     model = get_model(model)
     f1 = check_positive("rev_frequency", f1, "Hz")
@@ -876,9 +914,9 @@ def dual_frequency_stiffness(model, params, rev_frequency: float, lag_frequency:
     >>> round(r.single_equivalent_damping / (8e4 * V2 / (3 * math.pi)), 6)
     1.0
     """
-    model, stroke = _check_inputs(model, params, rev_frequency, lag_frequency, rev_amplitude,
-                                  lag_amplitude, offset, lag_phase)
-    check_choice("dual-frequency method", method, METHODS)
+    model, stroke = check_inputs(model, params, rev_frequency, lag_frequency, rev_amplitude,
+                                 lag_amplitude, offset=offset, lag_phase=lag_phase,
+                                 method=method)
     options = resolve_options(options, "default")
     fine = _check_quadrature_grid(quadrature_grid)
     if grid is not None:
@@ -887,8 +925,6 @@ def dual_frequency_stiffness(model, params, rev_frequency: float, lag_frequency:
         raise ParameterError(f"max_iter must be an integer >= 1, got {max_iter!r}")
     if tol is not None and not 0.0 < float(tol) < 1.0:
         raise ParameterError(f"tol must lie in (0, 1) [-], got {tol!r}")
-    if method == "harmonic_balance" and model.n_states:
-        torus_invariants(model, params)  # volumetric raises before any work
     K_single, lag_states = _single(
         model, params, HarmonicStroke(stroke.amplitude2, stroke.frequency2,
                                       offset=stroke.offset, phase=stroke.phase2), options)
