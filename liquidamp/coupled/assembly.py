@@ -163,7 +163,7 @@ def viscous(c: float, label: str = "", *, c2: float = 0.0) -> Device:
     650.8
     >>> q = viscous(0.0, c2=1e4)                  # quadratic: 1e4 x 0.1 x |0.1|
     >>> float(q.model.force(0.0, np.zeros(0), (0.0, -0.1, 0.0), q.params)), q.label
-    (-100.0, 'viscous(0 N s/m, 1e+04 N s^2/m^2)')
+    (-100.0, 'viscous(0 N s/m, 10000 N s^2/m^2)')
     """
     if not label:
         label = f"viscous({c:g} N s/m" + (f", {c2:g} N s^2/m^2)" if c2 else ")")
