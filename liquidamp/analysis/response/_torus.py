@@ -30,18 +30,27 @@ smaller).  That operator is diagonal in the secondary Fourier index l, so
 it factors into one dense block per l of size (points along the primary
 phase) x (states), bordered for l = 0; only the variation of the Jacobian
 along the secondary phase is left to GMRES (none at all when the
-secondary amplitude is zero).
+secondary amplitude is zero).  The blocks are factored once per grid, at
+the start (a chord preconditioner: GMRES makes up for the Jacobian's
+change over the Newton iterations); the linear algebra is compiled
+(numba), so that it does not depend on a threaded BLAS on small blocks.
+
+The force's first harmonics come from the torus grid by DFT
+(:func:`harmonics_of`); a force with a jump is evaluated on a fine grid,
+the states interpolated spectrally onto it (:func:`force_quadrature`).
 
 References
 ----------
-.. [1] C. Kim, G. Fang et al. / K. Lau, Y. K. Cheung, "Amplitude incremental
-   variational principle for nonlinear vibration of elastic systems", and
-   Y. Kim, "Quasi-periodic response and stability analysis for non-linear
-   systems: a general approach", J. Sound Vib. 192(4), 1996 (multi-dimensional
-   harmonic balance on the torus).
+.. [1] T. M. Cameron, J. H. Griffin, "An alternating frequency/time domain
+   method for calculating the steady-state response of nonlinear dynamic
+   systems", J. Appl. Mech. 56(1), 1989, 149-154.
 .. [2] M. Guskov, J.-J. Sinou, F. Thouverez, "Multi-dimensional harmonic
-   balance applied to rotor dynamics", Mech. Res. Commun. 35(8), 2008.
-.. [3] C. T. Kelley, Solving Nonlinear Equations with Newton's Method, SIAM,
+   balance applied to rotor dynamics", Mech. Res. Commun. 35(8), 2008,
+   537-545.
+.. [3] Y. Saad, M. H. Schultz, "GMRES: a generalized minimal residual
+   algorithm for solving nonsymmetric linear systems", SIAM J. Sci. Stat.
+   Comput. 7(3), 1986.
+.. [4] C. T. Kelley, Solving Nonlinear Equations with Newton's Method, SIAM,
    2003 (Newton-Krylov, forcing terms, line search).
 """
 
@@ -55,9 +64,10 @@ from numba import njit
 from liquidamp.coupled._linalg import lu_factor, lu_solve
 from liquidamp.device import kernels as K
 from liquidamp.errors import ConvergenceError
+from liquidamp.structure.testmachine import TwoFrequencyStroke
 
 __all__ = ["spectral_matrix", "resample", "torus_rhs", "torus_rhs_jac", "TorusProblem",
-           "Stalled"]
+           "Stalled", "grid_strokes", "harmonics_of", "upsample", "force_quadrature"]
 
 #: Newton iterations after which a residual that has not halved over the last four
 #: counts as stalled (an under-resolved grid has no solution near the start).
@@ -137,6 +147,69 @@ def resample(X: np.ndarray, N: int, axis: int = -1) -> np.ndarray:
     keep[axis] = slice(0, H + 1)
     C = C[tuple(keep)]
     return np.fft.irfft(C, n=N, axis=axis) * (N / M)
+
+
+# ------------------------------------------------------------------ strokes and forces
+def grid_strokes(stroke: TwoFrequencyStroke, N1: int, N2: int):
+    """Stroke, rate and acceleration on the (N1, N2) torus grid [m, m/s, m/s^2]."""
+    t1 = 2.0 * np.pi * np.arange(N1) / N1
+    t2 = 2.0 * np.pi * np.arange(N2) / N2 + stroke.phase2
+    W, w, A1, A2 = stroke.omega1, stroke.omega2, stroke.amplitude1, stroke.amplitude2
+    s1, c1 = np.sin(t1)[:, None], np.cos(t1)[:, None]
+    s2, c2 = np.sin(t2)[None, :], np.cos(t2)[None, :]
+    Y = stroke.offset + A1 * s1 + A2 * s2
+    V = A1 * W * c1 + A2 * w * c2
+    A = -A1 * W * W * s1 - A2 * w * w * s2
+    return Y, V, A
+
+
+def harmonics_of(F, stroke: TwoFrequencyStroke):
+    """(K_lag, K_rev) from the force F on a (N1, N2) torus grid [N/m]."""
+    N1, N2 = F.shape
+    th1 = 2.0 * np.pi * np.arange(N1) / N1
+    th2 = 2.0 * np.pi * np.arange(N2) / N2
+    F_lag = 2j * np.mean(F.mean(axis=0) * np.exp(-1j * th2))  # a + i b of a sin + b cos
+    K_lag = complex(F_lag / (stroke.amplitude2 * np.exp(1j * stroke.phase2)))
+    K_rev = None
+    if stroke.amplitude1 > 0.0:
+        K_rev = complex(2j * np.mean(F.mean(axis=1) * np.exp(-1j * th1)) / stroke.amplitude1)
+    return K_lag, K_rev
+
+
+def rel_change(a, b) -> float:
+    """|a - b| / |a| (0 where ``a`` is None)."""
+    if a is None:
+        return 0.0
+    return abs(a - b) / max(abs(a), 1e-300)
+
+
+def upsample(X3, N1f: int, N2f: int):
+    """Trigonometric interpolant of X3 (n, N1, N2) (odd sizes) on an (N1f, N2f) grid."""
+    n, N1, N2 = X3.shape
+    C = np.fft.fft2(X3, axes=(1, 2))
+    H1, H2 = (N1 - 1) // 2, (N2 - 1) // 2
+    P = np.zeros((n, N1f, N2f), complex)
+    k1 = np.r_[0:H1 + 1, -H1:0]
+    k2 = np.r_[0:H2 + 1, -H2:0]
+    P[:, k1[:, None] % N1f, k2[None, :] % N2f] = C[:, k1[:, None] % N1, k2[None, :] % N2]
+    return np.fft.ifft2(P, axes=(1, 2)).real * (N1f * N2f / (N1 * N2))
+
+
+def force_quadrature(model, params, stroke, fine, primary: int, X3=None):
+    """(K_lag, K_rev, relative error) from the force on the fine grid, states interpolated."""
+    Na, Nb = int(fine[0]), int(fine[1])
+    N1f, N2f = (Na, Nb) if primary == 1 else (Nb, Na)
+    if X3 is not None:  # never coarser than the torus grid
+        N1f, N2f = max(N1f, 2 * X3.shape[1]), max(N2f, 2 * X3.shape[2])
+    Y, V, A = grid_strokes(stroke, N1f, N2f)
+    n = model.n_states
+    Xf = np.zeros((n, N1f * N2f)) if X3 is None else upsample(X3, N1f, N2f).reshape(n, -1)
+    F = np.asarray(model.force(0.0, Xf, (Y.ravel(), V.ravel(), A.ravel()), params),
+                   float).reshape(N1f, N2f)
+    K_lag, K_rev = harmonics_of(F, stroke)
+    h_lag, h_rev = harmonics_of(F[::2, ::2], stroke)
+    err = max(rel_change(K_lag, h_lag), rel_change(K_rev, h_rev) if K_rev is not None else 0.0)
+    return K_lag, K_rev, err
 
 
 # ------------------------------------------------------------------ compiled linear algebra

@@ -41,10 +41,12 @@ Routes (``method``):
     under a :class:`~liquidamp.structure.testmachine.TwoFrequencyStroke`:
     where omega / Omega is rational (4.2 Hz and 1.26 Hz: 10/3) the
     periodic steady state over the common period and the exact DFT of the
-    force; otherwise a march from rest with the transient dropped and the
-    first harmonics at both frequencies by least squares over successive
-    windows (with the combination tones k Omega + l omega, |k|, |l| <= 3,
-    as regressors) until two windows agree to ``tol``.
+    force; otherwise a march from rest, windows of 20 periods of the slower
+    component, the first harmonics at both frequencies by Hann-weighted
+    least squares over each window (the combination tones k Omega + l
+    omega, 0 <= k <= 4, |l| <= 4, that the window resolves as further
+    regressors) until two windows agree to ``tol``: the transient is
+    dropped as it decays.
 
 For a small lag velocity amplitude V2 on a large 1/rev velocity amplitude
 V1, static laws have closed forms (the tests check them): Coulomb friction
@@ -63,11 +65,12 @@ References
 .. [3] M. Guskov, J.-J. Sinou, F. Thouverez, "Multi-dimensional harmonic
    balance applied to rotor dynamics", Mech. Res. Commun. 35(8), 2008,
    537-545.
-.. [4] F. K. Gandhi, I. Chopra, "An analytical model for a nonlinear
-   elastomeric lag damper and its effect on aeromechanical stability in
-   hover", J. Am. Helicopter Soc. 39(4), 1994; E. C. Smith et al.,
-   "Characterization of elastomeric lag dampers under dual-frequency
-   excitation" (the loss of lag damping under 1/rev motion).
+.. [4] F. F. Felker, B. H. Lau, S. McLaughlin, W. Johnson, "Nonlinear
+   behavior of an elastomeric lag damper undergoing dual-frequency motion
+   and its effect on rotor dynamics", J. Am. Helicopter Soc. 32(4), 1987,
+   45-53 (the loss of lag damping under 1/rev motion).
+.. [5] F. Gandhi, I. Chopra, "A time-domain non-linear viscoelastic damper
+   model", Smart Mater. Struct. 5(5), 1996, 517-528.
 """
 
 from __future__ import annotations
@@ -79,12 +82,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from liquidamp.analysis.response import _torus
+from liquidamp.analysis.response._dual_time import time_route
 from liquidamp.device import kernels as K
 from liquidamp.device.fluid import bulk_modulus_gholizadeh
 from liquidamp.device.models import DeviceModel, ViscousParams, get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import (
-    ConvergenceError,
     LiquidampWarning,
     ParameterError,
     check_choice,
@@ -492,66 +495,6 @@ def _has_jump(model, params) -> bool:
     return bool(spec[K.S_COUL] != 0 or prm[K.P_FRIC] > 0.0)
 
 
-def _grid_strokes(stroke: TwoFrequencyStroke, N1: int, N2: int):
-    """Stroke, rate and acceleration on the (N1, N2) torus grid [m, m/s, m/s^2]."""
-    t1 = 2.0 * np.pi * np.arange(N1) / N1
-    t2 = 2.0 * np.pi * np.arange(N2) / N2 + stroke.phase2
-    W, w, A1, A2 = stroke.omega1, stroke.omega2, stroke.amplitude1, stroke.amplitude2
-    s1, c1 = np.sin(t1)[:, None], np.cos(t1)[:, None]
-    s2, c2 = np.sin(t2)[None, :], np.cos(t2)[None, :]
-    Y = stroke.offset + A1 * s1 + A2 * s2
-    V = A1 * W * c1 + A2 * w * c2
-    A = -A1 * W * W * s1 - A2 * w * w * s2
-    return Y, V, A
-
-
-def _harmonics_of(F, stroke: TwoFrequencyStroke):
-    """(K_lag, K_rev) from the force F on a (N1, N2) torus grid [N/m]."""
-    N1, N2 = F.shape
-    th1 = 2.0 * np.pi * np.arange(N1) / N1
-    th2 = 2.0 * np.pi * np.arange(N2) / N2
-    F_lag = 2j * np.mean(F.mean(axis=0) * np.exp(-1j * th2))  # a + i b of a sin + b cos
-    K_lag = complex(F_lag / (stroke.amplitude2 * np.exp(1j * stroke.phase2)))
-    K_rev = None
-    if stroke.amplitude1 > 0.0:
-        K_rev = complex(2j * np.mean(F.mean(axis=1) * np.exp(-1j * th1)) / stroke.amplitude1)
-    return K_lag, K_rev
-
-
-def _rel(a, b) -> float:
-    if a is None:
-        return 0.0
-    return abs(a - b) / max(abs(a), 1e-300)
-
-
-# ---------------------------------------------------------------------------- quadrature
-def _upsample(X3, N1f: int, N2f: int):
-    """Trigonometric interpolant of X3 (n, N1, N2) (odd sizes) on an (N1f, N2f) grid."""
-    n, N1, N2 = X3.shape
-    C = np.fft.fft2(X3, axes=(1, 2))
-    H1, H2 = (N1 - 1) // 2, (N2 - 1) // 2
-    P = np.zeros((n, N1f, N2f), complex)
-    k1 = np.r_[0:H1 + 1, -H1:0]
-    k2 = np.r_[0:H2 + 1, -H2:0]
-    P[:, k1[:, None] % N1f, k2[None, :] % N2f] = C[:, k1[:, None] % N1, k2[None, :] % N2]
-    return np.fft.ifft2(P, axes=(1, 2)).real * (N1f * N2f / (N1 * N2))
-
-
-def _force_quadrature(model, params, stroke, fine, primary: int, X3=None):
-    """(K_lag, K_rev, relative error) from the force on the fine grid, states interpolated."""
-    Na, Nb = int(fine[0]), int(fine[1])
-    N1f, N2f = (Na, Nb) if primary == 1 else (Nb, Na)
-    Y, V, A = _grid_strokes(stroke, N1f, N2f)
-    n = model.n_states
-    Xf = np.zeros((n, N1f * N2f)) if X3 is None else _upsample(X3, N1f, N2f).reshape(n, -1)
-    F = np.asarray(model.force(0.0, Xf, (Y.ravel(), V.ravel(), A.ravel()), params),
-                   float).reshape(N1f, N2f)
-    K_lag, K_rev = _harmonics_of(F, stroke)
-    h_lag, h_rev = _harmonics_of(F[::2, ::2], stroke)
-    err = max(_rel(K_lag, h_lag), _rel(K_rev, h_rev) if K_rev is not None else 0.0)
-    return K_lag, K_rev, err
-
-
 def _check_quadrature_grid(quadrature_grid):
     try:
         Na, Nb = (int(v) for v in quadrature_grid)
@@ -622,8 +565,7 @@ def _check_grid(grid):
 
 
 # ---------------------------------------------------------------------------- harmonic balance
-def _harmonic_balance(model, params, stroke, options, grid, fine, tol, max_iter, K_single,
-                      lag_states):
+def _harmonic_balance(model, params, stroke, options, grid, fine, tol, max_iter, lag_states):
     A1, A2 = stroke.amplitude1, stroke.amplitude2
     W, w = stroke.omega1, stroke.omega2
     what = (f"model {model.name!r}, 1/rev {A1:.4g} m at {stroke.frequency1:g} Hz, lag "
@@ -636,8 +578,11 @@ def _harmonic_balance(model, params, stroke, options, grid, fine, tol, max_iter,
                                 options)
     if grid is None:
         # the outer third of the harmonics should hold no more than TAIL_TOL of the swing
-        H1 = math.ceil(1.5 * _needed(rev_states, 3)) if A1 > 0.0 else 2
-        H2 = _needed(lag_states, 2) + 1
+        # the primary phase carries the nonlinearity: half as many harmonics again
+        h1 = _needed(rev_states, 3) if A1 > 0.0 else 1
+        h2 = _needed(lag_states, 2)
+        H1, H2 = (math.ceil(1.5 * h1), h2 + 1) if primary == 1 else (h1 + 1,
+                                                                       math.ceil(1.5 * h2))
         N1, N2 = min(2 * H1 + 1, MAX_GRID), min(2 * H2 + 1, MAX_GRID)
     else:
         N1, N2 = grid
@@ -655,7 +600,7 @@ def _harmonic_balance(model, params, stroke, options, grid, fine, tol, max_iter,
     invariants = torus_invariants(model, params)
     iterations = krylov = refinements = 0
     while True:
-        Y, V, _ = _grid_strokes(stroke, N1, N2)
+        Y, V, _ = _torus.grid_strokes(stroke, N1, N2)
         if primary == 1:
             Ya, Va, Xa, wa, wb = Y, V, X3, W, w
         else:
@@ -668,11 +613,12 @@ def _harmonic_balance(model, params, stroke, options, grid, fine, tol, max_iter,
             Xa, lam, its, residual, kry = prob.solve(Xa, tol=tol, max_iter=max_iter, what=what)
         except _torus.Stalled:
             # an under-resolved grid has no solution near the start: refine, start again
-            if grid is not None or refinements >= 4 or min(N1, N2) >= MAX_GRID:
-                raise
             tails = prob.tail(Xa)
             tail1, tail2 = tails if primary == 1 else tails[::-1]
-            N1, N2 = _grow(N1, N2, tail1 >= tail2, tail2 > tail1)
+            grow = _grow(N1, N2, tail1 >= tail2, tail2 > tail1)
+            if grid is not None or refinements >= 4 or grow == (N1, N2):
+                raise
+            N1, N2 = grow
             X3 = start(N1, N2)
             refinements += 1
             continue
@@ -691,16 +637,16 @@ def _harmonic_balance(model, params, stroke, options, grid, fine, tol, max_iter,
         N1, N2 = grow
         refinements += 1
     truncation = max(tail1, tail2)
-    Y, V, A = _grid_strokes(stroke, N1, N2)
+    Y, V, A = _torus.grid_strokes(stroke, N1, N2)
     X = X3.reshape(n, -1)
     u = (Y.ravel(), V.ravel(), A.ravel())
     warn = []
     quad_err = 0.0
     if _has_jump(model, params):
-        K_lag, K_rev, quad_err = _force_quadrature(model, params, stroke, fine, primary, X3)
+        K_lag, K_rev, quad_err = _torus.force_quadrature(model, params, stroke, fine, primary, X3)
     else:
         F = np.asarray(model.force(0.0, X, u, params), float).reshape(N1, N2)
-        K_lag, K_rev = _harmonics_of(F, stroke)
+        K_lag, K_rev = _torus.harmonics_of(F, stroke)
     pmin = None
     if model.pressures is not None:
         p1, p2 = model.pressures(X, u, params)
@@ -733,109 +679,6 @@ def _grow(N1: int, N2: int, first: bool, second: bool) -> tuple[int, int]:
         if flag:
             out[k] = min(2 * math.ceil(0.75 * (out[k] - 1)) + 1, MAX_GRID)
     return out[0], out[1]
-
-
-# ---------------------------------------------------------------------------- time domain
-def _dft(F, t, f: float) -> complex:
-    """a + i b of F ~ a sin(2 pi f t) + b cos(2 pi f t) over whole periods of samples."""
-    w = 2.0 * math.pi * f
-    return complex(2.0 * np.mean(F * np.sin(w * t)) + 2j * np.mean(F * np.cos(w * t)))
-
-
-def _lsq(t, F, stroke: TwoFrequencyStroke, span: float):
-    """First harmonics at f1 and f2 by least squares with combination tones as regressors."""
-    f1, f2 = stroke.frequency1, stroke.frequency2
-    freqs = [f1, f2]
-    res = 1.0 / span  # frequencies closer than this cannot be told apart over the window
-    for k in range(0, 4):
-        for m in range(-3, 4):
-            f = k * f1 + m * f2
-            if f > res and all(abs(f - g) > res for g in freqs):
-                freqs.append(f)
-    cols = [np.ones_like(t)]
-    for f in freqs:
-        cols += [np.sin(2 * math.pi * f * t), np.cos(2 * math.pi * f * t)]
-    c, *_ = np.linalg.lstsq(np.stack(cols, axis=1), F, rcond=None)
-    return complex(c[1], c[2]), complex(c[3], c[4])
-
-
-def _time_route(model, params, stroke: TwoFrequencyStroke, options, tol: float):
-    from liquidamp.coupled.engines import TestRig, engine_for
-    from liquidamp.coupled.testrig import steady_state
-
-    A1, A2, f1, f2 = stroke.amplitude1, stroke.amplitude2, stroke.frequency1, stroke.frequency2
-    Y2 = A2 * np.exp(1j * stroke.phase2)
-    ratio = stroke.ratio
-    pmin = None
-    warn = ()
-    if ratio is not None:
-        a, b = ratio
-        T = stroke.period
-        S = max(options.samples_per_period, 128 * max(a, b))
-        if model.n_states == 0:
-            t = np.arange(S) * (T / S)
-            y, v, acc = stroke(t)
-            F = np.asarray(model.force(t, np.zeros((0, S)), (y, v, acc), params), float)
-            cycles, residual, msg = 1, 0.0, "stateless model: force sampled over the common period"
-        else:
-            r = steady_state(model, params, stroke, options=options.replace(samples_per_period=S))
-            t, F = r.time, r.force
-            cycles, residual, msg, pmin, warn = (r.cycles, r.residual, r.message,
-                                                 r.min_pressure, r.warnings)
-        K_lag = _dft(F, t, f2) / Y2
-        K_rev = _dft(F, t, f1) / A1 if A1 > 0.0 else None
-        return dict(method="time_periodic", K_lag=K_lag, K_rev=K_rev, grid=None,
-                    harmonics=None, residual=float(residual), converged=True,
-                    iterations=cycles, samples=S, min_pressure=pmin,
-                    message=(f"periodic steady state over the common period {T:.6g} s "
-                             f"(f1/f2 = {a}/{b}), {S} samples: {msg}"), warnings=tuple(warn))
-    # incommensurate: march windows, least squares, until two windows agree
-    span = 10.0 / min(f1, f2)
-    S = int(64 * span * max(f1, f2))
-    t_win = np.arange(S) * (span / S)
-    if model.n_states == 0:
-        y, v, acc = stroke(t_win)
-        F = np.asarray(model.force(t_win, np.zeros((0, S)), (y, v, acc), params), float)
-        F_rev, F_lag = _lsq(t_win, F, stroke, span)
-        return dict(method="time_window", K_lag=F_lag / Y2,
-                    K_rev=F_rev / A1 if A1 > 0.0 else None, grid=None, harmonics=None,
-                    residual=0.0, converged=True, iterations=1, samples=S,
-                    message=f"stateless model: least squares over {span:.4g} s")
-    from liquidamp.coupled.fast import step_period
-
-    rig = TestRig(model, params, stroke)
-    engine = engine_for(rig, options)
-    x = model.initial_state(params, float(stroke(0.0)[0]))
-    prev = None
-    change = math.inf
-    h_max = options.max_step_fraction * step_period(stroke)
-    for k in range(options.max_cycles):
-        t0 = k * span
-        te = np.append(t0 + t_win, t0 + span)
-        X = engine.march(rig, x, t0, t0 + span, te, options, h_max, {})
-        x = X[:, -1]
-        tt = te[:-1]
-        F = np.asarray(model.force(tt, X[:, :-1], stroke(tt), params), float)
-        F_rev, F_lag = _lsq(tt, F, stroke, span)
-        K_lag = F_lag / Y2
-        if prev is not None:
-            change = abs(K_lag - prev) / abs(K_lag)
-            if change < tol and k >= 2:
-                if model.pressures is not None:
-                    p1, p2 = model.pressures(X, stroke(te), params)
-                    pmin = float(min(np.min(p1), np.min(p2)))
-                return dict(method="time_window", K_lag=K_lag,
-                            K_rev=F_rev / A1 if A1 > 0.0 else None, grid=None,
-                            harmonics=None, residual=change, converged=True,
-                            iterations=k + 1, samples=S, min_pressure=pmin,
-                            message=(f"march of {k + 1} windows of {span:.4g} s, first "
-                                     f"harmonics by least squares; last change of K_lag "
-                                     f"{change:.1e}"))
-        prev = K_lag
-    raise ConvergenceError(
-        f"model {model.name!r}: K_lag did not settle over {options.max_cycles} windows of "
-        f"{span:.4g} s under {stroke.describe()}: last relative change {change:.2e} (allowed "
-        f"{tol:g}); raise max_cycles or tol")
 
 
 # ---------------------------------------------------------------------------- public
@@ -929,11 +772,11 @@ def dual_frequency_stiffness(model, params, rev_frequency: float, lag_frequency:
         model, params, HarmonicStroke(stroke.amplitude2, stroke.frequency2,
                                       offset=stroke.offset, phase=stroke.phase2), options)
     if method == "time":
-        out = _time_route(model, params, stroke, options, 1e-6 if tol is None else float(tol))
+        out = time_route(model, params, stroke, options, 1e-6 if tol is None else float(tol))
     elif model.n_states == 0:
         primary = 1 if stroke.amplitude1 * stroke.omega1 >= stroke.amplitude2 * stroke.omega2 \
             else 2
-        K_lag, K_rev, err = _force_quadrature(model, params, stroke, fine, primary)
+        K_lag, K_rev, err = _torus.force_quadrature(model, params, stroke, fine, primary)
         converged = err <= 1e-3
         out = dict(method="quadrature", K_lag=K_lag, K_rev=K_rev, grid=fine, harmonics=None,
                    residual=0.0, converged=converged, iterations=0, quadrature_error=err,
@@ -944,8 +787,7 @@ def dual_frequency_stiffness(model, params, rev_frequency: float, lag_frequency:
                        "every other point of it (give a finer quadrature_grid)",))
     else:
         out = _harmonic_balance(model, params, stroke, options, grid, fine,
-                                1e-8 if tol is None else float(tol), max_iter, K_single,
-                                lag_states)
+                                1e-8 if tol is None else float(tol), max_iter, lag_states)
     result = DualFrequencyStiffness(
         model=model.name, rev_frequency=stroke.frequency1, lag_frequency=stroke.frequency2,
         rev_amplitude=stroke.amplitude1, lag_amplitude=stroke.amplitude2, offset=stroke.offset,

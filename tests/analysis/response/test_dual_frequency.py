@@ -106,6 +106,23 @@ def test_harmonic_balance_agrees_with_time_domain(name):
         assert hb.K_single == td.K_single
 
 
+@pytest.mark.parametrize("kwargs", [
+    dict(rev_amplitude=1e-3, offset=2e-3, lag_phase=0.7),  # mean stroke, lag phase
+    dict(rev_amplitude=1e-4, lag_amplitude=1e-3),  # the lag velocity the larger: theta2 leads
+    dict(rev_amplitude=1.5e-3, lag_frequency=F2 * math.sqrt(2)),  # no common period
+])
+def test_harmonic_balance_agrees_with_time_domain_elsewhere(kwargs):
+    args = dict(rev_frequency=F1, lag_frequency=F2, lag_amplitude=A2)
+    args.update(kwargs)
+    p = preset("paper_calibrated")
+    hb = dfs("full", p, **args)
+    td = dfs("full", p, method="time", **args)
+    assert abs(hb.K_lag - td.K_lag) < 5e-3 * abs(td.K_lag)
+    assert abs(hb.K_rev - td.K_rev) < 5e-3 * abs(td.K_rev)
+    if "lag_frequency" in kwargs:
+        assert td.method == "time_window" and td.residual < 1e-6
+
+
 def test_linear_model_superposes():
     """Maxwell (eq. 16) is linear: K_lag = K(i omega) whatever the 1/rev motion, by every route,
     including the windowed march where the frequencies are incommensurate."""
@@ -137,7 +154,7 @@ def test_model_with_effect_states_and_a_jump():
 def test_invariants_are_held_on_the_torus():
     """The converged torus keeps the filling mass and each chamber on its pressure curve,
     pointwise, though only their means over the grid are imposed."""
-    from liquidamp.analysis.response.dual_frequency import _grid_strokes
+    from liquidamp.analysis.response._torus import grid_strokes
     from liquidamp.structure.testmachine import TwoFrequencyStroke
 
     p = preset("device_a")
@@ -148,7 +165,7 @@ def test_invariants_are_held_on_the_torus():
     for grid in ((51, 11), (75, 15)):
         r = dfs(m, p, F1, F2, 2e-3, A2, grid=grid)
         n, N1, N2 = r.torus.shape
-        Y, _, _ = _grid_strokes(TwoFrequencyStroke(2e-3, F1, A2, F2), N1, N2)
+        Y, _, _ = grid_strokes(TwoFrequencyStroke(2e-3, F1, A2, F2), N1, N2)
         vals, _ = inv.evaluate(r.torus.reshape(n, -1), Y.ravel())
         gaps.append(np.max(np.abs(vals[:2])))  # ln rho_i - ln r_i(p_i); ln rho swings 0.25
         assert np.max(np.abs(vals[2] / inv.target[2] - 1)) < 1e-7
