@@ -36,6 +36,17 @@ Routes (``method``):
     ``friction_N``) on a fine grid (``quadrature_grid``), the states
     interpolated spectrally onto it, and the result states the quadrature
     error (the grid against every other point of it).
+    Where f_rev / f_lag = a / b is commensurate, the harmonics j (b, -a)
+    resonate (k Omega + l omega = 0): for a device with invariants the torus
+    is then not unique in them (each closed characteristic keeps its own
+    invariant values), so the grid keeps them off (fewer than b harmonics
+    along theta1 or fewer than a along theta2; 4.2 Hz / 1.26 Hz = 10/3 leaves
+    9 along theta2); at low order (e.g. 2/1) that is impossible and the
+    harmonic balance refers to the time route.  The torus answer is the
+    quasi-periodic one (independent of the phase phi); at a commensurate
+    ratio the periodic response also holds the resonant harmonics, which
+    depend on phi: at 10/3 they are of order 12 (K_lag from the time route
+    changes by less than 1e-6 with phi at 3 mm for the presets).
 ``"time"``
     A time-domain run on the engine of ``options`` (compiled by default)
     under a :class:`~liquidamp.structure.testmachine.TwoFrequencyStroke`:
@@ -104,7 +115,7 @@ __all__ = ["DualFrequencyStiffness", "dual_frequency_stiffness", "check_inputs",
 METHODS = ("harmonic_balance", "time")
 #: Largest spectral tail of a converged torus (outer third of the harmonics, relative to
 #: each state's swing) before the grid is refined [-].
-TAIL_TOL = 5e-3
+TAIL_TOL = 3e-3
 #: Fine grid (points along the larger-velocity phase, along the other) of the force
 #: quadrature of stateless models and of forces with a jump [-].
 QUADRATURE_GRID = (4096, 64)
@@ -288,15 +299,18 @@ class DualFrequencyStiffness:
 
 # ---------------------------------------------------------------------------- invariants
 class TorusInvariants:
-    """The conserved quantities of a sealed device, evaluated on many states at once.
+    """The conserved quantities of a device model, evaluated on many states at once.
 
     Chamber models (eqs. 10, 11): in each chamber ln rho_i - ln r_i(p_i),
     r_i the density on the rest-state pressure curve (0 from rest), and the
     total mass rho1 V1 + rho2 V2 [kg]; constant-bulk models with chamber
-    pressures (eqs. 13, 17): the total mass r1(p1) V1 + r2(p2) V2; none for
-    the others.  The chamber volumes follow the piston stroke: the
-    ``y_piston`` (series compliance) or ``y_fp`` (freeplay) state where
-    present, else the rod stroke.
+    pressures (eqs. 13, 17): the total mass r1(p1) V1 + r2(p2) V2.  The
+    chamber volumes follow the piston stroke: the ``y_piston`` (series
+    compliance) or ``y_fp`` (freeplay) state where present, else the rod
+    stroke.  With series compliance also the balance of the massless piston,
+    k (y - y_piston) - F_fluid [N] (0 from rest; the effect holds it through
+    its rate, so its constant is an invariant too), or y - y_piston [m] for
+    a rigid link.
 
     The rest-state curve of eq. (2) integrates in closed form but for a
     term of order (p - p0) / B_l: with r = (p0 / p)^(1/n),
@@ -304,6 +318,15 @@ class TorusInvariants:
     integral_{p0}^{p} dp' / (1 - X0 + X0 r(p')), the last integral by
     8-point Gauss-Legendre quadrature (it is smooth and its whole share is
     below 1e-4 of the first term at these pressures).
+
+    Parameters
+    ----------
+    model : DeviceModel
+        The model (any effects but cavitation).
+    params : DeviceParams
+        Its parameters.
+    kind : {"chamber", "pressure", None}
+        The base family's conserved quantities (None: none).
 
     Attributes
     ----------
@@ -313,7 +336,7 @@ class TorusInvariants:
         What each value is.
     """
 
-    def __init__(self, model: DeviceModel, params: DeviceParams, kind: str):
+    def __init__(self, model: DeviceModel, params, kind: str | None):
         self.model, self.params, self.kind = model, params, kind
         names = model.state_names
         nb = model.n_base_states
@@ -322,12 +345,24 @@ class TorusInvariants:
             if state in names[nb:]:
                 self.ip = names.index(state)
                 break
-        self.i1, self.i2 = names.index("p1"), names.index("p2")
+        out = []
+        if kind is not None:
+            self.i1, self.i2 = names.index("p1"), names.index("p2")
         if kind == "chamber":
             self.r1, self.r2 = names.index("rho1"), names.index("rho2")
-            self.names = ("ln(rho1/r1(p1))", "ln(rho2/r2(p2))", "mass [kg]")
-        else:
-            self.names = ("mass [kg]",)
+            out += ["ln(rho1/r1(p1))", "ln(rho2/r2(p2))", "mass [kg]"]
+        elif kind == "pressure":
+            out += ["mass [kg]"]
+        comp = model.effect("series_compliance")
+        self.k = None
+        if comp is not None:
+            spec, prm, _ = model.packed(params)
+            self.k = comp.stiffness_N_per_m
+            self.ic = names.index("y_piston")
+            # the fluid force is linear in the base states: its gradient, from the kernels
+            self.cF = np.array([K._state_force(spec[K.S_MID], e, prm) for e in np.eye(nb)])
+            out += ["piston balance [N]" if math.isfinite(self.k) else "y - y_piston [m]"]
+        self.names = tuple(out)
         self._gl = np.polynomial.legendre.leggauss(8)
         x0 = model.initial_state(params, 0.0)
         vals, _ = self.evaluate(x0[:, None], np.zeros(1))
@@ -353,11 +388,13 @@ class TorusInvariants:
         """Values (m, N) and gradients (m, n, N) at states X (n, N), rod strokes Y (N,)."""
         q = self.params
         n, N = X.shape
-        yp = X[self.ip] if self.ip is not None else Y
-        V1, V2 = q.V01 - q.A_p * yp, q.V02 + q.A_p * yp
+        vals = np.empty((len(self.names), N))
+        G = np.zeros((len(self.names), n, N))
+        c = 0
+        if self.kind is not None:
+            yp = X[self.ip] if self.ip is not None else Y
+            V1, V2 = q.V01 - q.A_p * yp, q.V02 + q.A_p * yp
         if self.kind == "chamber":
-            vals = np.empty((3, N))
-            G = np.zeros((3, n, N))
             for c, (ip, ir) in enumerate(((self.i1, self.r1), (self.i2, self.r2))):
                 lr, dlr = self._log_curve(X[ip], c + 1)
                 vals[c] = np.log(np.maximum(X[ir], 1e-300) / q.rho0) - lr
@@ -368,15 +405,26 @@ class TorusInvariants:
             G[2, self.r1], G[2, self.r2] = V1, V2
             if self.ip is not None:
                 G[2, self.ip] = q.A_p * (rho2 - rho1)
-            return vals, G
-        l1, d1 = self._log_curve(X[self.i1], 1)
-        l2, d2 = self._log_curve(X[self.i2], 2)
-        r1, r2 = q.rho0 * np.exp(l1), q.rho0 * np.exp(l2)
-        G = np.zeros((1, n, N))
-        G[0, self.i1], G[0, self.i2] = r1 * d1 * V1, r2 * d2 * V2
-        if self.ip is not None:
-            G[0, self.ip] = q.A_p * (r2 - r1)
-        return (r1 * V1 + r2 * V2)[None, :], G
+            c = 3
+        elif self.kind == "pressure":
+            l1, d1 = self._log_curve(X[self.i1], 1)
+            l2, d2 = self._log_curve(X[self.i2], 2)
+            r1, r2 = q.rho0 * np.exp(l1), q.rho0 * np.exp(l2)
+            vals[0] = r1 * V1 + r2 * V2
+            G[0, self.i1], G[0, self.i2] = r1 * d1 * V1, r2 * d2 * V2
+            if self.ip is not None:
+                G[0, self.ip] = q.A_p * (r2 - r1)
+            c = 1
+        if self.k is not None:
+            nb = self.cF.size
+            if math.isfinite(self.k):
+                vals[c] = self.k * (Y - X[self.ic]) - self.cF @ X[:nb]
+                G[c, :nb] = -self.cF[:, None]
+                G[c, self.ic] = -self.k
+            else:
+                vals[c] = Y - X[self.ic]
+                G[c, self.ic] = -1.0
+        return vals, G
 
 
 def torus_invariants(model: DeviceModel, params) -> TorusInvariants | None:
@@ -404,6 +452,9 @@ def torus_invariants(model: DeviceModel, params) -> TorusInvariants | None:
     True
     >>> torus_invariants(get_model("maxwell"), preset("reference")) is None
     True
+    >>> from liquidamp.device.effects import SeriesCompliance, with_effects
+    >>> torus_invariants(with_effects(get_model("full"), SeriesCompliance(5e5)), p).names[3:]
+    ('piston balance [N]',)
     """
     if model.effect("cavitation") is not None:
         raise ParameterError(
@@ -415,11 +466,11 @@ def torus_invariants(model: DeviceModel, params) -> TorusInvariants | None:
         raise ParameterError(
             "model 'volumetric' (eq. 14) does not conserve mass: its mean pressures drift "
             "every cycle, so it has no steady state; use 'constant_bulk' (eq. 13)")
-    if model.base in ("full", "no_inertia"):
-        return TorusInvariants(model, params, "chamber")
-    if model.base in ("constant_bulk", "inertial"):
-        return TorusInvariants(model, params, "pressure")
-    return None
+    kind = {"full": "chamber", "no_inertia": "chamber", "constant_bulk": "pressure",
+            "inertial": "pressure"}.get(model.base)
+    if kind is None and model.effect("series_compliance") is None:
+        return None
+    return TorusInvariants(model, params, kind)
 
 
 # ---------------------------------------------------------------------------- inputs
@@ -457,6 +508,12 @@ lag_phase, method
                                   lag_amplitude, offset, lag_phase)
     check_choice("dual-frequency method", method, METHODS)
     if method == "harmonic_balance" and model.n_states:
+        if model.effect("freeplay") is not None:
+            raise ParameterError(
+                f"model {model.name!r}: the harmonic balance does not take the 'freeplay' "
+                "effect: its play operator switches within 0.05 gap + 0.1 um of contact, a "
+                "nearly non-smooth law that would need hundreds of harmonics; use "
+                "method='time'")
         torus_invariants(model, params)  # volumetric and cavitation raise here
     return model, stroke
 
@@ -571,6 +628,7 @@ def _harmonic_balance(model, params, stroke, options, grid, fine, tol, max_iter,
     what = (f"model {model.name!r}, 1/rev {A1:.4g} m at {stroke.frequency1:g} Hz, lag "
             f"{A2:.4g} m at {stroke.frequency2:g} Hz")
     primary = 1 if A1 * W >= A2 * w else 2
+    invariants = torus_invariants(model, params)
     rev_states = None
     if A1 > 0.0:
         _, rev_states = _single(model, params, HarmonicStroke(A1, stroke.frequency1,
@@ -578,14 +636,17 @@ def _harmonic_balance(model, params, stroke, options, grid, fine, tol, max_iter,
                                 options)
     if grid is None:
         # the outer third of the harmonics should hold no more than TAIL_TOL of the swing
-        # the primary phase carries the nonlinearity: half as many harmonics again
+        # the primary phase carries the nonlinearity: half as many harmonics again; the
+        # secondary starts lean (the spectral tail refines it where needed)
         h1 = _needed(rev_states, 3) if A1 > 0.0 else 1
         h2 = _needed(lag_states, 2)
-        H1, H2 = (math.ceil(1.5 * h1), h2 + 1) if primary == 1 else (h1 + 1,
-                                                                       math.ceil(1.5 * h2))
-        N1, N2 = min(2 * H1 + 1, MAX_GRID), min(2 * H2 + 1, MAX_GRID)
+        H1, H2 = ((math.ceil(1.5 * h1), max(3, h2 // 2 + 1)) if primary == 1 else
+                  (max(2, h1 // 2 + 1), math.ceil(1.5 * h2)))
+        caps, resonance_note = _resonance_caps(stroke, invariants, H1, H2)
+        N1, N2 = (min(2 * H1 + 1, caps[0], MAX_GRID), min(2 * H2 + 1, caps[1], MAX_GRID))
     else:
         N1, N2 = grid
+        caps, resonance_note = (MAX_GRID, MAX_GRID), ""
     n = model.n_states
 
     def start(N1, N2):
@@ -597,7 +658,6 @@ def _harmonic_balance(model, params, stroke, options, grid, fine, tol, max_iter,
         return X3
 
     X3 = start(N1, N2)
-    invariants = torus_invariants(model, params)
     iterations = krylov = refinements = 0
     while True:
         Y, V, _ = _torus.grid_strokes(stroke, N1, N2)
@@ -615,7 +675,7 @@ def _harmonic_balance(model, params, stroke, options, grid, fine, tol, max_iter,
             # an under-resolved grid has no solution near the start: refine, start again
             tails = prob.tail(Xa)
             tail1, tail2 = tails if primary == 1 else tails[::-1]
-            grow = _grow(N1, N2, tail1 >= tail2, tail2 > tail1)
+            grow = _grow(N1, N2, tail1 >= tail2, tail2 > tail1, caps)
             if grid is not None or refinements >= 4 or grow == (N1, N2):
                 raise
             N1, N2 = grow
@@ -630,7 +690,7 @@ def _harmonic_balance(model, params, stroke, options, grid, fine, tol, max_iter,
         tail1, tail2 = (tail_a, tail_b) if primary == 1 else (tail_b, tail_a)
         if grid is not None or max(tail1, tail2) <= TAIL_TOL or refinements >= 4:
             break
-        grow = _grow(N1, N2, tail1 > TAIL_TOL, tail2 > TAIL_TOL)
+        grow = _grow(N1, N2, tail1 > TAIL_TOL, tail2 > TAIL_TOL, caps)
         if grow == (N1, N2):
             break  # at the largest grid
         X3 = _torus.resample(_torus.resample(X3, grow[0], axis=1), grow[1], axis=2)
@@ -656,6 +716,8 @@ def _harmonic_balance(model, params, stroke, options, grid, fine, tol, max_iter,
                         f"vapour pressure {options.vapour_pressure:g} Pa: the liquid would "
                         "cavitate (add the 'cavitation' effect)")
     converged = truncation <= TAIL_TOL
+    if resonance_note and not converged:
+        warn.append(resonance_note)
     if not converged:
         warn.append(f"torus grid {N1} x {N2} does not resolve the response: spectral tail "
                     f"{truncation:.2e} > {TAIL_TOL:g} of the state swings (give a finer grid)")
@@ -672,13 +734,47 @@ def _harmonic_balance(model, params, stroke, options, grid, fine, tol, max_iter,
                 warnings=tuple(warn), torus=np.array(X3))
 
 
-def _grow(N1: int, N2: int, first: bool, second: bool) -> tuple[int, int]:
+def _grow(N1: int, N2: int, first: bool, second: bool, caps=(MAX_GRID, MAX_GRID)
+          ) -> tuple[int, int]:
     """The grid with about 1.5 times the harmonics along the flagged phases (odd, capped)."""
     out = [N1, N2]
     for k, flag in enumerate((first, second)):
         if flag:
-            out[k] = min(2 * math.ceil(0.75 * (out[k] - 1)) + 1, MAX_GRID)
+            out[k] = min(2 * math.ceil(0.75 * (out[k] - 1)) + 1, caps[k], MAX_GRID)
     return out[0], out[1]
+
+
+def _resonance_caps(stroke, invariants, H1: int, H2: int):
+    """Largest grid sizes along theta1, theta2 that keep resonant harmonics off the grid.
+
+    Where f1 / f2 = a / b (commensurate), the harmonics (k, l) = j (b, -a) have
+    k Omega + l omega = 0: with invariants (neutral modes of the Jacobian) the
+    torus is then not unique in them (each closed characteristic keeps its own
+    invariant values).  The grid must not hold them: fewer than b harmonics along
+    theta1 or fewer than a along theta2, whichever the response needs less.
+    Returns ``(caps, note)``; ``note`` is a warning when both were needed.
+    """
+    ab = stroke.ratio
+    if invariants is None or ab is None:
+        return (MAX_GRID, MAX_GRID), ""
+    a, b = ab
+    cap1, cap2 = 2 * (b - 1) + 1, 2 * (a - 1) + 1
+    if H2 <= a - 1 and cap2 >= 5:
+        return (MAX_GRID, cap2), ""
+    if H1 <= b - 1 and cap1 >= 5:
+        return (cap1, MAX_GRID), ""
+    note = (f"f_rev / f_lag = {a}/{b}: the grid holds fewer harmonics than the response needs "
+            f"along one phase, so that the resonant harmonics j ({b}, -{a}) stay off it; "
+            "method='time' gives the periodic steady state at this phase")
+    if cap2 >= 5 and (cap1 < 5 or H2 - (a - 1) <= H1 - (b - 1)):
+        return (MAX_GRID, cap2), note
+    if cap1 >= 5:
+        return (cap1, MAX_GRID), note
+    raise ParameterError(
+        f"f_rev / f_lag = {stroke.frequency1:g} / {stroke.frequency2:g} = {a}/{b} is "
+        f"commensurate at low order: the harmonics j ({b}, -{a}) resonate (k Omega + l omega "
+        "= 0) and the quasi-periodic torus of a device with invariants is not unique there; "
+        "use method='time' (the periodic steady state over the common period)")
 
 
 # ---------------------------------------------------------------------------- public
@@ -736,8 +832,8 @@ def dual_frequency_stiffness(model, params, rev_frequency: float, lag_frequency:
     ParameterError
         A2 <= 0, A1 < 0, a frequency <= 0 or above 1e4 Hz, a stroke past the
         chamber end, an unknown method, a bad grid, a model without a
-        steady state (``volumetric``), or the ``cavitation`` effect on the
-        harmonic balance (use ``method="time"``).
+        steady state (``volumetric``), or the ``cavitation`` or ``freeplay``
+        effect on the harmonic balance (use ``method="time"``).
     ConvergenceError
         The Newton iteration or the time route did not converge (the
         message names the amplitudes and the residual).

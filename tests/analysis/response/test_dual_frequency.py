@@ -123,6 +123,18 @@ def test_harmonic_balance_agrees_with_time_domain_elsewhere(kwargs):
         assert td.method == "time_window" and td.residual < 1e-6
 
 
+def test_phase_does_not_matter_at_ten_thirds():
+    """At 10/3 the phase-dependent (resonant) harmonics are of order 12: the periodic
+    K_lag moves by less than 1e-5 with the lag phase (measured 7e-7), and the torus answer
+    is phase-free up to its discretization (the grid moves with the phase: 6e-5)."""
+    p = preset("device_a")
+    ks = [dfs("full", p, F1, F2, 3e-3, A2, method="time", lag_phase=ph).K_lag
+          for ph in (0.0, 1.0, 2.0)]
+    assert max(abs(k - ks[0]) for k in ks) < 1e-5 * abs(ks[0])
+    hb = [dfs("full", p, F1, F2, 3e-3, A2, lag_phase=ph).K_lag for ph in (0.0, 1.0)]
+    assert abs(hb[1] - hb[0]) < 5e-4 * abs(hb[0])
+
+
 def test_linear_model_superposes():
     """Maxwell (eq. 16) is linear: K_lag = K(i omega) whatever the 1/rev motion, by every route,
     including the windowed march where the frequencies are incommensurate."""
@@ -215,6 +227,47 @@ def test_cavities_send_the_harmonic_balance_to_the_time_route():
     r = dfs(m, p, F1, F2, 1e-3, A2, method="time")
     bare = dfs("full", p, F1, F2, 1e-3, A2, method="time")
     assert r.method == "time_periodic" and r.K_lag == pytest.approx(bare.K_lag, rel=1e-6)
+
+
+def test_every_model_and_effect_by_harmonic_balance():
+    """The registry (volumetric has no steady state) and effects with states or invariants
+    of their own (the piston balance of series compliance): HB against the time domain."""
+    from liquidamp.device.models import REGISTRY
+
+    p = preset("reference")
+    models = [get_model(n) for n in REGISTRY if n != "volumetric"]
+    models += [with_effects(get_model("full"), make_effect("leakage",
+                                                           coefficient_m3_per_s_Pa=2e-11)),
+               with_effects(get_model("full"), make_effect("series_compliance",
+                                                           stiffness_N_per_m=5e5)),
+               with_effects(get_model("no_inertia"), make_effect("series_compliance",
+                                                                 stiffness_N_per_m=5e5)),
+               with_effects(get_model("full"), make_effect("moving_mass", mass_kg=2.0),
+                            make_effect("force_offset", offset_N=5.0)),
+               with_effects(get_model("constant_bulk"),
+                            make_effect("leakage", coefficient_m3_per_s_Pa=2e-11))]
+    for m in models:
+        hb = dfs(m, p, F1, F2, 1e-3, A2)
+        td = dfs(m, p, F1, F2, 1e-3, A2, method="time")
+        assert hb.method == ("harmonic_balance" if m.n_states else "quadrature"), m.name
+        assert abs(hb.K_lag - td.K_lag) < 5e-3 * abs(td.K_lag), m.name
+    with pytest.raises(ParameterError, match="'freeplay' effect"):
+        dual_frequency_stiffness(with_effects(get_model("full"), make_effect(
+            "freeplay", gap_m=1e-4)), p, F1, F2, 1e-3, A2)
+
+
+def test_low_order_commensurate_frequencies_go_to_the_time_route():
+    """f_rev = 2 f_lag: the harmonics j (1, -2) resonate; with the device's invariants the
+    torus is not unique there, so the harmonic balance refuses and the time route answers
+    (for the linear Maxwell unit, without invariants, both routes agree)."""
+    p = preset("reference")
+    with pytest.raises(ParameterError, match="commensurate at low order"):
+        dual_frequency_stiffness("full", p, F1, F1 / 2, 1e-3, A2)
+    r = dfs("full", p, F1, F1 / 2, 1e-3, A2, method="time")
+    assert r.method == "time_periodic" and r.iterations >= 2
+    hb = dfs("maxwell", p, F1, F1 / 2, 1e-3, A2)
+    assert hb.K_lag == pytest.approx(complex(transfer_function("maxwell", p)(1j * w / 2 * F1
+                                                                             / F2)), rel=1e-6)
 
 
 def test_coarse_grid_is_flagged():
