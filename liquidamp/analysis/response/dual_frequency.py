@@ -874,7 +874,8 @@ def dual_frequency_stiffness(model, params, rev_frequency: float, lag_frequency:
             else 2
         K_lag, K_rev, err = _torus.force_quadrature(model, params, stroke, fine, primary)
         converged = err <= 1e-3
-        out = dict(method="quadrature", K_lag=K_lag, K_rev=K_rev, grid=fine, harmonics=None,
+        out = dict(method="quadrature", K_lag=K_lag, K_rev=K_rev,
+                   grid=fine if primary == 1 else fine[::-1], harmonics=None,
                    residual=0.0, converged=converged, iterations=0, quadrature_error=err,
                    message=(f"stateless model: force averaged over the torus on a {fine[0]} x "
                             f"{fine[1]} grid (against every other point: {err:.1e})"),
