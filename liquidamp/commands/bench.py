@@ -22,7 +22,8 @@ def register(sub) -> None:
                    help="repeats of the fast routes, 1-1000")
     p.add_argument("--cases", default=None,
                    help="comma list of cases (default all: steady_state_loop, calibration, "
-                        "floquet_sweep, coupled_rotor, diagnosis)")
+                        "floquet_sweep, coupled_rotor, diagnosis, stiffness_sweep, "
+                        "diagnosis_hidden_effects, dual_frequency)")
     p.set_defaults(func=run)
 
 

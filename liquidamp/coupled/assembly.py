@@ -31,7 +31,7 @@ Algebraic loop of the acceleration
     gives (M + arm^2 b e_k e_k^T) q'' = ...
 
 Viscous damper as a device
-    :func:`viscous` makes F = c v [N s/m] a device (a stateless
+    :func:`viscous` makes F = c v + c2 v|v| a device (a stateless
     :class:`~liquidamp.device.models.DeviceModel` with :class:`ViscousParams`),
     so the host's own dampers come back through the coupled path.
 
@@ -153,16 +153,21 @@ class Device:
         return float(f1 - f0)
 
 
-def viscous(c: float, label: str = "") -> Device:
-    """The viscous damper F = c v [N], c [N s/m], as a :class:`Device`.
+def viscous(c: float, label: str = "", *, c2: float = 0.0) -> Device:
+    """The viscous damper F = c v + c2 v|v| [N], c [N s/m], c2 [N s^2/m^2], as a :class:`Device`.
 
     Examples
     --------
     >>> d = viscous(65080.0)
     >>> float(d.model.force(0.0, np.zeros(0), (0.0, 0.01, 0.0), d.params))
     650.8
+    >>> q = viscous(0.0, c2=1e4)                  # quadratic: 1e4 x 0.1 x |0.1|
+    >>> float(q.model.force(0.0, np.zeros(0), (0.0, -0.1, 0.0), q.params)), q.label
+    (-100.0, 'viscous(0 N s/m, 10000 N s^2/m^2)')
     """
-    return Device(VISCOUS, ViscousParams(float(c)), label or f"viscous({c:g} N s/m)")
+    if not label:
+        label = f"viscous({c:g} N s/m" + (f", {c2:g} N s^2/m^2)" if c2 else ")")
+    return Device(VISCOUS, ViscousParams(float(c), float(c2)), label)
 
 
 # ---------------------------------------------------------------------------

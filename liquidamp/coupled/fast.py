@@ -79,10 +79,10 @@ from liquidamp.device import kernels as DK
 from liquidamp.device.models import BASES, DeviceModel
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, ParameterError, PressureError
-from liquidamp.structure.testmachine import HarmonicStroke, RecordedStroke
+from liquidamp.structure.testmachine import HarmonicStroke, RecordedStroke, TwoFrequencyStroke
 
 __all__ = ["COMPILED_MODELS", "supports", "check_compiled", "march", "RotorRun",
-           "simulate_rotor", "steady_loop", "warm_up"]
+           "simulate_rotor", "steady_loop", "step_period", "warm_up"]
 
 #: Registry names of the base models the compiled engine runs: all of them, with any
 #: add-on effects (the physics is :mod:`liquidamp.device.kernels`, shared with scipy).
@@ -138,8 +138,12 @@ def _stroke_arrays(stroke):
     if isinstance(stroke, RecordedStroke):
         return (1, np.zeros(4), stroke.time, stroke.displacement, stroke.velocity,
                 stroke.acceleration)
+    if isinstance(stroke, TwoFrequencyStroke):
+        sp = np.array([stroke.offset, stroke.amplitude1, stroke.omega1, stroke.phase1,
+                       stroke.amplitude2, stroke.omega2, stroke.phase2])
+        return 2, sp, _DUMMY, _DUMMY, _DUMMY, _DUMMY
     raise ParameterError(
-        f"engine 'compiled' needs a HarmonicStroke or RecordedStroke, got "
+        f"engine 'compiled' needs a TwoFrequencyStroke, HarmonicStroke or RecordedStroke, got "
         f"{type(stroke).__name__}; use engine='scipy' for another stroke callable"
     )
 
@@ -289,8 +293,11 @@ def steady_loop(model: DeviceModel, params: DeviceParams, stroke: HarmonicStroke
                 *, stats: dict | None = None):
     """Periodic steady state by marching cycles in compiled code.
 
-    ``stats`` (optional dict) is filled in place as by :func:`march`, over
-    all cycles marched.
+    ``stroke`` is a :class:`HarmonicStroke` or a commensurate
+    :class:`TwoFrequencyStroke` (a cycle is then its common period; the
+    largest step is ``options.max_step_fraction`` of the faster component's
+    period).  ``stats`` (optional dict) is filled in place as by
+    :func:`march`, over all cycles marched.
 
     Returns
     -------
@@ -322,7 +329,8 @@ def steady_loop(model: DeviceModel, params: DeviceParams, stroke: HarmonicStroke
     _, rerun = _run(options, (spec, prm, ep, kind, sp, st, sy, sv, sa,
                               np.ascontiguousarray(x0, dtype=float), 0.0, float(T), grid,
                               float(options.rtol), _atol(model, params, options),
-                              float(options.max_step_fraction * T), 0.0, fi1, fi2,
+                              float(options.max_step_fraction * step_period(stroke)), 0.0,
+                              fi1, fi2,
                               float(options.pressure_floor), MAX_STEPS,
                               float(options.steady_tol), int(options.min_cycles),
                               max(int(options.max_cycles), 1)), out, info)
@@ -332,7 +340,7 @@ def steady_loop(model: DeviceModel, params: DeviceParams, stroke: HarmonicStroke
     if status == K.ST_NOT_CONVERGED:
         raise ConvergenceError(
             f"model {model.name!r}: no periodic steady state after {options.max_cycles} cycles "
-            f"at {stroke.frequency:g} Hz, {stroke.amplitude:g} m; last relative change per "
+            f"at {stroke.describe()}; last relative change per "
             f"cycle {info[7]:.2e}, estimated remaining {info[6]:.2e} (allowed "
             f"{options.steady_tol:g}); raise max_cycles or steady_tol"
         )
@@ -342,6 +350,22 @@ def steady_loop(model: DeviceModel, params: DeviceParams, stroke: HarmonicStroke
     if not np.all(np.isfinite(X)):
         raise ConvergenceError(f"model {model.name!r}: non-finite state in time integration")
     return X, cycles, float(info[6])
+
+
+def step_period(stroke) -> float:
+    """The period that sizes the largest step of a run under ``stroke`` [s].
+
+    The faster component's period for a :class:`TwoFrequencyStroke`, the
+    period of a harmonic stroke.
+
+    Examples
+    --------
+    >>> step_period(TwoFrequencyStroke(0.002, 4.2, 0.0005, 1.26)) == 1 / 4.2
+    True
+    """
+    if isinstance(stroke, TwoFrequencyStroke):
+        return stroke.shortest_period
+    return stroke.period
 
 
 def warm_up() -> float:
