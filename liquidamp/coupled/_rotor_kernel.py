@@ -40,7 +40,7 @@ __all__ = ["ST_STROKE_LIMIT", "rotor_rhs", "rotor_integrate"]
 ST_STROKE_LIMIT = 5
 
 @njit(cache=True, error_model="numpy")
-def rotor_rhs(t, X, W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, M, b, piv, Fk, out):
+def rotor_rhs(t, X, W, HI, HV, PI, PV, UI, UV, DSPEC, doff, PRM, DEP, M, b, piv, Fk, out):
     """Periodic second-order host + devices on its ports: dX/dt into ``out``.
 
     The host is ``M(psi) q'' + C(psi) q' + K(psi) q = Pin F`` with
@@ -53,7 +53,10 @@ def rotor_rhs(t, X, W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, M, b, piv, Fk, out
     ``[q, q']`` (n = M.shape[0] coordinates); the port maps as triplets
     ``PI[e] = (kind, device, index)``, ``PV[e]`` = value, kind 0: stroke of
     device j = sum PV X[index], kind 1: its rate, kind 2: generalized force
-    on coordinate ``index`` = PV F_j.
+    on coordinate ``index`` = PV F_j.  External inputs as generalized
+    forces: coordinate ``UI[e]`` gets ``UV[e, 0] + UV[e, 1] cos(UV[e, 3] t) +
+    UV[e, 2] sin(UV[e, 3] t)`` (:class:`~liquidamp.coupled.inputs.HarmonicInput`
+    times its column of the host's force matrix).
     """
     n = M.shape[0]
     nh = 2 * n
@@ -95,6 +98,9 @@ def rotor_rhs(t, X, W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, M, b, piv, Fk, out
     for e in range(npi):
         if PI[e, 0] == 2:
             b[PI[e, 2]] += PV[e] * Fk[2 * PI[e, 1]]
+    for e in range(UI.shape[0]):
+        wt = UV[e, 3] * t
+        b[UI[e]] += UV[e, 0] + UV[e, 1] * math.cos(wt) + UV[e, 2] * math.sin(wt)
     for e in range(HI.shape[0]):
         m = HI[e, 0]
         i = HI[e, 1]
@@ -115,7 +121,7 @@ def rotor_rhs(t, X, W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, M, b, piv, Fk, out
 
 
 @njit(cache=True, error_model="numpy")
-def rotor_integrate(W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, fi, lim, pfloor, x0, t_end,
+def rotor_integrate(W, HI, HV, PI, PV, UI, UV, DSPEC, doff, PRM, DEP, fi, lim, pfloor, x0, t_end,
                     teval, rtol, atol, hmax, max_steps, RA, RB, RC, E3, E5, RAX, RCX, RD, out,
                     info):
     """DOP853 (Dormand-Prince 8(5,3), scipy's coefficients and step control) of :func:`rotor_rhs`.
@@ -143,7 +149,7 @@ def rotor_integrate(W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, fi, lim, pfloor, x
     f = np.empty(n)
     fnew = np.empty(n)
     t = 0.0
-    rotor_rhs(t, y, W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, M, b, piv, Fk, f)
+    rotor_rhs(t, y, W, HI, HV, PI, PV, UI, UV, DSPEC, doff, PRM, DEP, M, b, piv, Fk, f)
     nfev = 1
     # initial step (Hairer, Norsett & Wanner I, II.4; as scipy)
     d0 = 0.0
@@ -158,7 +164,7 @@ def rotor_integrate(W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, fi, lim, pfloor, x
     h0 = min(h0, t_end, hmax)
     for i in range(n):
         ytmp[i] = y[i] + h0 * f[i]
-    rotor_rhs(h0, ytmp, W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, M, b, piv, Fk, K[1])
+    rotor_rhs(h0, ytmp, W, HI, HV, PI, PV, UI, UV, DSPEC, doff, PRM, DEP, M, b, piv, Fk, K[1])
     nfev += 1
     d2 = 0.0
     for i in range(n):
@@ -202,14 +208,15 @@ def rotor_integrate(W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, fi, lim, pfloor, x
                 for r in range(s):
                     acc += RA[s, r] * K[r, i]
                 ytmp[i] = y[i] + h * acc
-            rotor_rhs(t + RC[s] * h, ytmp, W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, M,
+            rotor_rhs(t + RC[s] * h, ytmp, W, HI, HV, PI, PV, UI, UV, DSPEC, doff, PRM, DEP, M,
                       b, piv, Fk, K[s])
         for i in range(n):
             acc = 0.0
             for r in range(ns):
                 acc += RB[r] * K[r, i]
             ynew[i] = y[i] + h * acc
-        rotor_rhs(tn, ynew, W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, M, b, piv, Fk, fnew)
+        rotor_rhs(tn, ynew, W, HI, HV, PI, PV, UI, UV, DSPEC, doff, PRM, DEP, M, b, piv, Fk,
+                  fnew)
         for i in range(n):
             K[ns, i] = fnew[i]
         nfev += ns
@@ -243,7 +250,7 @@ def rotor_integrate(W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, fi, lim, pfloor, x
                         for r in range(s):
                             acc += RAX[s - ns - 1, r] * K[r, i]
                         ytmp[i] = y[i] + h * acc
-                    rotor_rhs(t + RCX[s - ns - 1] * h, ytmp, W, HI, HV, PI, PV, DSPEC,
+                    rotor_rhs(t + RCX[s - ns - 1] * h, ytmp, W, HI, HV, PI, PV, UI, UV, DSPEC,
                               doff, PRM, DEP, M, b, piv, Fk, K[s])
                 nfev += 3
                 for i in range(n):

@@ -82,7 +82,7 @@ from liquidamp.errors import ConvergenceError, ParameterError, PressureError
 from liquidamp.structure.testmachine import HarmonicStroke, RecordedStroke
 
 __all__ = ["COMPILED_MODELS", "supports", "check_compiled", "march", "RotorRun",
-           "simulate_rotor", "steady_loop", "warm_up"]
+           "simulate_rotor", "simulate_blade", "steady_loop", "warm_up"]
 
 #: Registry names of the base models the compiled engine runs: all of them, with any
 #: add-on effects (the physics is :mod:`liquidamp.device.kernels`, shared with scipy).
@@ -422,13 +422,14 @@ def _dop853_tables():
 
 
 def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoperative=(),
-                   t_eval=None, samples_per_second: float | None = None, options=None,
-                   max_step: float | None = None, max_steps: int = MAX_STEPS) -> RotorRun:
+                   inputs=(), t_eval=None, samples_per_second: float | None = None,
+                   options=None, max_step: float | None = None,
+                   max_steps: int = MAX_STEPS) -> RotorRun:
     """Compiled time response of a rotor with a device on each blade (rotating frame).
 
     The same system and conventions as
-    ``simulate_coupled(rotor_system(rotor, Omega, device, inoperative=...), t_end, x0,
-    strict=False, energy=False)``, integrated by compiled DOP853 (scipy's
+    ``simulate_coupled(rotor_system(rotor, Omega, device, inoperative=..., inputs=...), t_end,
+    x0, strict=False, energy=False)``, integrated by compiled DOP853 (scipy's
     coefficients and step-size control, same ``rtol``, same ``atol``:
     ``atol_scale`` times the largest initial host state for the rotor and
     times the device ``state_scales`` for the devices, same largest step
@@ -447,6 +448,9 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
         End time [s].
     x0 : array or mapping, optional
         As :func:`~liquidamp.coupled.assembly.simulate_coupled`.
+    inputs : sequence of HarmonicInput
+        External inputs (``moment_k`` [N m], hub forces [N]), as
+        :func:`~liquidamp.coupled.assembly.rotor_system`.
     options : SolverOptions, optional
         ``rtol``, ``atol_scale``, ``pressure_floor`` (default: the ``"rotor"``
         preset of :data:`liquidamp.options.PRESETS`, rtol 1e-7; ``method`` and
@@ -456,13 +460,78 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
     -------
     RotorRun
     """
+    from liquidamp.coupled.assembly import rotor_system
+
+    system = rotor_system(rotor, Omega, device, inoperative=inoperative, inputs=inputs)
+    failed = {rotor.check_blade(k) for k in inoperative}
+    # the blades' own lag dampers: removed where a device is attached or failed
+    port_blade = {port.name: k for k, port in enumerate(rotor.ports, start=1)}
+    blades = [port_blade[port.name] for port in system.ports]
+    c = list(rotor.blade_damping)
+    for k in set(blades) | failed:
+        c[k - 1] = 0.0
+    return _simulate_second_order(rotor.with_lag_dampers(c), Omega, system, t_end, x0,
+                                  t_eval, samples_per_second, options, max_step, max_steps)
+
+
+def simulate_blade(blade, Omega: float, device, t_end: float, x0=None, *, inputs=(),
+                   t_eval=None, samples_per_second: float | None = None, options=None,
+                   max_step: float | None = None, max_steps: int = MAX_STEPS) -> RotorRun:
+    """Compiled time response of a blade in lead-lag with a device on its port.
+
+    The system of :func:`~liquidamp.coupled.assembly.blade_system` (same
+    arguments), integrated by the kernel of :func:`simulate_rotor` (the
+    blade is a second-order host with constant coefficients): the same
+    conventions, default options (the ``"rotor"`` preset) and largest step
+    (1/20 of the revolution 2 pi/Omega).
+
+    Parameters
+    ----------
+    blade : ArticulatedBlade
+    Omega : float
+        Rotor speed > 0 [rad/s].
+    device : Device
+    t_end : float
+        End time [s].
+    x0 : array or mapping, optional
+        As :func:`~liquidamp.coupled.assembly.simulate_coupled`.
+    inputs : sequence of HarmonicInput
+        External inputs (``moment`` [N m]).
+
+    Returns
+    -------
+    RotorRun
+
+    Examples
+    --------
+    >>> import math
+    >>> from liquidamp.coupled.assembly import viscous
+    >>> from liquidamp.coupled.inputs import HarmonicInput
+    >>> from liquidamp.structure.hostio import load_blade
+    >>> b = load_blade("hammond1974").replace(lag_damping=0.0)
+    >>> W, M = 26.0, HarmonicInput("moment", 26.0, sin_amplitude=1000.0)
+    >>> r = simulate_blade(b, W, viscous(2e4), 30.0, inputs=[M], t_eval=[30.0])
+    >>> zeta, rate = r.host_states[:, -1]
+    >>> # 1/rev response once the transient is gone: |zeta| = M / |K - I W^2 + i W c a^2|
+    >>> z = M.amplitude / abs(b.lag_stiffness(W) - b.inertia * W**2 + 1j * W * 2e4 * 0.25**2)
+    >>> round(math.hypot(zeta, rate / W) / z, 6)
+    1.0
+    """
+    from liquidamp.coupled.assembly import blade_system
+
+    system = blade_system(blade, Omega, device, inputs=inputs)
+    return _simulate_second_order(blade, Omega, system, t_end, x0, t_eval, samples_per_second,
+                                  options, max_step, max_steps)
+
+
+def _simulate_second_order(structure, Omega, system, t_end, x0, t_eval, samples_per_second,
+                           options, max_step, max_steps) -> RotorRun:
+    """Run ``system`` (host ``structure``: its harmonic second-order form) on the kernel."""
     import math
 
-    from liquidamp.coupled.assembly import rotor_system
     from liquidamp.options import resolve_options
 
     opts = resolve_options(options, "rotor")
-    system = rotor_system(rotor, Omega, device, inoperative=inoperative)
     T_end = float(t_end)
     if not T_end > 0.0:
         raise ParameterError(f"t_end must be > 0 [s], got {t_end!r}")
@@ -472,15 +541,8 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
         X0 = np.asarray(x0, float).reshape(-1).copy()
     else:
         X0 = np.asarray(system.initial_state(x0), float)
-    failed = {rotor.check_blade(k) for k in inoperative}
-    # the blades' own lag dampers: removed where a device is attached or failed
-    port_blade = {port.name: k for k, port in enumerate(rotor.ports, start=1)}
-    blades = [port_blade[port.name] for port in system.ports]
-    c = list(rotor.blade_damping)
-    for k in set(blades) | failed:
-        c[k - 1] = 0.0
-    host = rotor.with_lag_dampers(c)
-    # the rotor's equations come from structure/: M, C, K as first harmonics of the azimuth
+    host = structure
+    # the host's equations come from structure/: M, C, K as first harmonics of the azimuth
     MH = np.stack(host.harmonic_second_order(W))
     G, Cout = host.force_matrix(), host.output_matrix()
     ins, outs = host.input_names, host.output_names
@@ -495,6 +557,14 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
             trip += [(kind, j, int(i), float(row[i])) for i in np.flatnonzero(row)]
     PI = np.array([t[:3] for t in trip], dtype=np.int64).reshape(-1, 3)
     PV = np.array([t[3] for t in trip], dtype=float)
+    # external inputs as harmonic generalized forces: coordinate, (mean, cos, sin, omega)
+    ext = []
+    for u in system.inputs:
+        col = G[:, ins.index(u.input)]
+        ext += [(int(i), col[i] * u.mean, col[i] * u.cos_amplitude, col[i] * u.sin_amplitude,
+                 u.omega) for i in np.flatnonzero(col)]
+    UI = np.array([e[0] for e in ext], dtype=np.int64)
+    UV = np.array([e[1:] for e in ext], dtype=float).reshape(-1, 4)
     nd = len(system.devices)
     doff = np.zeros(nd + 1, np.int64)
     DSPEC = np.zeros((nd, DK.N_SPEC), np.int64)
@@ -528,9 +598,9 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
     out = np.zeros((X0.size, t_eval.size))
     info = np.zeros(5)
     tables = _dop853_tables()
-    RK.rotor_integrate(W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, fi, lim,
-                      float(opts.pressure_floor), X0, T_end, t_eval, float(opts.rtol), atol, hmax,
-                      int(max_steps), *tables, out, info)
+    RK.rotor_integrate(W, HI, HV, PI, PV, UI, UV, DSPEC, doff, PRM, DEP, fi, lim,
+                       float(opts.pressure_floor), X0, T_end, t_eval, float(opts.rtol), atol,
+                       hmax, int(max_steps), *tables, out, info)
     status = int(info[0])
     if status in (K.ST_STEP_TOO_SMALL, K.ST_TOO_MANY_STEPS):
         raise ConvergenceError(
