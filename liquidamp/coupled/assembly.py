@@ -915,7 +915,7 @@ def _run_python(system, T_end, X0, t_eval, opts, max_step, conds):
 
 
 def _compiled_origin(system: CoupledSystem) -> _KernelOrigin:
-    """How ``system`` was built (:class:`_KernelOrigin`), or ParameterError if not compiled-capable."""
+    """How ``system`` was built (:class:`_KernelOrigin`); ParameterError if not compiled."""
     from liquidamp.structure.blade import ArticulatedBlade
     from liquidamp.structure.rotor import GroundResonanceRotor
 
