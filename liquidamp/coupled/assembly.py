@@ -254,12 +254,14 @@ class _KernelOrigin:
 
     ``runner(*args, t_end, x0, inputs=inputs, **kwargs)`` (looked up by name at
     call time) integrates the same system; ``structure`` is the
-    :class:`~liquidamp.structure.rotor.GroundResonanceRotor` or
-    :class:`~liquidamp.structure.blade.ArticulatedBlade` whose equations it runs.
+    :class:`~liquidamp.structure.rotor.GroundResonanceRotor` (its lag dampers
+    as in the host) or :class:`~liquidamp.structure.blade.ArticulatedBlade`
+    whose equations the kernel runs, at rotor speed ``Omega`` [rad/s].
     """
 
     runner: str
     structure: object
+    Omega: float
     args: tuple
     kwargs: Mapping
     host: HostMatrices
@@ -356,7 +358,7 @@ class CoupledSystem:
         o = self.origin
         if o is not None:
             object.__setattr__(new, "origin", _KernelOrigin(
-                o.runner, o.structure, o.args, o.kwargs, o.host, o.devices, new.inputs))
+                o.runner, o.structure, o.Omega, o.args, o.kwargs, o.host, o.devices, new.inputs))
         return new
 
     @property
@@ -598,7 +600,7 @@ def rotor_system(rotor, Omega: float, device, *, inoperative=(), inputs=()) -> C
                     name=f"{rotor.name}@{W:.4g}rad/s", inputs=inputs)
     # record the route for the compiled engine (the object is fresh, not yet shared)
     object.__setattr__(system, "origin", _KernelOrigin(
-        "simulate_rotor", rotor, (rotor, W, MappingProxyType(dict(mapping))),
+        "simulate_rotor", host, W, (rotor, W, MappingProxyType(dict(mapping))),
         MappingProxyType({"inoperative": inoperative}), h, system.devices, system.inputs))
     return system
 
@@ -644,7 +646,7 @@ def blade_system(blade, Omega: float, device: Device, *, inputs=()) -> CoupledSy
     h, _ = _as_host(ss, blade.ports, mechanics)
     system = couple(h, {"lag": device}, name=f"blade@{W:.4g}rad/s", inputs=inputs)
     object.__setattr__(system, "origin", _KernelOrigin(
-        "simulate_blade", blade, (blade, W, device), MappingProxyType({}), h, system.devices,
+        "simulate_blade", blade, W, (blade, W, device), MappingProxyType({}), h, system.devices,
         system.inputs))
     return system
 
