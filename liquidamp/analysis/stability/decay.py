@@ -92,7 +92,7 @@ def _samples(signal, dt):
 
 
 def matrix_pencil(signal, dt: float, *, order: int | None = None, pencil: int | None = None,
-                  rtol: float = 1e-7) -> tuple[np.ndarray, np.ndarray]:
+                  rtol: float = 1e-6) -> tuple[np.ndarray, np.ndarray]:
     """Poles and amplitudes of ``signal`` ~ sum a_i exp(s_i k dt) (module notes).
 
     Parameters
@@ -104,14 +104,16 @@ def matrix_pencil(signal, dt: float, *, order: int | None = None, pencil: int | 
     order : int, optional
         Number of poles M (default: singular values above ``rtol`` x the largest).
     pencil : int, optional
-        Pencil parameter L, between M and N - M (default N // 3).
+        Pencil parameter L, between M and N - M (default N // 3, at most 120:
+        plenty for the few components of a modal decay, and the SVD stays small).
     rtol : float
         Rank threshold [-].
 
     Returns
     -------
     poles : ndarray of complex
-        s_i [1/s], sorted by decreasing |a_i|.
+        s_i [1/s], sorted by decreasing energy over the record,
+        |a_i|^2 sum_k |z_i|^(2k).
     amplitudes : ndarray of complex
         a_i [signal units], the value of each component at the first sample.
 
@@ -124,7 +126,7 @@ def matrix_pencil(signal, dt: float, *, order: int | None = None, pencil: int | 
     """
     y, h = _samples(signal, dt)
     N = y.size
-    L = N // 3 if pencil is None else int(pencil)
+    L = min(N // 3, 120) if pencil is None else int(pencil)
     if not 2 <= L <= N - 2:
         raise ParameterError(f"pencil parameter must lie in [2, {N - 2}], got {L}")
     H = np.lib.stride_tricks.sliding_window_view(y, L + 1)  # (N - L) x (L + 1)
@@ -138,29 +140,28 @@ def matrix_pencil(signal, dt: float, *, order: int | None = None, pencil: int | 
     k = np.arange(N)[:, None]
     A = z[None, :] ** k
     amp = np.linalg.lstsq(A, y.astype(complex), rcond=None)[0]
-    order_ = np.argsort(-np.abs(amp))
+    energy = np.abs(amp) ** 2 * np.sum(np.abs(A) ** 2, axis=0)
+    order_ = np.argsort(-energy)
     return np.log(z[order_]) / h, amp[order_]
 
 
-def dominant_mode(poles, amplitudes, *, near: float | None = None) -> complex:
-    """The pole (positive frequency) carrying most of the signal, or the one nearest ``near``.
-
-    ``near`` [rad/s] restricts the choice to poles within half of it.
+def dominant_mode(poles, *, near: float | None = None) -> complex:
+    """The first pole with positive frequency of ``poles`` (sorted as :func:`matrix_pencil`
+    returns them: the one carrying most of the signal), within half of ``near`` [rad/s] of it
+    if given.
     """
     s = np.asarray(poles, complex)
-    a = np.abs(np.asarray(amplitudes, complex))
     up = s.imag > 0.0
     if near is not None:
         up &= np.abs(s.imag - near) < 0.5 * near
     if not np.any(up):
         raise ParameterError("no oscillating pole in the decay signal"
                              + (f" near {near:.4g} rad/s" if near is not None else ""))
-    k = np.flatnonzero(up)[np.argmax(a[up])]
-    return complex(s[k])
+    return complex(s[np.flatnonzero(up)[0]])
 
 
 def pencil_damping(signal, dt: float, *, near: float | None = None,
-                   rtol: float = 1e-7) -> DecayEstimate:
+                   rtol: float = 1e-6) -> DecayEstimate:
     """Damping of the dominant oscillating pole of :func:`matrix_pencil` (``near`` [rad/s]).
 
     Examples
@@ -171,8 +172,8 @@ def pencil_damping(signal, dt: float, *, near: float | None = None,
     >>> round(est.damping_ratio * math.hypot(0.2, 5.0), 9), round(est.frequency, 9)
     (0.2, 5.0)
     """
-    s, a = matrix_pencil(signal, dt, rtol=rtol)
-    p = dominant_mode(s, a, near=near)
+    s, _ = matrix_pencil(signal, dt, rtol=rtol)
+    p = dominant_mode(s, near=near)
     sig, w = -p.real, p.imag
     return DecayEstimate("matrix pencil", sig, w, sig / math.hypot(sig, w),
                          f"{s.size} poles (rank threshold {rtol:g}), {len(signal)} samples")

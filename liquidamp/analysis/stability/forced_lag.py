@@ -178,7 +178,7 @@ def _amplitudes(orbit: ForcedOrbit, lag_state: str):
 
 def forced_lag_damping(structure, Omega: float, device: Device, *, moment: float | None = None,
                        stroke: float | None = None, lag_angle: float | None = None,
-                       options: SolverOptions | None = None, tol: float = 1e-9,
+                       options: SolverOptions | None = None, tol: float = 1e-8,
                        max_iter: int = 20) -> ForcedLagResult:
     """Lag damping of a blade or rotor with ``device`` under a 1/rev lag forcing.
 
@@ -320,7 +320,10 @@ class LagDecayCheck:
     time : ndarray
         Sample times of the decay [s].
     signal : ndarray
-        Lag angle deviation from the orbit [rad] (the kicked run minus the orbit).
+        Lag deviation from the orbit (the kicked run minus the orbit) of the
+        lag state the mode moves most [rad or rad/s].
+    state : str
+        That host state's name.
     kick : float
         Lag angle of the perturbation along the lag mode [rad].
     revolutions : int
@@ -334,6 +337,7 @@ class LagDecayCheck:
     signal: np.ndarray
     kick: float
     revolutions: int
+    state: str = ""
 
     @property
     def pencil_error(self) -> float:
@@ -353,10 +357,10 @@ def lag_decay_check(result: ForcedLagResult, *, kick: float | None = None,
     """Lag damping from the time domain on top of the orbit of ``result`` (module notes).
 
     The orbit state is perturbed by ``kick`` times the real part of the lag
-    Floquet eigenvector (normalized to a unit lag angle), the nonlinear
-    system integrated from the kicked and the unkicked state over the same
-    output times (``simulate_coupled``, compiled kernel by default) and the
-    lag angle difference analysed by :func:`~liquidamp.analysis.stability.decay.pencil_damping`
+    Floquet eigenvector (normalized to 1 in the lag angle it moves most), the
+    nonlinear system integrated from the kicked and the unkicked state over
+    the same output times (``simulate_coupled``, compiled kernel by default)
+    and the difference of that lag angle analysed by :func:`~liquidamp.analysis.stability.decay.pencil_damping`
     (the dominant pole) and :func:`~liquidamp.analysis.stability.decay.moving_block`
     (at the record's spectral peak) -- neither uses the Floquet frequency.
 
@@ -364,9 +368,10 @@ def lag_decay_check(result: ForcedLagResult, *, kick: float | None = None,
     ----------
     result : ForcedLagResult
     kick : float, optional
-        Lag angle of the perturbation [rad] (default 1e-3 of the orbit's 1/rev
-        lag amplitude, 1e-6 rad at rest): small enough for the linearization,
-        far above the integration error.
+        Size of the perturbation [rad]: ``kick`` times the lag Floquet
+        eigenvector normalized to 1 in the lag state it moves most (default
+        1e-3 of the orbit's 1/rev lag amplitude, 1e-6 rad at rest): small
+        enough for the linearization, far above the integration error.
     revolutions : int, optional
         Record length [rev] (default: until the Floquet decay reaches 5 %,
         within 20 to 400).
@@ -399,8 +404,9 @@ def lag_decay_check(result: ForcedLagResult, *, kick: float | None = None,
         if kick is None else check_positive("kick", kick, "rad")
     x_star = orbit.x0
     x_kick = x_star + eps * np.real(mode.vector)
-    lag = _lag_states(system, result.host)[0]
-    i_lag = system.host.state_names.index(lag)
+    # the lag state the mode moves most (its eigenvector is 1 there)
+    i_lag = int(np.argmax(np.abs(mode.vector[:system.host.nstates]) *
+                          np.isin(system.host.state_names, _lag_states(system, result.host))))
     t = np.arange(R * samples_per_rev + 1) * (T / samples_per_rev)
     runs = [simulate_coupled(system, float(t[-1]), x, t_eval=t, options=opts, energy=False,
                              max_step=T / 20.0) for x in (x_kick, x_star)]
@@ -408,7 +414,8 @@ def lag_decay_check(result: ForcedLagResult, *, kick: float | None = None,
     dt = T / samples_per_rev
     pen = pencil_damping(d, dt)
     mb = moving_block(d, dt, block_cycles=block_cycles)
-    return LagDecayCheck(result.damping_ratio, pen, mb, t, d, eps, R)
+    return LagDecayCheck(result.damping_ratio, pen, mb, t, d, eps, R,
+                         system.host.state_names[i_lag])
 
 
 def lag_damping_from_stiffness(blade, Omega: float, K_lag, *, frequency: float | None = None,

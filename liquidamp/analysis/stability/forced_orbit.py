@@ -444,7 +444,7 @@ class ForcedOrbit:
 
 
 def forced_orbit(system: CoupledSystem, *, period: float | None = None, x0=None,
-                 options: SolverOptions | None = None, tol: float = 1e-9,
+                 options: SolverOptions | None = None, tol: float = 1e-8,
                  max_iter: int = 20, samples: int = 64) -> ForcedOrbit:
     """Periodic orbit of ``system`` under its inputs by shooting, with its monodromy.
 
@@ -642,7 +642,7 @@ def floquet_mode(orbit: ForcedOrbit, host_states, *, what: str = "mode") -> Floq
     up = np.flatnonzero(lam.imag > 1e-9 * np.maximum(np.abs(lam), 1e-300))
     if up.size == 0:
         raise ConvergenceError(f"{what} not identified: the orbit-averaged Jacobian has no "
-                               "oscillating eigenvalue")
+                               "oscillating eigenvalue (every mode is overdamped)")
     ref = complex(lam[up[np.argmax(share(Vj[:, up]))]])
     rho, Vs = np.linalg.eig(orbit.monodromy * (S[None, :] / S[:, None]))
     osc = np.flatnonzero((np.abs(rho.imag) > 1e-9 * np.abs(rho)) | (rho.real < 0.0))
