@@ -360,9 +360,10 @@ def lag_decay_check(result: ForcedLagResult, *, kick: float | None = None,
     Floquet eigenvector (normalized to 1 in the lag angle it moves most), the
     nonlinear system integrated from the kicked and the unkicked state over
     the same output times (``simulate_coupled``, compiled kernel by default)
-    and the difference of that lag angle analysed by :func:`~liquidamp.analysis.stability.decay.pencil_damping`
-    (the dominant pole) and :func:`~liquidamp.analysis.stability.decay.moving_block`
-    (at the record's spectral peak) -- neither uses the Floquet frequency.
+    and the difference of that lag angle analysed by
+    :func:`~liquidamp.analysis.stability.decay.pencil_damping` (the dominant
+    pole) and :func:`~liquidamp.analysis.stability.decay.moving_block` (at the
+    record's spectral peak) -- neither uses the Floquet frequency.
 
     Parameters
     ----------
