@@ -191,7 +191,7 @@ vapour_pressure, max_step_fraction, engine, compiled_method
         Traceback (most recent call last):
         ...
         liquidamp.errors.ParameterError: unknown solver preset 'fitting'; valid: default, coupled, \
-fit, rotor, section, casestudy
+fit, rotor, section, casestudy, decay
         """
         base = PRESETS[check_choice("solver preset", name, PRESETS)]
         return base.replace(**changes) if changes else base
@@ -270,7 +270,7 @@ def preset_names() -> tuple[str, ...]:
     Examples
     --------
     >>> preset_names()
-    ('default', 'coupled', 'fit', 'rotor', 'section', 'casestudy')
+    ('default', 'coupled', 'fit', 'rotor', 'section', 'casestudy', 'decay')
     """
     return tuple(PRESETS)
 

@@ -63,7 +63,7 @@ def test_default_engine_is_one_constant():
 
 
 def test_unknown_preset_and_unknown_keys_raise_listing_the_valid_ones():
-    valid = "valid: default, coupled, fit, rotor, section, casestudy"
+    valid = "valid: default, coupled, fit, rotor, section, casestudy, decay"
     with pytest.raises(ParameterError, match=f"unknown solver preset 'fiting'; {valid}"):
         SolverOptions.preset("fiting")
     with pytest.raises(ParameterError, match=f"unknown solver preset 'stiff'; {valid}"):
