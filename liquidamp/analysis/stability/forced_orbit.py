@@ -14,13 +14,15 @@ constant.  Here:
 
 Jacobian (:func:`coupled_jacobian`)
     The host is linear (``A(t)``, ``B(t)``); each device contributes its
-    Jacobian ``d rhs/dz`` from :meth:`~liquidamp.device.models.DeviceModel.jacobian`
-    (the compiled ``model_jac`` of :mod:`liquidamp.device.kernels`: analytic,
-    or central differences for compositions) and the derivatives of its
-    right-hand side and force with respect to the stroke and stroke rate
-    (and of the force with respect to its states) by central differences
-    of the same compiled physics (increments 1e-6 of each quantity's
-    magnitude).  The external inputs do not enter.
+    Jacobian ``d rhs/dz`` from the compiled ``model_jac`` of
+    :mod:`liquidamp.device.kernels` (analytic, or central differences for
+    compositions) and the derivatives of its right-hand side and force with
+    respect to the stroke and stroke rate (and of the force with respect to
+    its states) by central differences of the same compiled physics
+    (increments 1e-6 of each quantity's magnitude), all in
+    :func:`liquidamp.coupled._rotor_kernel.device_derivatives`, which the
+    compiled variational equations run too.  The external inputs do not
+    enter.
 
 Orbit (:func:`forced_orbit`)
     Shooting: Newton's method on ``x(T; x0) - x0 = 0``, the state and the
@@ -105,43 +107,22 @@ def _check_smooth(system: CoupledSystem) -> None:
                 "friction_N = 0 or use the smooth_friction effect")
 
 
-def _device_steps(d, y: float, v: float):
-    lim = d.stroke_limit
-    ys = min(lim, 0.01) if math.isfinite(lim) else 0.01
-    return FD_REL * max(abs(y), ys), FD_REL * max(abs(v), 0.01)
-
-
 def _device_derivatives(d, t, z, y, v):
-    """(dF/dz, dF/dy, dF/dv, df/dz, df/dy, df/dv) of one device at (z, y, v)."""
-    m, p = d.model, d.params
+    """(dF/dz, dF/dy, dF/dv, df/dz, df/dy, df/dv) of one device at (z, y, v).
+
+    The compiled :func:`liquidamp.coupled._rotor_kernel.device_derivatives`
+    (the one copy the variational kernel runs too).
+    """
+    spec, prm, ep = d.model.packed(d.params)
     nz = z.size
-    hy, hv = _device_steps(d, y, v)
-    if nz:
-        hz = FD_REL * np.maximum(np.abs(z), np.asarray(m.state_scales(p), float))
-    else:
-        hz = np.zeros(0)
-    # one vectorized force call: columns z +- hz_k, then y +- hy, v +- hv
-    cols = 2 * nz + 4
-    Z = np.repeat(z[:, None], cols, axis=1)
-    Y = np.full(cols, y)
-    V = np.full(cols, v)
-    for k in range(nz):
-        Z[k, 2 * k] += hz[k]
-        Z[k, 2 * k + 1] -= hz[k]
-    Y[2 * nz] += hy
-    Y[2 * nz + 1] -= hy
-    V[2 * nz + 2] += hv
-    V[2 * nz + 3] -= hv
-    F = np.asarray(m.force(t, Z, (Y, V, np.zeros(cols)), p), float).reshape(-1)
-    dFdz = (F[0:2 * nz:2] - F[1:2 * nz:2]) / (2.0 * hz) if nz else np.zeros(0)
-    dFdy = (F[2 * nz] - F[2 * nz + 1]) / (2.0 * hy)
-    dFdv = (F[2 * nz + 2] - F[2 * nz + 3]) / (2.0 * hv)
-    if not nz:
-        return dFdz, dFdy, dFdv, np.zeros((0, 0)), np.zeros(0), np.zeros(0)
-    dfdz = np.asarray(m.jacobian(t, z, (y, v, 0.0), p), float)
-    dfdy = (m.rhs(t, z, (y + hy, v, 0.0), p) - m.rhs(t, z, (y - hy, v, 0.0), p)) / (2.0 * hy)
-    dfdv = (m.rhs(t, z, (y, v + hv, 0.0), p) - m.rhs(t, z, (y, v - hv, 0.0), p)) / (2.0 * hv)
-    return dFdz, dFdy, dFdv, dfdz, dfdy, dfdv
+    m = max(nz, 1)
+    dFdz, dfdz = np.zeros(m), np.zeros((m, m))
+    dfdy, dfdv = np.zeros(m), np.zeros(m)
+    work = [np.empty(m) for _ in range(3)]
+    dFdy, dFdv = RK.device_derivatives(spec, np.ascontiguousarray(z, dtype=float), float(y),
+                                       float(v), prm, ep, float(d.stroke_limit), dFdz, dfdz,
+                                       dfdy, dfdv, *work)
+    return dFdz[:nz], dFdy, dFdv, dfdz[:nz, :nz], dfdy[:nz], dfdv[:nz]
 
 
 def coupled_jacobian(system: CoupledSystem, t: float, x) -> np.ndarray:
