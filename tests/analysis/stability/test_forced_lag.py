@@ -8,6 +8,7 @@ parallel copies of a liquid preset (``scale_device(preset, 2)``) in the full mod
 damping ratio of a few percent under a 1/rev damper stroke of 0.5-1 mm.
 """
 
+import json
 import math
 
 import numpy as np
@@ -94,6 +95,9 @@ def test_viscous_damper_damping_does_not_depend_on_the_1rev_amplitude():
         assert r.damping_ratio == pytest.approx(z, rel=1e-9)
         assert r.frequency == pytest.approx(wd, rel=1e-9)
     assert res[2].lag_amplitude == pytest.approx(10.0 * res[1].lag_amplitude, rel=1e-9)
+    d = json.loads(json.dumps(res[1].as_dict()))
+    assert d["moment_amplitude [N m]"] == 2e3 and d["damping_ratio [-]"] == res[1].damping_ratio
+    assert len(d["multipliers [-]"]) == 2 and d["host"] == "blade"
     assert res[2].lag_amplitude > 0.02
     # amplitude-independent to the integration error (monodromy at rtol 1e-10)
     assert res[2].damping_ratio == pytest.approx(res[0].damping_ratio, rel=1e-9)
