@@ -320,10 +320,10 @@ class LagDecayCheck:
     time : ndarray
         Sample times of the decay [s].
     signal : ndarray
-        Lag deviation from the orbit (the kicked run minus the orbit) of the
-        lag state the mode moves most [rad or rad/s].
+        Deviation from the orbit (the kicked run minus the orbit) of the lag
+        angle the mode moves most [rad].
     state : str
-        That host state's name.
+        That lag angle's name.
     kick : float
         Lag angle of the perturbation along the lag mode [rad].
     revolutions : int
@@ -370,7 +370,7 @@ def lag_decay_check(result: ForcedLagResult, *, kick: float | None = None,
     result : ForcedLagResult
     kick : float, optional
         Size of the perturbation [rad]: ``kick`` times the lag Floquet
-        eigenvector normalized to 1 in the lag state it moves most (default
+        eigenvector normalized to 1 in the lag angle it moves most (default
         1e-3 of the orbit's 1/rev lag amplitude, 1e-6 rad at rest): small
         enough for the linearization, far above the integration error.
     revolutions : int, optional
@@ -403,11 +403,15 @@ def lag_decay_check(result: ForcedLagResult, *, kick: float | None = None,
             raise ParameterError(f"revolutions must be >= 4, got {revolutions!r}")
     eps = (1e-3 * result.lag_amplitude if result.lag_amplitude > 0.0 else 1e-6) \
         if kick is None else check_positive("kick", kick, "rad")
+    # the lag angle the mode moves most (a lag state read by a port's stroke), where the
+    # kick vector is 1
+    nh = system.host.nstates
+    angle = np.isin(system.host.state_names, _lag_states(system, result.host)) \
+        & np.any(system.stroke_matrix != 0.0, axis=0)
+    i_lag = int(np.argmax(np.abs(mode.vector[:nh]) * angle))
+    v = mode.vector / mode.vector[i_lag]
     x_star = orbit.x0
-    x_kick = x_star + eps * np.real(mode.vector)
-    # the lag state the mode moves most (its eigenvector is 1 there)
-    i_lag = int(np.argmax(np.abs(mode.vector[:system.host.nstates]) *
-                          np.isin(system.host.state_names, _lag_states(system, result.host))))
+    x_kick = x_star + eps * np.real(v)
     t = np.arange(R * samples_per_rev + 1) * (T / samples_per_rev)
     runs = [simulate_coupled(system, float(t[-1]), x, t_eval=t, options=opts, energy=False,
                              max_step=T / 20.0) for x in (x_kick, x_star)]

@@ -202,5 +202,5 @@ def test_rotor_host_floquet_against_decay_and_coleman_at_rest():
     assert np.max(expo.real) < 1e-6  # only the devices' invariant multipliers at 1
     assert 0.05 < r.damping_ratio < 0.12 and r.damping_ratio > 2.0 * rest.damping_ratio
     chk = lag_decay_check(r)
-    assert chk.state.startswith("zeta_")
+    assert chk.state in ("zeta_1", "zeta_2", "zeta_3", "zeta_4")
     assert abs(chk.pencil_error) < 0.05 and abs(chk.moving_block_error) < 0.05
