@@ -61,6 +61,25 @@ def test_coulomb_friction_closed_forms():
     assert r.damping_ratio == pytest.approx(V2 / (2 * V1), rel=1e-2)
 
 
+@pytest.mark.parametrize("c_open", [1e-6 * 4e4, 0.2 * 4e4])
+def test_relief_valve_saturated_dashpot_closed_form(c_open):
+    """F = sign(v) min(c|v|, F_r + c_o(|v| - F_r/c)) under a large 1/rev velocity V1
+    (c V1 > F_r): the small lag motion sees c while |v1| < F_r/c and c_o beyond, so the lag
+    damping is c_o + (c - c_o) (2/pi) arcsin(F_r / (c V1)); c_o -> 0 gives the issue's
+    c (2/pi) arcsin(F_r / (c V1)).  Alone (V2 c < F_r) the valve stays shut: c."""
+    from liquidamp.device.effects import ReliefValve
+
+    c, F_r = 4e4, 300.0
+    A1, a2 = 3e-3, 0.05e-3  # c V1 = 3.2 kN > F_r; V2 / V1 = 0.005
+    m = with_effects(VISCOUS, ReliefValve.from_force(F_r, c, c_open))
+    r = dfs(m, ViscousParams(c), F1, F2, A1, a2)
+    V1 = A1 * W
+    expected = c_open + (c - c_open) * (2 / math.pi) * math.asin(F_r / (c * V1))
+    assert r.equivalent_damping == pytest.approx(expected, rel=1e-2)
+    assert r.single_equivalent_damping == pytest.approx(c, rel=1e-9)  # c V2 < F_r: shut
+    assert r.equivalent_damping < 0.5 * c  # the valve takes most of the lag damping away
+
+
 def test_parameter_set_friction_is_the_same_law():
     """``friction_N`` of a DeviceParams and the coulomb_friction effect give one answer."""
     p = preset("reference")
