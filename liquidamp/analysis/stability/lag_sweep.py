@@ -180,5 +180,5 @@ def lag_damping_sweep(blade, Omega: float, devices: dict, strokes: Sequence[floa
                                  "klag_damping_ratio [-]": pred}
         if progress is not None:
             progress(f"lag damping of {label}: " + ", ".join(
-                f"{1e3 * a:g} mm {100 * z:.2f} %" for a, z in zip(A1s, floq)))
+                f"{1e3 * a:g} mm {100 * z:.2f} %" for a, z in zip(A1s, floq, strict=True)))
     return out
