@@ -6,8 +6,9 @@ ratio on top of the forced 1/rev orbit
 an infinitesimal lag motion) and its prediction from the dual-frequency
 dynamic stiffness K_lag at the lag amplitude A2
 (:func:`~liquidamp.analysis.response.dual_frequency.dual_frequency_stiffness`
-at the damped lag frequency of the Floquet result, passed through
-:func:`~liquidamp.analysis.stability.forced_lag.lag_damping_from_stiffness`),
+as a function of omega, passed through
+:func:`~liquidamp.analysis.stability.forced_lag.lag_damping_from_stiffness`,
+which iterates omega to the damped lag frequency of the prediction),
 an equivalent linearization.  A quadratic (orifice) loss gains lag damping
 under 1/rev motion (its slope 2 c2 |q| grows with the 1/rev flow); Coulomb
 friction loses it (2 Fc / (pi Omega A1) against 4 Fc / (pi omega A2) alone).
@@ -170,10 +171,11 @@ def lag_damping_sweep(blade, Omega: float, devices: dict, strokes: Sequence[floa
             freq.append(r.frequency)
             moments.append(r.moment_amplitude)
             for j, A2 in enumerate(A2s):
-                d = dual_frequency_stiffness(dev.model, dev.params, W / (2.0 * math.pi),
-                                             r.frequency / (2.0 * math.pi), A1, A2)
-                pred[j].append(lag_damping_from_stiffness(blade, W, d.K_lag,
-                                                          frequency=r.frequency)[0])
+                def K(w, A1=A1, A2=A2, dev=dev):
+                    return dual_frequency_stiffness(dev.model, dev.params, W / (2.0 * math.pi),
+                                                    w / (2.0 * math.pi), A1, A2).K_lag
+
+                pred[j].append(lag_damping_from_stiffness(blade, W, K, frequency=r.frequency)[0])
         out["devices"][label] = {"floquet_damping_ratio [-]": floq,
                                  "floquet_frequency [rad/s]": freq,
                                  "moment_amplitude [N m]": moments,
