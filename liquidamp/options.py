@@ -25,6 +25,9 @@ rotor      DOP853  1e-7   1e-9        compiled  auto     ``fast.simulate_rotor``
                                                          ``simulate_lco``
 section    Radau   1e-6   1e-9        scipy     auto     ``simulate_section_lco``
 casestudy  Radau   1e-8   1e-9        compiled  auto     ``run_case_study`` (``liquidamp demo``)
+decay      DOP853  1e-10  1e-12       compiled  auto     ``fast.second_order_flow``, forced
+                                                         orbits and lag decays
+                                                         (``analysis.stability.forced_lag``)
 =========  ======  =====  ==========  ========  =======  =====================================
 
 (``engine`` of ``default`` is :data:`DEFAULT_ENGINE`; the stepper is
@@ -188,7 +191,7 @@ vapour_pressure, max_step_fraction, engine, compiled_method
         Traceback (most recent call last):
         ...
         liquidamp.errors.ParameterError: unknown solver preset 'fitting'; valid: default, coupled, \
-fit, rotor, section, casestudy
+fit, rotor, section, casestudy, decay
         """
         base = PRESETS[check_choice("solver preset", name, PRESETS)]
         return base.replace(**changes) if changes else base
@@ -248,6 +251,13 @@ PRESETS: Mapping[str, SolverOptions] = MappingProxyType({
     # harmonic strokes) and agrees with scipy's Radau to ~1e-7 in |K*| (tests/coupled/
     # test_fast.py); on scipy the study takes ~20x longer (111 s against ~5 s).
     "casestudy": SolverOptions(engine="compiled"),
+    # Forced periodic orbits and free decays on top of them (the lag damping under 1/rev
+    # forcing, analysis.stability.forced_lag): the orbit is found by Newton to ~1e-10 and
+    # the decay signal is the difference of two runs a thousandth of the orbit apart, so
+    # the runs must be accurate to far below that; DOP853 on the compiled second-order
+    # kernel (blade and rotor hosts).  The quadratic loss's kink at zero flow limits the
+    # step (error ~ h^3 there), not the order: rtol 1e-10 costs ~300 steps per revolution.
+    "decay": SolverOptions(method="DOP853", rtol=1e-10, atol_scale=1e-12, engine="compiled"),
 })
 """Named solver presets (module docstring table); ``SolverOptions.preset(name)``."""
 
@@ -260,7 +270,7 @@ def preset_names() -> tuple[str, ...]:
     Examples
     --------
     >>> preset_names()
-    ('default', 'coupled', 'fit', 'rotor', 'section', 'casestudy')
+    ('default', 'coupled', 'fit', 'rotor', 'section', 'casestudy', 'decay')
     """
     return tuple(PRESETS)
 

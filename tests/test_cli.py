@@ -87,3 +87,9 @@ def test_demo_writes_the_case_study(tmp_path):
     assert "Closing the loop with measured data" in page
     assert (out / "diagnosis" / "report" / "index.html").exists()
     assert "smooth_friction" in page  # the undeclared effect of the bundled records is found
+    # lag damping in forward flight: quadratic loss gains, friction loses under 1/rev motion
+    assert "Lag damping in forward flight" in page and 'src="lag_damping.png"' in page
+    lag = json.loads((out / "lag_damping.json").read_text())
+    paper, fric = lag["devices"].values()
+    assert paper["floquet_damping_ratio [-]"][1] == pytest.approx(0.0491, abs=5e-4)
+    assert fric["floquet_damping_ratio [-]"][2] < 0.6 * fric["floquet_damping_ratio [-]"][1]

@@ -56,6 +56,9 @@ def catalogue(d: Path, rec: Path, dev: Path, rep: Path):
     sim = ["simulate", "--frequency", "3", "--amplitude", "1mm"]
     cal = ["calibrate", str(rec)]
     gr = ["sweep", "ground-resonance"]
+    png = str(d / "p.png")
+    df = ["dual-frequency", "--rev-frequency", "4.2", "--lag-frequency", "1.26",
+          "--rev-amplitude", "0,14mm"]
     return [
         # --- params
         (["params", "--device", str(dev), "--json", str(dev)], "is the input --device"),
@@ -135,6 +138,18 @@ def catalogue(d: Path, rec: Path, dev: Path, rep: Path):
         (["lco", "--damper", "device_a", "--rpm", "nan", "--json", j], "--rpm"),
         (["lco", "--damper", "device_a", "--rpm", "230", "--json", j, "--plot",
           str(d / "l.bad")], "unknown figure format"),
+        # --- dual-frequency
+        (df + ["--lag-amplitude", "0", "--json", j, "--plot", png],
+         "--lag-amplitude must be > 0 [m], got 0"),
+        (df + ["--lag-amplitude", "0.5mm", "--json", j, "--plot", str(d / "p.bad")],
+         "unknown figure format '.bad'"),
+        (df + ["--lag-amplitude", "12mm", "--json", j, "--plot", png],
+         "past the chamber end"),
+        (df + ["--lag-amplitude", "0.5mm", "--json", j, "--plot", png, "--model", "volumetric"],
+         "does not conserve mass"),
+        (["dual-frequency", "--rev-frequency", "-4", "--lag-frequency", "1", "--rev-amplitude",
+          "1mm", "--lag-amplitude", "1mm", "--json", j, "--plot", png],
+         "argument --rev-frequency: must be a finite number in (0, 10000] [Hz], got '-4'"),
         # --- bench, demo
         (["bench", "--repeats", "0"], "argument --repeats: must be an integer in [1, 1000] "
          "(repeats of the fast routes), got '0'"),

@@ -30,6 +30,7 @@ EXPECTED = {  # preset -> (method, rtol, atol_scale, engine, compiled_method)
     "rotor": ("DOP853", 1e-7, 1e-9, "compiled", "auto"),
     "section": ("Radau", 1e-6, 1e-9, "scipy", "auto"),
     "casestudy": ("Radau", 1e-8, 1e-9, "compiled", "auto"),
+    "decay": ("DOP853", 1e-10, 1e-12, "compiled", "auto"),
 }
 
 
@@ -62,7 +63,7 @@ def test_default_engine_is_one_constant():
 
 
 def test_unknown_preset_and_unknown_keys_raise_listing_the_valid_ones():
-    valid = "valid: default, coupled, fit, rotor, section, casestudy"
+    valid = "valid: default, coupled, fit, rotor, section, casestudy, decay"
     with pytest.raises(ParameterError, match=f"unknown solver preset 'fiting'; {valid}"):
         SolverOptions.preset("fiting")
     with pytest.raises(ParameterError, match=f"unknown solver preset 'stiff'; {valid}"):
@@ -136,6 +137,23 @@ def _rotor_device():
     return rotor, Device("full", size_lag_damper(preset("device_a"), rotor).params, "device_a")
 
 
+def _blade_system():
+    from liquidamp.coupled.assembly import blade_system, viscous
+    from liquidamp.structure.hostio import load_blade
+
+    return blade_system(load_blade("hammond1974"), 26.0, viscous(1e4))
+
+
+class _Result:
+    """What lag_decay_check reads before it resolves its options."""
+
+    class orbit:  # noqa: N801 - attribute access only
+        system = None
+        period = 0.25
+
+    mode = None
+
+
 def _fn(path):
     module, attr = path.rsplit(".", 1)
     return getattr(importlib.import_module(f"liquidamp.{module}"), attr)
@@ -174,6 +192,12 @@ def _calls():
         "simulate_lco": ("analysis.stability.lco", "rotor", lambda: _fn(
             "analysis.stability.lco.simulate_lco")(
             *_rotor_device()[:1], W, _rotor_device()[1], mode=object())),
+        "forced_orbit": ("analysis.stability.forced_orbit", "decay", lambda: _fn(
+            "analysis.stability.forced_orbit.forced_orbit")(_blade_system(), period=1.0)),
+        "lag_decay_check": ("analysis.stability.forced_lag", "decay", lambda: _fn(
+            "analysis.stability.forced_lag.lag_decay_check")(_Result())),
+        "second_order_flow": ("options", "decay", lambda: _fn(
+            "coupled.fast.second_order_flow")(_blade_system(), [0.0, 0.0], 1.0)),
         "simulate_section_lco": ("analysis.stability.lco", "section", lambda: _fn(
             "analysis.stability.lco.simulate_section_lco")(None, 1.0, None, mode=object())),
     }

@@ -13,9 +13,10 @@ engines run), called on the arrays of
 * ``prm`` is the packed parameter vector;
 * ``ep`` the effect parameters and state scales;
 * the stroke is ``kind`` 0 (harmonic, evaluated analytically from
-  ``sp = [Y, omega, offset, phase]``) or 1 (recorded, linear interpolation of
+  ``sp = [Y, omega, offset, phase]``), 1 (recorded, linear interpolation of
   the arrays ``st, sy, sv, sa`` with the end values held outside, like
-  :func:`numpy.interp`).
+  :func:`numpy.interp`) or 2 (two frequencies, evaluated analytically from
+  ``sp = [offset, Y1, omega1, phase1, Y2, omega2, phase2]``).
 
 Two steppers share one loop, one error norm ``atol_i + rtol max(|x_i|,
 |x_new,i|)``, one largest step and one polynomial form of the continuous
@@ -219,6 +220,16 @@ def stroke_eval(kind, t, sp, st, sy, sv, sa):
         s = math.sin(w * t + ph)
         c = math.cos(w * t + ph)
         return off + Y * s, Y * w * c, -Y * w * w * s
+    if kind == 2:
+        y, v, a = sp[0], 0.0, 0.0
+        for j in (1, 4):
+            Y, w, ph = sp[j], sp[j + 1], sp[j + 2]
+            s = math.sin(w * t + ph)
+            c = math.cos(w * t + ph)
+            y += Y * s
+            v += Y * w * c
+            a -= Y * w * w * s
+        return y, v, a
     n = st.size
     if t <= st[0]:
         return sy[0], sv[0], sa[0]
@@ -235,11 +246,11 @@ def stroke_eval(kind, t, sp, st, sy, sv, sa):
 def stroke_rate(kind, t, sp, st, sy, sv, sa):
     """Time derivatives (dy/dt [m/s], dv/dt [m/s^2]) of the stroke as evaluated.
 
-    Harmonic: (v, a) exactly.  Recorded: the slopes of the linear
-    interpolant on the segment that starts at or before ``t`` (the
+    Harmonic and two-frequency: (v, a) exactly.  Recorded: the slopes of the
+    linear interpolant on the segment that starts at or before ``t`` (the
     integrator never steps across a sample time, so this is exact there).
     """
-    if kind == 0:
+    if kind != 1:
         y, v, a = stroke_eval(kind, t, sp, st, sy, sv, sa)
         return v, a
     n = st.size
@@ -253,8 +264,8 @@ def stroke_rate(kind, t, sp, st, sy, sv, sa):
 
 @njit(cache=True, error_model="numpy")
 def _next_break(kind, t, st, tiny):
-    """First sample time of a recorded stroke after t + tiny (inf for harmonic)."""
-    if kind == 0:
+    """First sample time of a recorded stroke after t + tiny (inf for analytic strokes)."""
+    if kind != 1:
         return np.inf
     n = st.size
     if t + tiny >= st[n - 1]:
@@ -600,7 +611,7 @@ def _integrate_source(spec, prm, ep, kind, sp, st, sy, sv, sa, x0, t0, t1, teval
             if not expl:  # RODAS4: f, J and df/dt at (t, x)
                 fsal = 0
                 if _WITH_RODAS:
-                    if kind == 0:  # harmonic: the rates are the evaluated (v, a)
+                    if kind != 1:  # analytic stroke: the rates are the evaluated (v, a)
                         yd, vd = v0, a0
                     else:
                         yd, vd = stroke_rate(kind, t, sp, st, sy, sv, sa)

@@ -9,11 +9,17 @@ or without add-on effects) with its parameters.  :func:`couple` joins them by
 port name; the coupled state is the host state followed by each device's
 states::
 
-    x_h' = A(t) x_h + B_F(t) F                 (host, forces F at its ports)
+    x_h' = A(t) x_h + B_F(t) F + B_u(t) u(t)   (host, forces F at its ports, inputs u)
     y_j  = C_y,j x_h,  v_j = C_v,j x_h          (stroke [m] and rate [m/s] of port j)
     a_j  = C_v,j (A x_h + B_F F)                (stroke acceleration [m/s^2])
     z_j' = f_j(t, z_j, (y_j, v_j, a_j))         (device j, full nonlinear model)
     F_j  = F_j(t, z_j, (y_j, v_j, a_j))         (device force, host convention of the port)
+
+External inputs
+    ``u(t)``: known harmonic signals on host inputs that take no device
+    force (:class:`~liquidamp.coupled.inputs.HarmonicInput`, given to
+    :func:`couple`, :func:`rotor_system`, :func:`blade_system` or
+    :meth:`CoupledSystem.with_inputs`): a blade's lag moment, a hub force.
 
 Algebraic loop of the acceleration
     Devices with ``uses_acceleration`` (``dashpot_inerter``, ``inerter``, a
@@ -31,16 +37,18 @@ Algebraic loop of the acceleration
     gives (M + arm^2 b e_k e_k^T) q'' = ...
 
 Viscous damper as a device
-    :func:`viscous` makes F = c v [N s/m] a device (a stateless
+    :func:`viscous` makes F = c v + c2 v|v| a device (a stateless
     :class:`~liquidamp.device.models.DeviceModel` with :class:`ViscousParams`),
     so the host's own dampers come back through the coupled path.
 
 Time domain
     :func:`simulate_coupled` integrates the coupled system with
     :func:`scipy.integrate.solve_ivp` (the Python engine, the reference) or,
-    with ``SolverOptions(engine="compiled")``, the compiled rotor kernel
-    :func:`liquidamp.coupled.fast.simulate_rotor` for a :func:`rotor_system`
-    with compiled device models (other configurations raise ParameterError),
+    with ``SolverOptions(engine="compiled")``, the compiled second-order
+    kernel (:func:`liquidamp.coupled.fast.simulate_rotor`,
+    :func:`~liquidamp.coupled.fast.simulate_blade`) for a :func:`rotor_system`
+    or :func:`blade_system` with compiled device models (other
+    configurations raise ParameterError),
     stops at a chamber end or at the pressure floor (status, not NaN), and
     returns a :class:`CoupledResponse` with strokes, forces, device states
     and, for a host with second-order mechanics (the rotor), the energy
@@ -65,6 +73,7 @@ import numpy as np
 from scipy.integrate import cumulative_simpson, solve_ivp
 
 from liquidamp.coupled.engines import engine_for
+from liquidamp.coupled.inputs import HarmonicInput, input_values
 from liquidamp.device.models import VISCOUS, DeviceModel, ViscousParams, get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import (
@@ -85,6 +94,7 @@ __all__ = [
     "CoupledSystem",
     "couple",
     "rotor_system",
+    "blade_system",
     "section_system",
     "EnergyBalance",
     "CoupledResponse",
@@ -153,16 +163,21 @@ class Device:
         return float(f1 - f0)
 
 
-def viscous(c: float, label: str = "") -> Device:
-    """The viscous damper F = c v [N], c [N s/m], as a :class:`Device`.
+def viscous(c: float, label: str = "", *, c2: float = 0.0) -> Device:
+    """The viscous damper F = c v + c2 v|v| [N], c [N s/m], c2 [N s^2/m^2], as a :class:`Device`.
 
     Examples
     --------
     >>> d = viscous(65080.0)
     >>> float(d.model.force(0.0, np.zeros(0), (0.0, 0.01, 0.0), d.params))
     650.8
+    >>> q = viscous(0.0, c2=1e4)                  # quadratic: 1e4 x 0.1 x |0.1|
+    >>> float(q.model.force(0.0, np.zeros(0), (0.0, -0.1, 0.0), q.params)), q.label
+    (-100.0, 'viscous(0 N s/m, 10000 N s^2/m^2)')
     """
-    return Device(VISCOUS, ViscousParams(float(c)), label or f"viscous({c:g} N s/m)")
+    if not label:
+        label = f"viscous({c:g} N s/m" + (f", {c2:g} N s^2/m^2)" if c2 else ")")
+    return Device(VISCOUS, ViscousParams(float(c), float(c2)), label)
 
 
 # ---------------------------------------------------------------------------
@@ -238,15 +253,25 @@ def _as_host(system, ports=None, mechanics=None) -> tuple[HostMatrices, np.ndarr
 
 
 @dataclass(frozen=True, eq=False)
-class _RotorOrigin:
-    """The arguments :func:`rotor_system` was called with, and the host it built."""
+class _KernelOrigin:
+    """How :func:`rotor_system` or :func:`blade_system` built a system: the compiled
+    runner of :mod:`liquidamp.coupled.fast` that integrates it and that runner's arguments.
 
-    rotor: object
+    ``runner(*args, t_end, x0, inputs=inputs, **kwargs)`` (looked up by name at
+    call time) integrates the same system; ``structure`` is the
+    :class:`~liquidamp.structure.rotor.GroundResonanceRotor` (its lag dampers
+    as in the host) or :class:`~liquidamp.structure.blade.ArticulatedBlade`
+    whose equations the kernel runs, at rotor speed ``Omega`` [rad/s].
+    """
+
+    runner: str
+    structure: object
     Omega: float
-    device: Mapping[int, Device]
-    inoperative: tuple[int, ...]
+    args: tuple
+    kwargs: Mapping
     host: HostMatrices
     devices: tuple[Device, ...]
+    inputs: tuple
 
 
 @dataclass(frozen=True, eq=False)
@@ -261,19 +286,25 @@ class CoupledSystem:
     devices : tuple of Device
         One per port.
     name : str
+    inputs : tuple of HarmonicInput
+        External inputs on host inputs that take no device force (module
+        notes); empty for the free system.
     origin : object or None
-        Set by :func:`rotor_system` only (its inputs, for
-        ``SolverOptions(engine="compiled")`` in :func:`simulate_coupled`).
+        Set by :func:`rotor_system` and :func:`blade_system` only (how they
+        built it, for ``SolverOptions(engine="compiled")`` in
+        :func:`simulate_coupled`).
     """
 
     host: HostMatrices
     ports: tuple[DevicePort, ...]
     devices: tuple[Device, ...]
     name: str = "coupled"
+    inputs: tuple[HarmonicInput, ...] = ()
     _idx: dict = field(default_factory=dict, repr=False)
-    #: How :func:`rotor_system` built it (the compiled engine's inputs); None
-    #: otherwise.  ``init=False``: a ``dataclasses.replace`` copy drops it.
-    origin: _RotorOrigin | None = field(default=None, init=False, repr=False)
+    #: How :func:`rotor_system` / :func:`blade_system` built it (the compiled
+    #: engine's route); None otherwise.  ``init=False``: a ``dataclasses.replace``
+    #: copy drops it.
+    origin: _KernelOrigin | None = field(default=None, init=False, repr=False)
 
     def __post_init__(self) -> None:
         h = self.host
@@ -289,11 +320,57 @@ class CoupledSystem:
             iy.append(out[p.stroke_output])
             iv.append(out[p.rate_output])
             iF.append(inp[p.force_input])
+        object.__setattr__(self, "inputs", tuple(self.inputs))
+        iu = []
+        forces = {p.force_input: p.name for p in self.ports}
+        for u in self.inputs:
+            if not isinstance(u, HarmonicInput):
+                raise ParameterError(f"inputs must be HarmonicInput, got {type(u).__name__}")
+            if u.input not in inp:
+                free = [n for n in h.input_names if n not in forces]
+                raise ParameterError(f"host {h.name!r} has no input {u.input!r}; inputs "
+                                     f"without a device: {', '.join(free) or 'none'}")
+            if u.input in forces:
+                raise ParameterError(f"host input {u.input!r} takes the force of the device "
+                                     f"at port {forces[u.input]!r}; drive another input")
+            iu.append(inp[u.input])
+        if len(set(iu)) != len(iu):
+            raise ParameterError("each host input may be driven by one HarmonicInput only, "
+                                 f"got {[u.input for u in self.inputs]}")
         offs = [h.nstates]
         for d in self.devices:
             offs.append(offs[-1] + d.n_states)
         self._idx.update(iy=np.array(iy, int), iv=np.array(iv, int), iF=np.array(iF, int),
-                         offs=offs, acc=any(d.model.uses_acceleration for d in self.devices))
+                         iu=np.array(iu, int), offs=offs,
+                         acc=any(d.model.uses_acceleration for d in self.devices))
+
+    def with_inputs(self, inputs) -> CoupledSystem:
+        """The same host and devices driven by ``inputs`` (sequence of HarmonicInput).
+
+        Replaces the inputs (an empty sequence gives the free system); a
+        system built by :func:`rotor_system` or :func:`blade_system` keeps its
+        compiled route.
+
+        Examples
+        --------
+        >>> from liquidamp.structure.hostio import load_rotor
+        >>> free = blade_system(load_rotor("hammond1974").blade, 26.0, viscous(1e4))
+        >>> forced = free.with_inputs([HarmonicInput("moment", 26.0, sin_amplitude=500.0)])
+        >>> [u.input for u in forced.inputs], free.inputs
+        (['moment'], ())
+        """
+        new = CoupledSystem(self.host, self.ports, self.devices, self.name, tuple(inputs))
+        o = self.origin
+        if o is not None:
+            object.__setattr__(new, "origin", _KernelOrigin(
+                o.runner, o.structure, o.Omega, o.args, o.kwargs, o.host, o.devices, new.inputs))
+        return new
+
+    @property
+    def input_matrix(self):
+        """``t -> B_u(t)``: columns of B(t) taking the external inputs [state rate per unit]."""
+        iu = self._idx["iu"]
+        return lambda t: self.host.B(t)[:, iu]
 
     # ----------------------------------------------------------- layout
     @property
@@ -401,6 +478,8 @@ class CoupledSystem:
             if idx["acc"]:
                 b[j] = d.acceleration_gain(t, zs[j], y[j], v[j])
         Axh = A @ xh
+        if self.inputs:  # external inputs: part of the host's rate before the device forces
+            Axh = Axh + B[:, idx["iu"]] @ input_values(self.inputs, t)
         if idx["acc"] and np.any(b != 0.0):
             CvB = Cv @ Bf
             F = np.linalg.solve(np.eye(m) - b[:, None] * CvB, F0 + b * (Cv @ Axh))
@@ -422,7 +501,7 @@ class CoupledSystem:
 
 
 def couple(host, devices: Mapping[str, Device], ports=None, *, mechanics=None,
-           name: str = "") -> CoupledSystem:
+           name: str = "", inputs=()) -> CoupledSystem:
     """Join devices to a host's ports by port name.
 
     Parameters
@@ -436,6 +515,8 @@ def couple(host, devices: Mapping[str, Device], ports=None, *, mechanics=None,
     mechanics : callable, optional
         ``t -> (M, C, K)`` for the energy balance (see :class:`HostMatrices`).
     name : str
+    inputs : sequence of HarmonicInput
+        External inputs on host inputs that take no device force (module notes).
 
     Returns
     -------
@@ -461,10 +542,10 @@ def couple(host, devices: Mapping[str, Device], ports=None, *, mechanics=None,
             raise ParameterError(f"port {pname!r}: expected a Device, got {type(dev).__name__}")
         ps.append(find_port(h.ports, pname))
         ds.append(dev)
-    return CoupledSystem(h, tuple(ps), tuple(ds), name or h.name)
+    return CoupledSystem(h, tuple(ps), tuple(ds), name or h.name, tuple(inputs))
 
 
-def rotor_system(rotor, Omega: float, device, *, inoperative=()) -> CoupledSystem:
+def rotor_system(rotor, Omega: float, device, *, inoperative=(), inputs=()) -> CoupledSystem:
     """A rotor with a device on each blade's port (rotating frame, periodic).
 
     The rotor's own lag damper is removed on every blade that gets a device
@@ -480,6 +561,8 @@ def rotor_system(rotor, Omega: float, device, *, inoperative=()) -> CoupledSyste
         The same device on every operative blade, or ``{blade k (1-based): Device}``.
     inoperative : sequence of int
         Blades whose damper has failed.
+    inputs : sequence of HarmonicInput
+        External inputs (``moment_k`` [N m], ``hub_force_x``, ``hub_force_y`` [N]).
 
     Returns
     -------
@@ -519,10 +602,57 @@ def rotor_system(rotor, Omega: float, device, *, inoperative=()) -> CoupledSyste
                      tuple(pss.input_names), tuple(pss.output_names), tuple(pss.ports),
                      float(pss.period), pss.name, mechanics, AB)
     system = couple(h, {f"blade_{k}": mapping[k] for k in sorted(mapping)},
-                    name=f"{rotor.name}@{W:.4g}rad/s")
-    # record the inputs for the compiled engine (the object is fresh, not yet shared)
-    object.__setattr__(system, "origin", _RotorOrigin(rotor, W, MappingProxyType(dict(mapping)),
-                                                      inoperative, h, system.devices))
+                    name=f"{rotor.name}@{W:.4g}rad/s", inputs=inputs)
+    # record the route for the compiled engine (the object is fresh, not yet shared)
+    object.__setattr__(system, "origin", _KernelOrigin(
+        "simulate_rotor", host, W, (rotor, W, MappingProxyType(dict(mapping))),
+        MappingProxyType({"inoperative": inoperative}), h, system.devices, system.inputs))
+    return system
+
+
+def blade_system(blade, Omega: float, device: Device, *, inputs=()) -> CoupledSystem:
+    """A blade in lead-lag (rotating frame, hub fixed) with a device on its port ``lag``.
+
+    The blade's own lag damper stays (set ``lag_damping=0`` on the blade for
+    the device alone).  The coefficients are constant; with harmonic
+    ``inputs`` (the lag moment ``moment`` [N m]) the forced system is periodic.
+
+    Parameters
+    ----------
+    blade : ArticulatedBlade
+    Omega : float
+        Rotor speed > 0 [rad/s] (centrifugal lag stiffness).
+    device : Device
+    inputs : sequence of HarmonicInput
+        External inputs (``moment`` [N m]).
+
+    Returns
+    -------
+    CoupledSystem
+        With ``host.mechanics`` set (energy balance) and the compiled route
+        (:func:`liquidamp.coupled.fast.simulate_blade`).
+
+    Examples
+    --------
+    >>> from liquidamp.structure.hostio import load_rotor
+    >>> sys = blade_system(load_rotor("hammond1974").blade.replace(lag_damping=0.0), 26.0,
+    ...                    viscous(1e4))
+    >>> sys.state_names, sys.host.input_names
+    (('zeta', 'zeta_dot'), ('force', 'moment'))
+    """
+    W = check_positive("rotor speed Omega", Omega, "rad/s")
+    if not isinstance(device, Device):
+        raise ParameterError(f"device must be a Device, got {type(device).__name__}")
+    ss = blade.statespace(W)
+
+    def mechanics(t, blade=blade, W=W):
+        return blade.second_order(W)
+
+    h, _ = _as_host(ss, blade.ports, mechanics)
+    system = couple(h, {"lag": device}, name=f"blade@{W:.4g}rad/s", inputs=inputs)
+    object.__setattr__(system, "origin", _KernelOrigin(
+        "simulate_blade", blade, W, (blade, W, device), MappingProxyType({}), h, system.devices,
+        system.inputs))
     return system
 
 
@@ -552,12 +682,14 @@ class EnergyBalance:
     With E = T + V, T = q'^T M q'/2, V = q^T K_s q/2 (K_s the symmetric part
     of K):
 
-    .. math:: E(t) - E(0) = -\\sum_k W_k - D + W_{drive}
+    .. math:: E(t) - E(0) = -\\sum_k W_k - D + W_{drive} + W_{in}
 
     where W_k = int F_k v_k dt is the work the host does on device k [J],
-    D = int q'^T C_s q' dt the host's own dissipation [J] and W_drive =
+    D = int q'^T C_s q' dt the host's own dissipation [J], W_drive =
     int (q'^T M' q'/2 + q^T K_s' q/2 - q'^T K_a q) dt the work of the
-    time-varying (rotating) coefficients, supplied by the rotor drive [J].
+    time-varying (rotating) coefficients, supplied by the rotor drive [J],
+    and W_in = int q'^T G u dt the work of the external inputs
+    (:class:`~liquidamp.coupled.inputs.HarmonicInput`, G u = M B_u u) [J].
 
     Attributes
     ----------
@@ -568,7 +700,9 @@ class EnergyBalance:
     host_dissipation, drive_work : ndarray
         D and W_drive [J].
     residual : ndarray
-        E - E(0) + sum W_k + D - W_drive [J] (zero up to quadrature error).
+        E - E(0) + sum W_k + D - W_drive - W_in [J] (zero up to quadrature error).
+    input_work : ndarray or None
+        W_in [J]; None for a system without external inputs.
     """
 
     kinetic: np.ndarray
@@ -577,6 +711,7 @@ class EnergyBalance:
     host_dissipation: np.ndarray
     drive_work: np.ndarray
     residual: np.ndarray
+    input_work: np.ndarray | None = None
 
     @property
     def relative_residual(self) -> float:
@@ -584,7 +719,9 @@ class EnergyBalance:
         E = self.kinetic + self.potential
         scale = max(float(np.max(np.abs(E))), float(np.max(np.abs(self.device_work))),
                     float(np.max(np.abs(self.host_dissipation))),
-                    float(np.max(np.abs(self.drive_work))), 1e-300)
+                    float(np.max(np.abs(self.drive_work))),
+                    0.0 if self.input_work is None else float(np.max(np.abs(self.input_work))),
+                    1e-300)
         return float(np.max(np.abs(self.residual)) / scale)
 
 
@@ -671,9 +808,13 @@ def _energy(system: CoupledSystem, t, xh, F, v) -> EnergyBalance:
     V = np.empty(N)
     Pd = np.empty(N)
     Pw = np.empty(N)
+    Pu = np.zeros(N)
+    Bu = system.input_matrix if system.inputs else None
     h = 1e-6 * (system.host.period or 1.0)
     for i in range(N):
         M, C, K = mech(t[i])
+        if Bu is not None:  # generalized forces of the inputs, G u = M (B_u u)[rates]
+            Pu[i] = qd[:, i] @ (M @ (Bu(t[i])[n:2 * n] @ input_values(system.inputs, t[i])))
         Mp, _, Kp = mech(t[i] + h)
         Mm, _, Km = mech(t[i] - h)
         Ks, Ka = 0.5 * (K + K.T), 0.5 * (K - K.T)
@@ -687,9 +828,10 @@ def _energy(system: CoupledSystem, t, xh, F, v) -> EnergyBalance:
     W = cumulative_simpson(F * v, x=t, initial=0.0, axis=-1)
     D = cumulative_simpson(Pd, x=t, initial=0.0)
     Wd = cumulative_simpson(Pw, x=t, initial=0.0)
+    Wu = cumulative_simpson(Pu, x=t, initial=0.0) if Bu is not None else None
     E = T + V
-    res = E - E[0] + W.sum(axis=0) + D - Wd
-    return EnergyBalance(T, V, W, D, Wd, res)
+    res = E - E[0] + W.sum(axis=0) + D - Wd - (0.0 if Wu is None else Wu)
+    return EnergyBalance(T, V, W, D, Wd, res, Wu)
 
 
 def _resolve_x0(system: CoupledSystem, x0) -> np.ndarray:
@@ -779,8 +921,9 @@ def _run_python(system, T_end, X0, t_eval, opts, max_step, conds):
     return sol.t, sol.y, status, message
 
 
-def _compiled_origin(system: CoupledSystem) -> _RotorOrigin:
-    """The rotor_system inputs of ``system``, or ParameterError if not compiled-capable."""
+def _compiled_origin(system: CoupledSystem) -> _KernelOrigin:
+    """How ``system`` was built (:class:`_KernelOrigin`); ParameterError if not compiled."""
+    from liquidamp.structure.blade import ArticulatedBlade
     from liquidamp.structure.rotor import GroundResonanceRotor
 
     head = "engine 'compiled' (simulate_coupled)"
@@ -790,15 +933,19 @@ def _compiled_origin(system: CoupledSystem) -> _RotorOrigin:
                 "another linear StateSpace)" if system.host.period is None else
                 f"system {system.name!r} was not built by rotor_system() (couple() on periodic "
                 "matrices, or a dataclasses.replace copy)")
-        raise ParameterError(f"{head} integrates only the ground-resonance rotor with devices "
-                             f"built by rotor_system(); {what}; use engine='scipy'")
+        raise ParameterError(f"{head} integrates only the ground-resonance rotor and the blade "
+                             "with devices built by rotor_system() or blade_system(); "
+                             f"{what}; use engine='scipy'")
     if system.host is not o.host or len(system.devices) != len(o.devices) or any(
-            a is not b for a, b in zip(system.devices, o.devices, strict=True)):
+            a is not b for a, b in zip(system.devices, o.devices, strict=True)) \
+            or system.inputs != o.inputs:
         raise ParameterError(f"{head}: system {system.name!r} no longer matches the "
-                             "rotor_system() call that built it; use engine='scipy'")
-    if type(o.rotor) is not GroundResonanceRotor:
-        raise ParameterError(f"{head} integrates the GroundResonanceRotor equations only, got a "
-                             f"{type(o.rotor).__name__}; use engine='scipy'")
+                             f"{o.runner.replace('simulate_', '')}_system() call that built it; "
+                             "use engine='scipy'")
+    if type(o.structure) not in (GroundResonanceRotor, ArticulatedBlade):
+        raise ParameterError(f"{head} integrates the ArticulatedBlade and "
+                             "GroundResonanceRotor equations only, got a "
+                             f"{type(o.structure).__name__}; use engine='scipy'")
     from liquidamp.coupled import fast
 
     for p, d in zip(system.ports, system.devices, strict=True):
@@ -818,10 +965,12 @@ def compiled_support(system: CoupledSystem) -> str | None:
     """Why ``SolverOptions(engine="compiled")`` cannot run ``system``, or None if it can.
 
     The compiled route of :func:`simulate_coupled` takes a ground-resonance
-    rotor built by :func:`rotor_system` whose devices do not use the stroke
-    acceleration (every model of the family, with any add-on effects, and the
-    viscous damper are compiled); it integrates with DOP853 and agrees with the Python route run
-    with ``method="DOP853"`` to round-off (about 1e-13 relative).
+    rotor built by :func:`rotor_system` or a blade built by
+    :func:`blade_system` (with any external inputs) whose devices do not use
+    the stroke acceleration (every model of the family, with any add-on
+    effects, and the viscous damper are compiled); it integrates with DOP853
+    and agrees with the Python route run with ``method="DOP853"`` to
+    round-off (about 1e-13 relative).
 
     Parameters
     ----------
@@ -852,7 +1001,9 @@ def compiled_support(system: CoupledSystem) -> str | None:
 
 
 def _run_compiled(system, T_end, X0, t_eval, opts, max_step, conds):
-    """Compiled route (:func:`liquidamp.coupled.fast.simulate_rotor`): as :func:`_run_python`.
+    """Compiled route (the runner of the system's origin in :mod:`liquidamp.coupled.fast`,
+    :func:`~liquidamp.coupled.fast.simulate_rotor` or
+    :func:`~liquidamp.coupled.fast.simulate_blade`): as :func:`_run_python`.
 
     The kernel stops at the end of the step in which a stop condition is
     met; the samples after the crossing are dropped and the crossing is
@@ -865,9 +1016,9 @@ def _run_compiled(system, T_end, X0, t_eval, opts, max_step, conds):
     o = _compiled_origin(system)
 
     def run(times):
-        r = fast.simulate_rotor(o.rotor, o.Omega, o.device, T_end, X0,
-                                inoperative=o.inoperative, t_eval=times, options=opts,
-                                max_step=max_step)
+        runner = getattr(fast, o.runner)
+        r = runner(*o.args, T_end, X0, inputs=o.inputs, **o.kwargs, t_eval=times, options=opts,
+                   max_step=max_step)
         if r.system.state_names != system.state_names:  # pragma: no cover - guard
             raise ParameterError("engine 'compiled': the kernel's state layout differs from "
                                  f"{system.name!r}; use engine='scipy'")
@@ -1025,13 +1176,14 @@ def simulate_coupled(system: CoupledSystem, t_end: float, x0=None, *, t_eval=Non
     -----
     ``engine="compiled"`` integrates the system of :func:`rotor_system` (a
     :class:`~liquidamp.structure.rotor.GroundResonanceRotor`, the built-in
-    lag damper kept on blades without a device) with devices whose models
-    are the registered ones listed in
-    :data:`liquidamp.coupled.fast.COMPILED_MODELS`, with
-    :class:`~liquidamp.device.params.DeviceParams`.  It raises
+    lag damper kept on blades without a device) or of :func:`blade_system`
+    (an :class:`~liquidamp.structure.blade.ArticulatedBlade`), with their
+    external inputs, and devices of any model of
+    :data:`liquidamp.coupled.fast.COMPILED_MODELS` (with any add-on
+    effects) or the viscous damper (:func:`compiled_support`).  It raises
     ParameterError, with no fall-back, for any other host (a section, a
-    system from :func:`couple`), the viscous damper, models driven by the
-    stroke acceleration and models with add-on effects.  Every argument
+    system from :func:`couple`) and models driven by the stroke
+    acceleration.  Every argument
     maps one to one: the same ``x0``, output times, ``rtol``, ``atol``,
     ``max_step``, ``pressure_floor`` and stop conditions; the strokes,
     forces, warnings and energy balance are computed from its states by the
@@ -1050,8 +1202,9 @@ def simulate_coupled(system: CoupledSystem, t_end: float, x0=None, *, t_eval=Non
     Traceback (most recent call last):
     ...
     liquidamp.errors.ParameterError: engine 'compiled' (simulate_coupled) integrates only the \
-ground-resonance rotor with devices built by rotor_system(); host ... has constant \
-coefficients (a typical section or another linear StateSpace); use engine='scipy'
+ground-resonance rotor and the blade with devices built by rotor_system() or blade_system(); \
+host ... has constant coefficients (a typical section or another linear StateSpace); use \
+engine='scipy'
     """
     opts = resolve_options(options, "coupled")
     T_end = check_positive("t_end", t_end, "s")

@@ -57,7 +57,7 @@ from liquidamp.device.models import DeviceModel
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, ParameterError, PressureError, check_choice
 from liquidamp.structure.port import DevicePort
-from liquidamp.structure.testmachine import HarmonicStroke, RecordedStroke
+from liquidamp.structure.testmachine import HarmonicStroke, RecordedStroke, TwoFrequencyStroke
 
 __all__ = ["TestRig", "Engine", "ScipyEngine", "CompiledEngine", "ENGINES", "get_engine",
            "engine_for",
@@ -80,6 +80,7 @@ class TestRig:
     stroke : callable
         ``stroke(t) -> (y [m], v [m/s], a [m/s^2])`` with ``max_abs``: a
         :class:`~liquidamp.structure.testmachine.HarmonicStroke`, a
+        :class:`~liquidamp.structure.testmachine.TwoFrequencyStroke`, a
         :class:`~liquidamp.structure.testmachine.RecordedStroke` or another
         callable (the scipy engine only).
 
@@ -159,10 +160,12 @@ class ScipyEngine(Engine):
         prev_change = math.inf
         hits = 0
         residual = math.inf
+        from liquidamp.coupled.fast import step_period
+
+        h_max = options.max_step_fraction * step_period(stroke)
         for k in range(options.max_cycles):
             t0 = k * T
-            X = self.march(rig, x, t0, t0 + T, t0 + grid, options,
-                           options.max_step_fraction * T, stats)
+            X = self.march(rig, x, t0, t0 + T, t0 + grid, options, h_max, stats)
             x = X[:, -1]
             t = t0 + grid[:N]
             force = np.asarray(model.force(t, X[:, :N], stroke(t), params), float)
@@ -176,7 +179,7 @@ class ScipyEngine(Engine):
             prev_force = force
         raise ConvergenceError(
             f"model {model.name!r}: no periodic steady state after {options.max_cycles} "
-            f"cycles at {stroke.frequency:g} Hz, {stroke.amplitude:g} m; last relative change "
+            f"cycles at {stroke.describe()}; last relative change "
             f"per cycle {prev_change:.2e}, estimated remaining {residual:.2e} (allowed "
             f"{options.steady_tol:g}); raise max_cycles or steady_tol")
 
@@ -187,12 +190,15 @@ class CompiledEngine(Engine):
     name = "compiled"
 
     def supports(self, system) -> str | None:
-        """Test rigs with a harmonic or recorded stroke; the rotor built by ``rotor_system``."""
+        """Test rigs with a harmonic, two-frequency or recorded stroke; the rotor built by
+        ``rotor_system``."""
         from liquidamp.coupled import fast
 
         if isinstance(system, TestRig):
-            if not isinstance(system.stroke, (HarmonicStroke, RecordedStroke)):
-                return (f"the compiled engine needs a HarmonicStroke or RecordedStroke, got "
+            if not isinstance(system.stroke, (HarmonicStroke, TwoFrequencyStroke,
+                                              RecordedStroke)):
+                return (f"the compiled engine needs a TwoFrequencyStroke, HarmonicStroke or "
+                        f"RecordedStroke, got "
                         f"{type(system.stroke).__name__}; use engine='scipy' for another "
                         "stroke callable")
             return fast.supports(system.model)

@@ -79,10 +79,11 @@ from liquidamp.device import kernels as DK
 from liquidamp.device.models import BASES, DeviceModel
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, ParameterError, PressureError
-from liquidamp.structure.testmachine import HarmonicStroke, RecordedStroke
+from liquidamp.structure.testmachine import HarmonicStroke, RecordedStroke, TwoFrequencyStroke
 
 __all__ = ["COMPILED_MODELS", "supports", "check_compiled", "march", "RotorRun",
-           "simulate_rotor", "steady_loop", "warm_up"]
+           "simulate_rotor", "simulate_blade", "FlowRun", "second_order_flow", "steady_loop",
+           "step_period", "warm_up"]
 
 #: Registry names of the base models the compiled engine runs: all of them, with any
 #: add-on effects (the physics is :mod:`liquidamp.device.kernels`, shared with scipy).
@@ -138,8 +139,12 @@ def _stroke_arrays(stroke):
     if isinstance(stroke, RecordedStroke):
         return (1, np.zeros(4), stroke.time, stroke.displacement, stroke.velocity,
                 stroke.acceleration)
+    if isinstance(stroke, TwoFrequencyStroke):
+        sp = np.array([stroke.offset, stroke.amplitude1, stroke.omega1, stroke.phase1,
+                       stroke.amplitude2, stroke.omega2, stroke.phase2])
+        return 2, sp, _DUMMY, _DUMMY, _DUMMY, _DUMMY
     raise ParameterError(
-        f"engine 'compiled' needs a HarmonicStroke or RecordedStroke, got "
+        f"engine 'compiled' needs a TwoFrequencyStroke, HarmonicStroke or RecordedStroke, got "
         f"{type(stroke).__name__}; use engine='scipy' for another stroke callable"
     )
 
@@ -289,8 +294,11 @@ def steady_loop(model: DeviceModel, params: DeviceParams, stroke: HarmonicStroke
                 *, stats: dict | None = None):
     """Periodic steady state by marching cycles in compiled code.
 
-    ``stats`` (optional dict) is filled in place as by :func:`march`, over
-    all cycles marched.
+    ``stroke`` is a :class:`HarmonicStroke` or a commensurate
+    :class:`TwoFrequencyStroke` (a cycle is then its common period; the
+    largest step is ``options.max_step_fraction`` of the faster component's
+    period).  ``stats`` (optional dict) is filled in place as by
+    :func:`march`, over all cycles marched.
 
     Returns
     -------
@@ -322,7 +330,8 @@ def steady_loop(model: DeviceModel, params: DeviceParams, stroke: HarmonicStroke
     _, rerun = _run(options, (spec, prm, ep, kind, sp, st, sy, sv, sa,
                               np.ascontiguousarray(x0, dtype=float), 0.0, float(T), grid,
                               float(options.rtol), _atol(model, params, options),
-                              float(options.max_step_fraction * T), 0.0, fi1, fi2,
+                              float(options.max_step_fraction * step_period(stroke)), 0.0,
+                              fi1, fi2,
                               float(options.pressure_floor), MAX_STEPS,
                               float(options.steady_tol), int(options.min_cycles),
                               max(int(options.max_cycles), 1)), out, info)
@@ -332,7 +341,7 @@ def steady_loop(model: DeviceModel, params: DeviceParams, stroke: HarmonicStroke
     if status == K.ST_NOT_CONVERGED:
         raise ConvergenceError(
             f"model {model.name!r}: no periodic steady state after {options.max_cycles} cycles "
-            f"at {stroke.frequency:g} Hz, {stroke.amplitude:g} m; last relative change per "
+            f"at {stroke.describe()}; last relative change per "
             f"cycle {info[7]:.2e}, estimated remaining {info[6]:.2e} (allowed "
             f"{options.steady_tol:g}); raise max_cycles or steady_tol"
         )
@@ -342,6 +351,22 @@ def steady_loop(model: DeviceModel, params: DeviceParams, stroke: HarmonicStroke
     if not np.all(np.isfinite(X)):
         raise ConvergenceError(f"model {model.name!r}: non-finite state in time integration")
     return X, cycles, float(info[6])
+
+
+def step_period(stroke) -> float:
+    """The period that sizes the largest step of a run under ``stroke`` [s].
+
+    The faster component's period for a :class:`TwoFrequencyStroke`, the
+    period of a harmonic stroke.
+
+    Examples
+    --------
+    >>> step_period(TwoFrequencyStroke(0.002, 4.2, 0.0005, 1.26)) == 1 / 4.2
+    True
+    """
+    if isinstance(stroke, TwoFrequencyStroke):
+        return stroke.shortest_period
+    return stroke.period
 
 
 def warm_up() -> float:
@@ -422,13 +447,14 @@ def _dop853_tables():
 
 
 def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoperative=(),
-                   t_eval=None, samples_per_second: float | None = None, options=None,
-                   max_step: float | None = None, max_steps: int = MAX_STEPS) -> RotorRun:
+                   inputs=(), t_eval=None, samples_per_second: float | None = None,
+                   options=None, max_step: float | None = None,
+                   max_steps: int = MAX_STEPS) -> RotorRun:
     """Compiled time response of a rotor with a device on each blade (rotating frame).
 
     The same system and conventions as
-    ``simulate_coupled(rotor_system(rotor, Omega, device, inoperative=...), t_end, x0,
-    strict=False, energy=False)``, integrated by compiled DOP853 (scipy's
+    ``simulate_coupled(rotor_system(rotor, Omega, device, inoperative=..., inputs=...), t_end,
+    x0, strict=False, energy=False)``, integrated by compiled DOP853 (scipy's
     coefficients and step-size control, same ``rtol``, same ``atol``:
     ``atol_scale`` times the largest initial host state for the rotor and
     times the device ``state_scales`` for the devices, same largest step
@@ -447,6 +473,9 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
         End time [s].
     x0 : array or mapping, optional
         As :func:`~liquidamp.coupled.assembly.simulate_coupled`.
+    inputs : sequence of HarmonicInput
+        External inputs (``moment_k`` [N m], hub forces [N]), as
+        :func:`~liquidamp.coupled.assembly.rotor_system`.
     options : SolverOptions, optional
         ``rtol``, ``atol_scale``, ``pressure_floor`` (default: the ``"rotor"``
         preset of :data:`liquidamp.options.PRESETS`, rtol 1e-7; ``method`` and
@@ -456,34 +485,72 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
     -------
     RotorRun
     """
-    import math
-
     from liquidamp.coupled.assembly import rotor_system
-    from liquidamp.options import resolve_options
 
-    opts = resolve_options(options, "rotor")
-    system = rotor_system(rotor, Omega, device, inoperative=inoperative)
-    T_end = float(t_end)
-    if not T_end > 0.0:
-        raise ParameterError(f"t_end must be > 0 [s], got {t_end!r}")
-    W = float(Omega)
+    system = rotor_system(rotor, Omega, device, inoperative=inoperative, inputs=inputs)
+    # the origin's rotor has the blades' own lag dampers removed where a device is attached
+    # or failed, as the host
+    return _simulate_second_order(system.origin.structure, Omega, system, t_end, x0,
+                                  t_eval, samples_per_second, options, max_step, max_steps)
+
+
+def simulate_blade(blade, Omega: float, device, t_end: float, x0=None, *, inputs=(),
+                   t_eval=None, samples_per_second: float | None = None, options=None,
+                   max_step: float | None = None, max_steps: int = MAX_STEPS) -> RotorRun:
+    """Compiled time response of a blade in lead-lag with a device on its port.
+
+    The system of :func:`~liquidamp.coupled.assembly.blade_system` (same
+    arguments), integrated by the kernel of :func:`simulate_rotor` (the
+    blade is a second-order host with constant coefficients): the same
+    conventions, default options (the ``"rotor"`` preset) and largest step
+    (1/20 of the revolution 2 pi/Omega).
+
+    Parameters
+    ----------
+    blade : ArticulatedBlade
+    Omega : float
+        Rotor speed > 0 [rad/s].
+    device : Device
+    t_end : float
+        End time [s].
+    x0 : array or mapping, optional
+        As :func:`~liquidamp.coupled.assembly.simulate_coupled`.
+    inputs : sequence of HarmonicInput
+        External inputs (``moment`` [N m]).
+
+    Returns
+    -------
+    RotorRun
+
+    Examples
+    --------
+    >>> import math
+    >>> from liquidamp.coupled.assembly import viscous
+    >>> from liquidamp.coupled.inputs import HarmonicInput
+    >>> from liquidamp.structure.hostio import load_blade
+    >>> b = load_blade("hammond1974").replace(lag_damping=0.0)
+    >>> W, M = 26.0, HarmonicInput("moment", 26.0, sin_amplitude=1000.0)
+    >>> r = simulate_blade(b, W, viscous(2e4), 30.0, inputs=[M], t_eval=[30.0])
+    >>> zeta, rate = r.host_states[:, -1]
+    >>> # 1/rev response once the transient is gone: |zeta| = M / |K - I W^2 + i W c a^2|
+    >>> z = M.amplitude / abs(b.lag_stiffness(W) - b.inertia * W**2 + 1j * W * 2e4 * 0.25**2)
+    >>> round(math.hypot(zeta, rate / W) / z, 6)
+    1.0
+    """
+    from liquidamp.coupled.assembly import blade_system
+
+    system = blade_system(blade, Omega, device, inputs=inputs)
+    return _simulate_second_order(blade, Omega, system, t_end, x0, t_eval, samples_per_second,
+                                  options, max_step, max_steps)
+
+
+def _kernel_arrays(structure, W, system, X0, opts):
+    """The kernel's arrays for ``system`` (host ``structure`` at speed ``W``) from ``X0``."""
     nh = system.host.nstates
-    if x0 is not None and not isinstance(x0, dict) and np.size(x0) == system.n_states:
-        X0 = np.asarray(x0, float).reshape(-1).copy()
-    else:
-        X0 = np.asarray(system.initial_state(x0), float)
-    failed = {rotor.check_blade(k) for k in inoperative}
-    # the blades' own lag dampers: removed where a device is attached or failed
-    port_blade = {port.name: k for k, port in enumerate(rotor.ports, start=1)}
-    blades = [port_blade[port.name] for port in system.ports]
-    c = list(rotor.blade_damping)
-    for k in set(blades) | failed:
-        c[k - 1] = 0.0
-    host = rotor.with_lag_dampers(c)
-    # the rotor's equations come from structure/: M, C, K as first harmonics of the azimuth
-    MH = np.stack(host.harmonic_second_order(W))
-    G, Cout = host.force_matrix(), host.output_matrix()
-    ins, outs = host.input_names, host.output_names
+    # the host's equations come from structure/: M, C, K as first harmonics of the azimuth
+    MH = np.stack(structure.harmonic_second_order(W))
+    G, Cout = structure.force_matrix(), structure.output_matrix()
+    ins, outs = structure.input_names, structure.output_names
     # sparse triplets: the kernel visits the non-zero entries only
     HI = np.ascontiguousarray(np.argwhere(MH != 0.0), dtype=np.int64).reshape(-1, 3)
     HV = np.ascontiguousarray(MH[MH != 0.0])
@@ -495,6 +562,14 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
             trip += [(kind, j, int(i), float(row[i])) for i in np.flatnonzero(row)]
     PI = np.array([t[:3] for t in trip], dtype=np.int64).reshape(-1, 3)
     PV = np.array([t[3] for t in trip], dtype=float)
+    # external inputs as harmonic generalized forces: coordinate, (mean, cos, sin, omega)
+    ext = []
+    for u in system.inputs:
+        col = G[:, ins.index(u.input)]
+        ext += [(int(i), col[i] * u.mean, col[i] * u.cos_amplitude, col[i] * u.sin_amplitude,
+                 u.omega) for i in np.flatnonzero(col)]
+    UI = np.array([e[0] for e in ext], dtype=np.int64)
+    UV = np.array([e[1:] for e in ext], dtype=float).reshape(-1, 4)
     nd = len(system.devices)
     doff = np.zeros(nd + 1, np.int64)
     DSPEC = np.zeros((nd, DK.N_SPEC), np.int64)
@@ -519,18 +594,15 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
             fi[j] = names.index("p1"), names.index("p2")
         atol.append(opts.atol_scale * np.asarray(d.model.state_scales(d.params), float))
     atol = np.ascontiguousarray(np.concatenate(atol))
-    period = 2.0 * math.pi / W
-    if t_eval is None:
-        rate = samples_per_second or 64.0 / period
-        t_eval = np.linspace(0.0, T_end, int(math.ceil(T_end * rate)) + 1)
-    t_eval = np.ascontiguousarray(t_eval, dtype=float)
-    hmax = period / 20.0 if max_step is None else float(max_step)
+    return (HI, HV, PI, PV, UI, UV, DSPEC, doff, PRM, DEP, fi, lim), atol
+
+
+def _integrate(W, arrays, pfloor, X0, nx, T_end, t_eval, rtol, atol, hmax, max_steps):
     out = np.zeros((X0.size, t_eval.size))
     info = np.zeros(5)
-    tables = _dop853_tables()
-    RK.rotor_integrate(W, HI, HV, PI, PV, DSPEC, doff, PRM, DEP, fi, lim,
-                      float(opts.pressure_floor), X0, T_end, t_eval, float(opts.rtol), atol, hmax,
-                      int(max_steps), *tables, out, info)
+    RK.rotor_integrate(W, *arrays, float(pfloor), X0, int(nx), float(T_end), t_eval,
+                       float(rtol), atol, float(hmax), int(max_steps), *_dop853_tables(), out,
+                       info)
     status = int(info[0])
     if status in (K.ST_STEP_TOO_SMALL, K.ST_TOO_MANY_STEPS):
         raise ConvergenceError(
@@ -539,5 +611,149 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
                f"more than {max_steps} steps") + ")")
     name = {K.ST_OK: "completed", RK.ST_STROKE_LIMIT: "stroke_limit",
             K.ST_PRESSURE: "pressure_floor"}[status]
-    m = int(info[4])
-    return RotorRun(t_eval[:m], out[:, :m], system, name, int(info[2]), int(info[3]))
+    return out, name, int(info[2]), int(info[3]), int(info[4])
+
+
+def _simulate_second_order(structure, Omega, system, t_end, x0, t_eval, samples_per_second,
+                           options, max_step, max_steps) -> RotorRun:
+    """Run ``system`` (host ``structure``: its harmonic second-order form) on the kernel."""
+    import math
+
+    from liquidamp.options import resolve_options
+
+    opts = resolve_options(options, "rotor")
+    T_end = float(t_end)
+    if not T_end > 0.0:
+        raise ParameterError(f"t_end must be > 0 [s], got {t_end!r}")
+    W = float(Omega)
+    if x0 is not None and not isinstance(x0, dict) and np.size(x0) == system.n_states:
+        X0 = np.asarray(x0, float).reshape(-1).copy()
+    else:
+        X0 = np.asarray(system.initial_state(x0), float)
+    arrays, atol = _kernel_arrays(structure, W, system, X0, opts)
+    period = 2.0 * math.pi / W
+    if t_eval is None:
+        rate = samples_per_second or 64.0 / period
+        t_eval = np.linspace(0.0, T_end, int(math.ceil(T_end * rate)) + 1)
+    t_eval = np.ascontiguousarray(t_eval, dtype=float)
+    hmax = period / 20.0 if max_step is None else float(max_step)
+    out, name, steps, nfev, m = _integrate(W, arrays, opts.pressure_floor, X0, X0.size, T_end,
+                                           t_eval, opts.rtol, atol, hmax, max_steps)
+    return RotorRun(t_eval[:m], out[:, :m], system, name, steps, nfev)
+
+
+@dataclass(frozen=True, eq=False)
+class FlowRun:
+    """One compiled run of a second-order host with devices, optionally with Phi.
+
+    Attributes
+    ----------
+    time : ndarray
+        Output times [s].
+    states : ndarray, shape (n, len(time))
+        Coupled states there.
+    x_end : ndarray
+        State at ``t_end``.
+    monodromy : ndarray or None
+        Phi(t_end) of the variational equations, Phi(0) = I (unscaled) [-].
+    status : str
+        ``completed``, ``stroke_limit`` or ``pressure_floor``.
+    steps, rhs_evaluations : int
+    """
+
+    time: np.ndarray
+    states: np.ndarray
+    x_end: np.ndarray
+    monodromy: np.ndarray | None
+    status: str
+    steps: int
+    rhs_evaluations: int
+
+
+def second_order_flow(system, x0, t_end: float, *, t_eval=None, monodromy: bool = False,
+                      scales=None, options=None, phi_atol: float = 1e-12,
+                      max_step: float | None = None, max_steps: int = MAX_STEPS) -> FlowRun:
+    """Flow of a system built by ``rotor_system``/``blade_system`` on the compiled kernel.
+
+    With ``monodromy`` the variational equations Phi' = J(t, x) Phi, Phi(0) = I,
+    are integrated with the state (the kernel's
+    ``rotor_variation``: the host's matrices and force map, each device's
+    Jacobian from the compiled ``model_jac`` and central differences of its
+    compiled force and right-hand side in stroke and rate); the external
+    inputs do not enter J.
+
+    Parameters
+    ----------
+    system : CoupledSystem
+        From :func:`~liquidamp.coupled.assembly.rotor_system` or
+        :func:`~liquidamp.coupled.assembly.blade_system` (``compiled_support``
+        None).
+    x0 : array
+        Coupled state at t = 0 (length ``system.n_states``).
+    t_end : float
+        End time > 0 [s].
+    t_eval : array, optional
+        Output times within [0, t_end] [s] (default: the end only).
+    monodromy : bool
+        Integrate Phi too.
+    scales : array, optional
+        State magnitudes; Phi_ik has the absolute tolerance ``phi_atol`` scales_i /
+        scales_k (default: the state tolerances over ``atol_scale``).
+    options : SolverOptions, optional
+        ``rtol``, ``atol_scale``, ``pressure_floor`` (default the ``"decay"`` preset).
+    phi_atol : float
+        Absolute tolerance of Phi in scaled coordinates [-].
+    max_step : float, optional
+        Largest step [s] (default 1/20 of 2 pi/Omega).
+
+    Returns
+    -------
+    FlowRun
+
+    Examples
+    --------
+    >>> import math
+    >>> from liquidamp.coupled.assembly import blade_system, viscous
+    >>> from liquidamp.structure.hostio import load_blade
+    >>> b = load_blade("hammond1974").replace(lag_damping=0.0)
+    >>> sys_ = blade_system(b, 26.0, viscous(2e4))
+    >>> r = second_order_flow(sys_, [0.01, 0.0], 0.5, monodromy=True)
+    >>> A = sys_.host.A(0.0) + sys_.force_matrix(0.0) * 2e4 @ sys_.rate_matrix
+    >>> from scipy.linalg import expm
+    >>> bool(np.allclose(r.monodromy, expm(A * 0.5), rtol=0, atol=1e-9))
+    True
+    """
+    import math
+
+    from liquidamp.coupled.assembly import _compiled_origin
+    from liquidamp.options import resolve_options
+
+    o = _compiled_origin(system)
+    opts = resolve_options(options, "decay")
+    T_end = float(t_end)
+    if not T_end > 0.0:
+        raise ParameterError(f"t_end must be > 0 [s], got {t_end!r}")
+    X0 = np.asarray(x0, float).reshape(-1)
+    n = system.n_states
+    if X0.size != n or not np.all(np.isfinite(X0)):
+        raise ParameterError(f"x0 needs {n} finite values")
+    arrays, atol = _kernel_arrays(o.structure, o.Omega, system, X0, opts)
+    t_eval = np.ascontiguousarray([T_end] if t_eval is None else t_eval, dtype=float)
+    if t_eval.size and (t_eval[0] < 0.0 or t_eval[-1] > T_end or np.any(np.diff(t_eval) < 0)):
+        raise ParameterError(f"t_eval must be sorted within [0, {T_end:g}] s")
+    hmax = 2.0 * math.pi / o.Omega / 20.0 if max_step is None else float(max_step)
+    if monodromy:
+        S = atol / opts.atol_scale if scales is None else np.asarray(scales, float)
+        X0 = np.concatenate([X0, np.eye(n).ravel()])
+        atol = np.concatenate([atol, (phi_atol * S[:, None] / S[None, :]).ravel()])
+    X0 = np.ascontiguousarray(X0)
+    te = np.ascontiguousarray(np.union1d(t_eval, [T_end]))
+    out, name, steps, nfev, m = _integrate(o.Omega, arrays, opts.pressure_floor, X0, n, T_end,
+                                           te, opts.rtol, np.ascontiguousarray(atol), hmax,
+                                           max_steps)
+    keep = np.isin(te[:m], t_eval)
+    x_end = out[:n, m - 1].copy()
+    Phi = out[n:, m - 1].reshape(n, n).copy() if monodromy and name == "completed" else None
+    if not np.all(np.isfinite(out[:, :m])):
+        raise ConvergenceError("compiled flow: non-finite state")
+    return FlowRun(te[:m][keep], out[:n, :m][:, keep], x_end, Phi, name, steps, nfev)

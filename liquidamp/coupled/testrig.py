@@ -27,7 +27,7 @@ from liquidamp.device.models import get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ParameterError
 from liquidamp.options import SolverOptions, resolve_options
-from liquidamp.structure.testmachine import HarmonicStroke
+from liquidamp.structure.testmachine import HarmonicStroke, TwoFrequencyStroke
 
 __all__ = ["DeviceResponse", "simulate", "steady_state", "check_stroke", "prepare_run",
            "build_response"]
@@ -269,7 +269,8 @@ def simulate(model, params: DeviceParams, stroke, t_end: float, *, t_start: floa
         Device parameters.
     stroke : callable
         ``stroke(t) -> (y, v, a)`` [m, m/s, m/s^2] with attribute ``max_abs``
-        (a :class:`HarmonicStroke` or :class:`RecordedStroke`).
+        (a :class:`HarmonicStroke`, :class:`TwoFrequencyStroke` or
+        :class:`RecordedStroke`).
     t_end : float
         End time [s].
     t_start : float
@@ -315,7 +316,10 @@ def simulate(model, params: DeviceParams, stroke, t_end: float, *, t_start: floa
     t_eval = np.asarray(t_eval, float)
     x = model.initial_state(params, float(stroke(t_start)[0])) if x0 is None else np.asarray(
         x0, float)
-    period = getattr(stroke, "period", t_end - t_start)
+    if isinstance(stroke, TwoFrequencyStroke):
+        period = stroke.shortest_period
+    else:
+        period = getattr(stroke, "period", t_end - t_start)
     stats = {}
     if model.n_states == 0:
         X = np.zeros((0, t_eval.size))
@@ -345,8 +349,10 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
         Registered model.
     params : DeviceParams
         Device parameters.
-    stroke : HarmonicStroke
-        Excitation.
+    stroke : HarmonicStroke or TwoFrequencyStroke
+        Excitation; a two-frequency stroke must have a common period
+        (commensurate frequencies, :attr:`TwoFrequencyStroke.common_period`),
+        which is then the cycle.
     options : SolverOptions, optional
         Tolerances, cycle limits and the engine (``"compiled"``: the whole
         cycle loop runs in the numba core of :mod:`liquidamp.coupled.fast`).
@@ -359,7 +365,8 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
     DeviceResponse
         The last period (``options.samples_per_period`` samples, the end
         point excluded), ``status = "steady"``, ``residual`` the estimated
-        remaining relative change, ``cycles`` the cycles marched.
+        remaining relative change, ``cycles`` the cycles marched (common
+        periods for a two-frequency stroke).
 
     Raises
     ------
@@ -376,9 +383,10 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
     ('steady', True, True)
     """
     model, options = prepare_run(model, params, stroke, options)
-    if not isinstance(stroke, HarmonicStroke):
-        raise ParameterError("steady_state needs a HarmonicStroke; use simulate() for a record")
-    T = stroke.period
+    if not isinstance(stroke, (HarmonicStroke, TwoFrequencyStroke)):
+        raise ParameterError("steady_state needs a HarmonicStroke or a TwoFrequencyStroke; use "
+                             "simulate() for a record")
+    T = stroke.period  # a two-frequency stroke without a common period raises here
     N = options.samples_per_period
     x = model.initial_state(params, float(stroke(0.0)[0])) if x0 is None else np.asarray(
         x0, float)

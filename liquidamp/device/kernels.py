@@ -118,7 +118,9 @@ BASE_STATES = {0: 5, 1: 4, 2: 2, 3: 2, 4: 1, 5: 3, 6: 2, 7: 1, 8: 0, 9: 0, 10: 0
 P_AP, P_V01, P_V02, P_BL, P_X01, P_X02, P_P0, P_N, P_RHO0 = range(9)
 P_G1, P_G2, P_C1, P_C2, P_ST, P_LT, P_B01, P_B02, P_KD, P_TD = range(9, 19)
 P_CONSTB, P_FRIC, P_CV, P_CL, P_BLM = 19, 20, 21, 22, 23
-N_PRM = 24
+#: Quadratic coefficient c2 [N s^2/m^2] of the viscous damper F = c v + c2 v|v|.
+P_CV2 = 24
+N_PRM = 25
 
 # ------------------------------------------------------------ composition
 S_MID, S_N, S_NB, S_ICAV, S_IC, S_IFP, S_IZ = range(7)
@@ -149,7 +151,8 @@ def pack_params(params) -> np.ndarray:
     Parameters
     ----------
     params : DeviceParams or ViscousParams
-        Device parameters (SI); a ViscousParams fills only the damping ``c``.
+        Device parameters (SI); a ViscousParams fills only the damping
+        coefficients ``c`` (slot ``P_CV``) and ``c2`` (slot ``P_CV2``).
 
     Returns
     -------
@@ -161,11 +164,12 @@ def pack_params(params) -> np.ndarray:
     >>> from liquidamp.device import preset
     >>> v = pack_params(preset("reference"))
     >>> v.shape, bool(v[P_AP] == preset("reference").A_p)
-    ((24,), True)
+    ((25,), True)
     """
     v = np.zeros(N_PRM)
-    if not hasattr(params, "A_p"):  # the viscous damper F = c v
+    if not hasattr(params, "A_p"):  # the viscous damper F = c v + c2 v|v|
         v[P_CV] = float(params.c)
+        v[P_CV2] = float(getattr(params, "c2", 0.0))
         v[P_FRIC] = float(getattr(params, "friction_N", 0.0))
         return v
     p = params
@@ -847,7 +851,7 @@ def base_force(mid, x, y, v, a, prm):
         return prm[P_CL] * v + prm[P_BLM] * a
     if mid == M_INERTER:
         return prm[P_BLM] * a
-    return prm[P_CV] * v  # viscous
+    return prm[P_CV] * v + prm[P_CV2] * v * abs(v)  # viscous, linear and quadratic
 
 
 @njit(cache=True, error_model="numpy")

@@ -300,6 +300,14 @@ use 'no_inertia' (eq. 11) for a channel without inertance
 @functools.lru_cache(maxsize=256)
 def _packed(model: DeviceModel, params) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     prm = K.pack_params(params)
+    if prm[K.P_CV2] != 0.0:
+        laws = [e.name for e in model.effects if e.name in ("relief_valve", "asymmetric_loss")]
+        if laws:
+            raise ParameterError(
+                f"model {model.name!r}: {', '.join(laws)} on the viscous damper is written for "
+                f"F = c v; its quadratic coefficient c2 = {params.c2!r} N s^2/m^2 must be 0 "
+                "there (use a fluid model, e.g. 'single_state', for a quadratic loss with a "
+                "relief valve or rebound ratio)")
     ep = np.zeros(K.N_EP + model.n_states)
     for e in model.effects:
         e.pack(ep)
@@ -564,42 +572,72 @@ REGISTRY: dict[str, DeviceModel] = {
 
 @dataclass(frozen=True)
 class ViscousParams:
-    """Parameters of the linear viscous damper F = c v.
+    """Parameters of the viscous damper F = c v + c2 v|v| (linear and quadratic).
 
     Parameters
     ----------
     c : float
-        Damping coefficient >= 0 [N s/m].
+        Linear damping coefficient >= 0 [N s/m].
+    c2 : float
+        Quadratic damping coefficient >= 0 [N s^2/m^2] (default 0: the linear
+        damper).  It has no small-signal part at rest (zero slope at v = 0);
+        its describing function at y = Y sin(w t) is 8 c2 w Y / (3 pi) [N s/m].
 
     Examples
     --------
     >>> ViscousParams(65080.0).c
     65080.0
+    >>> ViscousParams(0.0, c2=-1.0)
+    Traceback (most recent call last):
+    ...
+    liquidamp.errors.ParameterError: viscous quadratic damping c2 must be >= 0 [N s^2/m^2], got -1
     """
 
     c: float
+    c2: float = 0.0
 
     def __post_init__(self) -> None:
         from liquidamp.errors import check_nonnegative
 
         object.__setattr__(self, "c", check_nonnegative("viscous damping c", self.c, "N s/m"))
+        object.__setattr__(self, "c2", check_nonnegative("viscous quadratic damping c2",
+                                                         self.c2, "N s^2/m^2"))
 
     @property
     def friction_N(self) -> float:
         """No friction [N] (the DeviceModel interface asks for it)."""
         return 0.0
 
+    def describing_damping(self, amplitude_m: float, omega: float) -> float:
+        """Equivalent viscous damping c + 8 c2 w Y / (3 pi) at y = Y sin(w t) [N s/m].
 
-#: The viscous damper F = c v [N] as a stateless device model (parameters: ViscousParams).
+        Parameters
+        ----------
+        amplitude_m : float
+            Stroke amplitude Y >= 0 [m].
+        omega : float
+            Angular frequency w >= 0 [rad/s].
+
+        Examples
+        --------
+        >>> round(ViscousParams(100.0, c2=3 * math.pi / 8).describing_damping(0.01, 100.0), 9)
+        101.0
+        """
+        return self.c + 8.0 * self.c2 * omega * amplitude_m / (3.0 * math.pi)
+
+
+#: The viscous damper F = c v + c2 v|v| [N] as a stateless device model (parameters:
+#: ViscousParams).
 VISCOUS = DeviceModel(
     name="viscous",
     base="viscous",
     family="ideal",
     equation="-",
-    description="linear viscous damper F = c v (the host's own lag damper as a device)",
+    description="viscous damper F = c v + c2 v|v| (the host's own lag damper as a device; "
+    "c2 = 0: linear)",
     state_names=(),
     state_units=(),
-    limits="linear ideal element",
+    limits="ideal element; the quadratic part has no small-signal stiffness at rest",
     initial_state=lambda p, y0=0.0: np.zeros(0),
     state_scales=lambda p: np.zeros(0),
 )

@@ -8,6 +8,9 @@ Run them from an installed copy with ``python -m``:
   speed and channel inertance.
 - ``python -m liquidamp.examples.flutter_map --out DIR``: flutter speed of the
   Hodges & Pierce typical section against device parameters.
+- ``python -m liquidamp.examples.forward_flight_lag_damping --out DIR``: lag-mode
+  damping of the Hammond blade against the 1/rev damper stroke (Floquet and the
+  dual-frequency K_lag prediction) for liquid presets and a friction damper.
 
-Both write PNG and JSON, run on local processes and accept ``--dask ADDRESS``.
+The first two run on local processes and accept ``--dask ADDRESS``; all write PNG and JSON.
 """

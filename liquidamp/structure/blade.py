@@ -6,13 +6,15 @@ turning at ``Omega`` [rad/s], with the hub fixed.  The lag angle ``zeta``
 ``zeta = 0``:
 
 .. math:: I_b \\ddot\\zeta + C_\\zeta \\dot\\zeta + (K_\\zeta + e S_b \\Omega^2)\\zeta
-          = -a F
+          = -a F + M
 
 where ``S_b`` is the blade's static moment and ``I_b`` its inertia about
 the lag hinge, ``K_zeta`` a lag spring, ``C_zeta`` the blade's own viscous
-lag damper and ``F`` the force of a device attached through the moment arm
+lag damper, ``F`` the force of a device attached through the moment arm
 ``a`` (stroke ``y = a zeta`` for small angles; see
-:mod:`liquidamp.structure.port` for the sign convention).  The lag natural
+:mod:`liquidamp.structure.port` for the sign convention) and ``M`` an
+external lag moment [N m] about the hinge, positive lagging (the input
+``moment``: the blade's periodic in-plane loads in forward flight, for one).  The lag natural
 frequency is
 
 .. math:: \\omega_\\zeta^2 = \\nu^2\\Omega^2 = \\frac{e S_b}{I_b}\\Omega^2 + \\frac{K_\\zeta}{I_b}.
@@ -74,7 +76,7 @@ class ArticulatedBlade:
     0.285
     >>> sys = b.statespace(2 * math.pi * 4)
     >>> sys.input_labels, sys.output_labels
-    (['force'], ['stroke', 'stroke_rate', 'zeta'])
+    (['force', 'moment'], ['stroke', 'stroke_rate', 'zeta'])
     """
 
     mass: float
@@ -127,20 +129,65 @@ class ArticulatedBlade:
         """The lag-damper port ``"lag"``: stroke = arm * zeta [m]."""
         return (DevicePort("lag", "stroke", "stroke_rate", "force", self.damper_arm, "zeta"),)
 
+    @property
+    def input_names(self) -> tuple[str, ...]:
+        """``force`` [N] (the device port) and ``moment`` [N m] (external lag moment)."""
+        return ("force", "moment")
+
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        """``stroke`` [m], ``stroke_rate`` [m/s] and ``zeta`` [rad]."""
+        return ("stroke", "stroke_rate", "zeta")
+
+    def second_order(self, Omega: float, psi: float = 0.0):
+        """``M, C, K`` (1 x 1) of ``I_b zeta'' + C_zeta zeta' + K zeta = G u`` [kg m^2, N m s, N m].
+
+        ``psi`` [rad] is accepted for the interface of a periodic host; the
+        blade's coefficients do not depend on it.
+        """
+        W = check_nonnegative("rotor speed Omega", Omega, "rad/s")
+        return (np.array([[self.inertia]]), np.array([[self.lag_damping]]),
+                np.array([[self.lag_stiffness(W)]]))
+
+    def harmonic_second_order(self, Omega: float):
+        """:meth:`second_order` as first harmonics of the azimuth (constant: the sine and
+        cosine parts are zero), in the form of
+        :meth:`~liquidamp.structure.rotor.GroundResonanceRotor.harmonic_second_order`.
+
+        Examples
+        --------
+        >>> b = ArticulatedBlade(94.9, 289.1, 1084.7, 0.3048, damper_arm=0.25)
+        >>> M0, Mc, Ms, C0, Cc, Cs, K0, Kc, Ks = b.harmonic_second_order(25.0)
+        >>> float(M0[0, 0]), float(K0[0, 0]) == b.lag_stiffness(25.0), float(Mc[0, 0])
+        (1084.7, True, 0.0)
+        """
+        M, C, K = self.second_order(Omega)
+        z = np.zeros((1, 1))
+        return (M, z, z, C, z, z, K, z, z)
+
+    def force_matrix(self) -> np.ndarray:
+        """``G`` (1 x 2) mapping ``input_names`` to the lag moment: ``[-a, 1]``."""
+        return np.array([[-self.damper_arm, 1.0]])
+
+    def output_matrix(self) -> np.ndarray:
+        """``C`` (3 x 2) mapping the states to ``output_names``."""
+        a = self.damper_arm
+        return np.array([[a, 0.0], [0.0, a], [1.0, 0.0]])
+
     def statespace(self, Omega: float) -> control.StateSpace:
         """Named state-space model at rotor speed ``Omega`` [rad/s].
 
-        States ``zeta`` [rad], ``zeta_dot`` [rad/s]; input ``force`` [N];
-        outputs ``stroke`` [m], ``stroke_rate`` [m/s], ``zeta`` [rad].
+        States ``zeta`` [rad], ``zeta_dot`` [rad/s]; inputs ``force`` [N]
+        (the device port) and ``moment`` [N m] (external lag moment, positive
+        lagging); outputs ``stroke`` [m], ``stroke_rate`` [m/s], ``zeta`` [rad].
         """
         W = check_nonnegative("rotor speed Omega", Omega, "rad/s")
-        I, a = self.inertia, self.damper_arm
+        I = self.inertia
         A = np.array([[0.0, 1.0], [-self.lag_stiffness(W) / I, -self.lag_damping / I]])
-        B = np.array([[0.0], [-a / I]])
-        C = np.array([[a, 0.0], [0.0, a], [1.0, 0.0]])
-        D = np.zeros((3, 1))
+        B = np.zeros((2, 2))
+        B[1] = self.force_matrix()[0] / I
         return control.ss(
-            A, B, C, D,
-            states=list(self.state_names), inputs=["force"],
-            outputs=["stroke", "stroke_rate", "zeta"], name="blade",
+            A, B, self.output_matrix(), np.zeros((3, 2)),
+            states=list(self.state_names), inputs=list(self.input_names),
+            outputs=list(self.output_names), name="blade",
         )

@@ -11,13 +11,15 @@ azimuth.  Lag angles ``zeta_k`` [rad] are positive lagging.  With
 .. math::
 
    I_b\\ddot\\zeta_k + C_k\\dot\\zeta_k + (K_\\zeta + eS_b\\Omega^2)\\zeta_k
-     + S_b(\\ddot x\\sin\\psi_k - \\ddot y\\cos\\psi_k) &= -a F_k \\\\
+     + S_b(\\ddot x\\sin\\psi_k - \\ddot y\\cos\\psi_k) &= -a F_k + M_k \\\\
    M_x\\ddot x + C_x\\dot x + K_x x + S_b\\sum_k \\frac{d^2}{dt^2}(\\zeta_k\\sin\\psi_k) &= F_x \\\\
    M_y\\ddot y + C_y\\dot y + K_y y - S_b\\sum_k \\frac{d^2}{dt^2}(\\zeta_k\\cos\\psi_k) &= F_y
 
 with ``M_x = m_hub,x + N m_b`` (the translating mass includes the blades;
-the hub masses of Hammond's table exclude them) and ``C_k`` the viscous lag
-damper of blade ``k``.  The coefficients are periodic in ``psi``; when all
+the hub masses of Hammond's table exclude them), ``C_k`` the viscous lag
+damper of blade ``k`` and ``M_k`` an external lag moment on blade ``k``
+[N m], positive lagging (inputs ``moment_k``; ``F_x``, ``F_y`` are the
+inputs ``hub_force_x``, ``hub_force_y``).  The coefficients are periodic in ``psi``; when all
 blades are alike the multiblade (Coleman) transformation
 
 .. math:: \\zeta_k = \\zeta_0 + \\sum_n (\\zeta_{nc}\\cos n\\psi_k + \\zeta_{ns}\\sin n\\psi_k)
@@ -277,9 +279,11 @@ class GroundResonanceRotor:
 
     @property
     def input_names(self) -> tuple[str, ...]:
-        """``force_1..force_N`` [N] (device ports) then ``hub_force_x``, ``hub_force_y`` [N]."""
+        """``force_1..force_N`` [N] (device ports), ``hub_force_x``, ``hub_force_y`` [N],
+        then ``moment_1..moment_N`` [N m] (external lag moments, positive lagging)."""
         f = tuple(f"force_{k}" for k in range(1, self.n_blades + 1))
-        return f + ("hub_force_x", "hub_force_y")
+        m = tuple(f"moment_{k}" for k in range(1, self.n_blades + 1))
+        return f + ("hub_force_x", "hub_force_y") + m
 
     @property
     def output_names(self) -> tuple[str, ...]:
@@ -398,9 +402,10 @@ class GroundResonanceRotor:
     def force_matrix(self) -> np.ndarray:
         """``G`` mapping inputs (``input_names``) to generalized forces of ``q``."""
         N = self.n_blades
-        G = np.zeros((N + 2, N + 2))
+        G = np.zeros((N + 2, 2 * N + 2))
         G[:N, :N] = -self.blade.damper_arm * np.eye(N)
         G[N, N] = G[N + 1, N + 1] = 1.0
+        G[:N, N + 2:] = np.eye(N)
         return G
 
     def output_matrix(self) -> np.ndarray:
@@ -427,8 +432,9 @@ class GroundResonanceRotor:
         A[:n, n:] = np.eye(n)
         A[n:, :n] = -Minv @ K
         A[n:, n:] = -Minv @ C
-        B = np.zeros((2 * n, n))
-        B[n:, :] = Minv @ self.force_matrix()
+        G = self.force_matrix()
+        B = np.zeros((2 * n, G.shape[1]))
+        B[n:, :] = Minv @ G
         return A, B
 
     def statespace(self, Omega: float, psi: float = 0.0) -> control.StateSpace:
@@ -440,7 +446,8 @@ class GroundResonanceRotor:
         """
         A, B = self.first_order(Omega, psi)
         return control.ss(
-            A, B, self.output_matrix(), np.zeros((2 * self.n_blades + 2, self.n_blades + 2)),
+            A, B, self.output_matrix(),
+            np.zeros((2 * self.n_blades + 2, len(self.input_names))),
             states=list(self.state_names), inputs=list(self.input_names),
             outputs=list(self.output_names), name=self.name,
         )
@@ -461,7 +468,7 @@ class GroundResonanceRotor:
             A=lambda t: self.first_order(W, W * t)[0],
             B=lambda t: self.first_order(W, W * t)[1],
             C=self.output_matrix(),
-            D=np.zeros((2 * self.n_blades + 2, self.n_blades + 2)),
+            D=np.zeros((2 * self.n_blades + 2, len(self.input_names))),
             state_names=self.state_names,
             input_names=self.input_names,
             output_names=self.output_names,
@@ -534,7 +541,7 @@ class GroundResonanceRotor:
         Cout = np.zeros((2, 2 * n))
         Cout[0, N] = Cout[1, N + 1] = 1.0
         return control.ss(
-            A, B[:, N:], Cout, np.zeros((2, 2)),
+            A, B[:, N:N + 2], Cout, np.zeros((2, 2)),
             states=list(self.multiblade_state_names), inputs=["hub_force_x", "hub_force_y"],
             outputs=["hub_x", "hub_y"], name=f"{self.name}_mbc",
         )

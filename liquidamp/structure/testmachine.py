@@ -2,7 +2,9 @@
 
 A stroke is a callable ``stroke(t) -> (y, v, a)`` returning the piston
 displacement [m], velocity [m/s] and acceleration [m/s^2].  The harmonic
-stroke is the paper's ``y = Y sin(2 pi f t)`` (Sec. IV.B); a recorded stroke
+stroke is the paper's ``y = Y sin(2 pi f t)`` (Sec. IV.B); the two-frequency
+stroke adds a second sinusoid (a lag damper in forward flight moves at the
+rotor's 1/rev frequency and at the lag frequency at once); a recorded stroke
 interpolates a measured LVDT signal whose rate and acceleration come from a
 Savitzky-Golay filter, as in the paper (21 points, 4th order).
 
@@ -21,7 +23,16 @@ import numpy as np
 
 from liquidamp.errors import ParameterError, check_finite, check_positive
 
-__all__ = ["HarmonicStroke", "RecordedStroke", "savgol_derivatives"]
+__all__ = ["HarmonicStroke", "TwoFrequencyStroke", "RecordedStroke", "savgol_derivatives",
+           "MAX_COMMON_MULTIPLE"]
+
+#: Largest multiple of either frequency's period a common period may be: two frequencies
+#: whose ratio is a / b in lowest terms with a, b <= this are commensurate
+#: (:attr:`TwoFrequencyStroke.common_period`).
+MAX_COMMON_MULTIPLE = 100
+
+#: Highest stroke frequency of a lumped device model [Hz].
+_MAX_FREQUENCY = 1.0e4
 
 
 @dataclass(frozen=True)
@@ -54,11 +65,7 @@ class HarmonicStroke:
 
     def __post_init__(self) -> None:
         check_positive("stroke amplitude", self.amplitude, "m")
-        f = check_positive("stroke frequency", self.frequency, "Hz")
-        if f > 1.0e4:
-            raise ParameterError(
-                f"stroke frequency must lie in (0, 1e4] [Hz] for a lumped device model, got {f:g}"
-            )
+        _check_frequency("stroke frequency", self.frequency)
         check_finite("stroke offset", self.offset, "m")
         check_finite("stroke phase", self.phase, "rad")
 
@@ -77,6 +84,16 @@ class HarmonicStroke:
         """Largest |y| reached [m]."""
         return abs(self.offset) + self.amplitude
 
+    def describe(self) -> str:
+        """The stroke in a few words, for messages.
+
+        Examples
+        --------
+        >>> HarmonicStroke(0.003, 3.0).describe()
+        '3 Hz, 0.003 m'
+        """
+        return f"{self.frequency:g} Hz, {self.amplitude:g} m"
+
     def __call__(self, t):
         """Stroke, rate and acceleration at time ``t`` [s] (scalar or array)."""
         w = self.omega
@@ -86,6 +103,159 @@ class HarmonicStroke:
             s, c = math.sin(w * t + self.phase), math.cos(w * t + self.phase)
         Y = self.amplitude
         return self.offset + Y * s, Y * w * c, -Y * w * w * s
+
+
+def _check_frequency(name: str, value) -> float:
+    f = check_positive(name, value, "Hz")
+    if f > _MAX_FREQUENCY:
+        raise ParameterError(
+            f"{name} must lie in (0, 1e4] [Hz] for a lumped device model, got {f:g}")
+    return f
+
+
+@dataclass(frozen=True)
+class TwoFrequencyStroke:
+    """Two-frequency stroke y(t) = offset + Y1 sin(2 pi f1 t + phase1) + Y2 sin(2 pi f2 t + phase2).
+
+    A lag damper in forward flight: a large motion at the rotor's 1/rev
+    frequency (``amplitude1``, ``frequency1``) and a small one at the lag
+    frequency (``amplitude2``, ``frequency2``).  Both engines run it (the
+    compiled one evaluates it analytically, like :class:`HarmonicStroke`).
+    Where the frequency ratio is rational, f1 / f2 = a / b in lowest terms
+    with a, b <= :data:`MAX_COMMON_MULTIPLE`, the stroke is periodic with the
+    common period a / f1 = b / f2 (:attr:`common_period`), and
+    :func:`liquidamp.coupled.testrig.steady_state` finds its periodic steady
+    state over that period.
+
+    Parameters
+    ----------
+    amplitude1, amplitude2 : float
+        Y1, Y2 >= 0 [m], not both 0.
+    frequency1, frequency2 : float
+        f1, f2 in (0, 1e4] [Hz].
+    offset : float
+        Mean stroke [m].
+    phase1, phase2 : float
+        Phases [rad].
+
+    Examples
+    --------
+    >>> s = TwoFrequencyStroke(0.002, 4.2, 0.0005, 1.26)
+    >>> round(s.common_period, 12), s.max_abs          # 4.2 / 1.26 = 10 / 3
+    (2.380952380952, 0.0025)
+    >>> y, v, a = s(0.0)
+    >>> y, round(v, 6)                                 # 2 pi (4.2 x 2 + 1.26 x 0.5) mm/s
+    (0.0, 0.056737)
+    >>> TwoFrequencyStroke(0.002, 4.2, 0.0005, 4.2 / math.sqrt(2)).common_period is None
+    True
+    """
+
+    amplitude1: float
+    frequency1: float
+    amplitude2: float
+    frequency2: float
+    offset: float = 0.0
+    phase1: float = 0.0
+    phase2: float = 0.0
+
+    def __post_init__(self) -> None:
+        a1 = check_finite("stroke amplitude1", self.amplitude1, "m")
+        a2 = check_finite("stroke amplitude2", self.amplitude2, "m")
+        if a1 < 0.0 or a2 < 0.0 or a1 + a2 <= 0.0:
+            raise ParameterError(
+                f"two-frequency stroke amplitudes must be >= 0 [m] and not both 0, got "
+                f"amplitude1 = {a1:g}, amplitude2 = {a2:g}")
+        _check_frequency("stroke frequency1", self.frequency1)
+        _check_frequency("stroke frequency2", self.frequency2)
+        check_finite("stroke offset", self.offset, "m")
+        check_finite("stroke phase1", self.phase1, "rad")
+        check_finite("stroke phase2", self.phase2, "rad")
+
+    @property
+    def omega1(self) -> float:
+        """Circular frequency of the first component [rad/s]."""
+        return 2.0 * math.pi * self.frequency1
+
+    @property
+    def omega2(self) -> float:
+        """Circular frequency of the second component [rad/s]."""
+        return 2.0 * math.pi * self.frequency2
+
+    @property
+    def max_abs(self) -> float:
+        """Largest |y| the stroke can reach, |offset| + Y1 + Y2 [m]."""
+        return abs(self.offset) + self.amplitude1 + self.amplitude2
+
+    @property
+    def ratio(self) -> tuple[int, int] | None:
+        """(a, b) with f1 / f2 = a / b in lowest terms, both <= :data:`MAX_COMMON_MULTIPLE`,
+        to 1e-9 relative; None where the frequencies are incommensurate in that sense."""
+        from fractions import Fraction
+
+        r = self.frequency1 / self.frequency2
+        q = Fraction(r).limit_denominator(MAX_COMMON_MULTIPLE)
+        a, b = q.numerator, q.denominator
+        if a < 1 or a > MAX_COMMON_MULTIPLE or abs(a / b - r) > 1e-9 * r:
+            return None
+        return a, b
+
+    @property
+    def common_period(self) -> float | None:
+        """Common period a / f1 = b / f2 [s] (:attr:`ratio`), or None if incommensurate."""
+        ab = self.ratio
+        return None if ab is None else ab[0] / self.frequency1
+
+    @property
+    def period(self) -> float:
+        """The common period [s]; raises ParameterError where there is none.
+
+        Raises
+        ------
+        ParameterError
+            Naming the frequencies, where f1 / f2 is not a / b with a, b <=
+            :data:`MAX_COMMON_MULTIPLE`.
+        """
+        T = self.common_period
+        if T is None:
+            raise ParameterError(
+                f"two-frequency stroke at {self.frequency1:g} Hz and {self.frequency2:g} Hz has "
+                f"no common period: their ratio is not a / b with a, b <= "
+                f"{MAX_COMMON_MULTIPLE}; allowed: commensurate frequencies (e.g. 4.2 Hz and "
+                "1.26 Hz, ratio 10/3)")
+        return T
+
+    @property
+    def frequency(self) -> float:
+        """Fundamental frequency of the common period 1 / :attr:`period` [Hz]."""
+        return 1.0 / self.period
+
+    @property
+    def shortest_period(self) -> float:
+        """Period of the faster component 1 / max(f1, f2) [s] (sizes the largest time step)."""
+        return 1.0 / max(self.frequency1, self.frequency2)
+
+    def describe(self) -> str:
+        """The stroke in a few words, for messages.
+
+        Examples
+        --------
+        >>> TwoFrequencyStroke(0.002, 4.2, 0.0005, 1.26).describe()
+        '0.002 m at 4.2 Hz + 0.0005 m at 1.26 Hz'
+        """
+        return (f"{self.amplitude1:g} m at {self.frequency1:g} Hz + {self.amplitude2:g} m at "
+                f"{self.frequency2:g} Hz")
+
+    def __call__(self, t):
+        """Stroke, rate and acceleration at time ``t`` [s] (scalar or array)."""
+        trig = (np.sin, np.cos) if np.ndim(t) else (math.sin, math.cos)
+        y, v, a = self.offset, 0.0, 0.0
+        for Y, w, ph in ((self.amplitude1, self.omega1, self.phase1),
+                         (self.amplitude2, self.omega2, self.phase2)):
+            s, c = trig[0](w * t + ph), trig[1](w * t + ph)
+            y = y + Y * s
+            v = v + Y * w * c
+            a = a - Y * w * w * s
+        return y, v, a
 
 
 def savgol_derivatives(t, y, window: int = 21, order: int = 4):

@@ -123,3 +123,17 @@ def test_relief_errors_and_small_signal():
     # closed at rest: the small-signal model is the bare one
     bare = device_lti(Device("full", P)).stiffness(3.0)[0]
     assert device_lti(Device(m, P)).stiffness(3.0)[0] == pytest.approx(bare, rel=1e-5)
+
+
+def test_quadratic_viscous_with_relief_or_rebound_ratio_is_refused_naming_c2():
+    """The dashpot-type relief and rebound laws are written for F = c v: a viscous damper
+    with c2 != 0 is refused (naming c2), not run with its quadratic part dropped."""
+    from liquidamp.device.effects import AsymmetricLoss, ReliefValve, with_effects
+    from liquidamp.device.models import VISCOUS, ViscousParams
+    from liquidamp.errors import ParameterError
+
+    for e in (ReliefValve.from_force(500.0, 1e4, 1e3), AsymmetricLoss(1.5)):
+        m = with_effects(VISCOUS, e)
+        m.packed(ViscousParams(1e4))  # c2 = 0: fine
+        with pytest.raises(ParameterError, match=r"c2 = 3.0 N s\^2/m\^2 must be 0"):
+            m.packed(ViscousParams(1e4, c2=3.0))

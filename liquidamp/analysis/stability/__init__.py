@@ -9,4 +9,5 @@
 * :mod:`.sizing` -- sizing a lag or flutter damper for a stability margin.
 * :mod:`.lco` -- limit cycles: describing function against the time domain.
 * :mod:`.parallel` -- batched map of independent runs over processes or any executor.
+* :mod:`.lag_sweep` -- lag damping against the 1/rev stroke: Floquet and the K_lag prediction.
 """

@@ -206,10 +206,12 @@ def device_lti(device: Device, *, amplitude_m: float | None = None,
     if (amplitude_m is None) != (frequency_hz is None):
         raise ParameterError("give both amplitude_m [m] and frequency_hz [Hz], or neither")
     if isinstance(p, ViscousParams):
-        D = np.array([[0.0, p.c, 0.0]])
-        if not m.effects:
-            return DeviceLTI(np.zeros((0, 0)), np.zeros((0, 3)), np.zeros((1, 0)), D,
-                             device.label, "exact")
+        # F = c v + c2 v|v|: the quadratic part has zero slope at rest (small signal: c
+        # alone) and the describing function 8 c2 w Y / (3 pi) at (Y, f)
+        if not m.effects and (amplitude_m is None or p.c2 == 0.0):
+            kind = "exact" if p.c2 == 0.0 else "small-signal (c2 v|v| has no slope at rest)"
+            return DeviceLTI(np.zeros((0, 0)), np.zeros((0, 3)), np.zeros((1, 0)),
+                             np.array([[0.0, p.c, 0.0]]), device.label, kind)
         if amplitude_m is None:  # the effects must be linear to hold at rest
             for e in m.effects:
                 e.check_small_signal(p)
@@ -220,11 +222,13 @@ def device_lti(device: Device, *, amplitude_m: float | None = None,
         check_positive("amplitude", amplitude_m, "m")
         check_positive("frequency", frequency_hz, "Hz")
         w = 2.0 * math.pi * frequency_hz
+        D = np.array([[0.0, p.describing_damping(amplitude_m, w), 0.0]])
         for e in m.effects:
             D = D + np.asarray(e.describing_function(amplitude_m, w, p, model=m))[None, :]
         return DeviceLTI(np.zeros((0, 0)), np.zeros((0, 3)), np.zeros((1, 0)), D,
                          device.label, f"equivalent (Y = {amplitude_m:.4g} m, f = "
-                         f"{frequency_hz:.4g} Hz) with " + ", ".join(e.name for e in m.effects))
+                         f"{frequency_hz:.4g} Hz)" + (" with " + ", ".join(
+                             e.name for e in m.effects) if m.effects else ""))
     base = m.base
     if amplitude_m is None:
         # stateless parallel force effects (moving mass, offset) are exact parallel elements:
