@@ -180,6 +180,8 @@ class Conditioning:
         if self.factor > 1:
             parts.append(f"decimated {self.factor}x to {self.fitted_rate:.4g} Hz after a "
                          f"zero-phase anti-alias low-pass at {self.anti_alias_cutoff:.4g} Hz")
+        if self.trimmed:
+            parts.append(f"{self.trimmed} samples at each end not fitted (filter start-up)")
         if self.cycles_averaged > 1:
             parts.append(f"{self.cycles_averaged} whole cycles averaged into one of "
                          f"{self._average['points']} samples")
