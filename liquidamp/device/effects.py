@@ -188,6 +188,18 @@ def _location_field():
     return dataclasses.field(default="rod", metadata={_COMPOSITION: LOCATIONS})
 
 
+#: Allowed reverse-to-forward level ratio of a direction-dependent friction [-].
+REVERSE_RATIO_BOUNDS = (0.1, 10.0)
+
+
+def _check_reverse_ratio(effect) -> None:
+    q = check_finite(f"{effect.name} reverse_ratio", effect.reverse_ratio, "-")
+    lo, hi = REVERSE_RATIO_BOUNDS
+    if not lo <= q <= hi:
+        raise ParameterError(f"{effect.name} reverse_ratio must be in [{lo:g}, {hi:g}] [-] "
+                             f"(reverse-to-forward friction level), got {q:g}")
+
+
 def _check_location(effect, effects) -> None:
     if effect.location != "piston":
         return
@@ -241,7 +253,7 @@ class Effect:
         Examples
         --------
         >>> CoulombFriction.parameter_keys(), CoulombFriction.composition_keys()
-        (('force_N',), {'location': ('rod', 'piston')})
+        (('force_N', 'reverse_ratio'), {'location': ('rod', 'piston')})
         """
         return tuple(f.name for f in dataclasses.fields(cls) if _COMPOSITION not in f.metadata)
 
@@ -267,8 +279,10 @@ class Effect:
         Examples
         --------
         >>> e = make_effect("coulomb_friction", force_N=100.0, location="piston")
-        >>> e.as_dict(), str(e)
-        ({'force_N': 100.0, 'location': 'piston'}, 'coulomb_friction(force_N=100, location=piston)')
+        >>> e.as_dict()
+        {'force_N': 100.0, 'reverse_ratio': 1.0, 'location': 'piston'}
+        >>> str(e)
+        'coulomb_friction(force_N=100, reverse_ratio=1, location=piston)'
         >>> make_effect(**{"name": "coulomb_friction", **e.as_dict()}) == e
         True
         """
@@ -416,10 +430,18 @@ class CoulombFriction(Effect):
     piston moves with the rod and both locations agree.  Not behind
     ``series_compliance`` (a stick-slip element: ParameterError).
 
+    A band or seal that grips harder one way slides at F_c forward (v > 0)
+    and q F_c in reverse (``reverse_ratio`` q,
+    :func:`~liquidamp.device.kernels.friction_level`): the loop's levels
+    +F_c / -q F_c, whose mean (1 - q) F_c / 2 acts only while sliding, not
+    inside a dead band as a ``force_offset`` would.
+
     Parameters
     ----------
     force_N : float
-        Friction force level F_c >= 0 [N] (paper: 30 N).
+        Friction force level F_c >= 0 [N] (paper: 30 N), forward (v > 0).
+    reverse_ratio : float
+        Reverse-to-forward level ratio q in [0.1, 10] [-] (1: symmetric).
     location : {"rod", "piston"}
         Where the friction sits (a composition choice, not fitted).
 
@@ -434,17 +456,19 @@ class CoulombFriction(Effect):
     """
 
     force_N: float = 0.0
+    reverse_ratio: float = 1.0
     location: str = _location_field()
     name: ClassVar[str] = "coulomb_friction"
-    units: ClassVar[dict] = {"force_N": "N"}
+    units: ClassVar[dict] = {"force_N": "N", "reverse_ratio": "-"}
     fit_keys: ClassVar[tuple] = ("force_N",)
-    bounds: ClassVar[dict] = {"force_N": (1e-2, 1e4)}
+    bounds: ClassVar[dict] = {"force_N": (1e-2, 1e4), "reverse_ratio": REVERSE_RATIO_BOUNDS}
     order: ClassVar[int] = 40
     description: ClassVar[str] = "Coulomb seal friction F_c sign(v)"
     slot: ClassVar[int] = K.S_COUL
 
     def __post_init__(self):
         check_nonnegative("coulomb_friction force_N", self.force_N, "N")
+        _check_reverse_ratio(self)
         self._check_composition()
 
     def spec_flags(self):
@@ -458,19 +482,25 @@ class CoulombFriction(Effect):
     describing_reason: ClassVar[str | None] = None
 
     def pack(self, ep):
-        ep[K.E_CF] = self.force_N
+        ep[K.E_CF], ep[K.E_CRQ] = self.force_N, self.reverse_ratio
 
     def describing_function(self, amplitude_m, omega, params, model=None):
-        """Equivalent damping 4 F_c / (pi w Y) [N s/m] (no stiffness, no inertance).
+        """Equivalent damping 2 (1 + q) F_c / (pi w Y) [N s/m] (no stiffness, no inertance).
+
+        The first harmonic of the square wave +F_c / -q F_c; its mean
+        (1 - q) F_c / 2 is not part of a describing function.
 
         Examples
         --------
         >>> k, c, b = CoulombFriction(30.0).describing_function(1e-3, 2 * math.pi, None)
         >>> round(c * 2 * math.pi * 1e-3 * math.pi / 4, 12)   # = F_c
         30.0
+        >>> k, c2, b = CoulombFriction(30.0, 0.5).describing_function(1e-3, 2 * math.pi, None)
+        >>> round(c2 / c, 12)   # (1 + q) / 2
+        0.75
         """
         Y, w = _check_harmonic(amplitude_m, omega)
-        return 0.0, 4.0 * self.force_N / (math.pi * w * Y), 0.0
+        return 0.0, 2.0 * (1.0 + self.reverse_ratio) * self.force_N / (math.pi * w * Y), 0.0
 
 
 @dataclass(frozen=True)
@@ -568,6 +598,16 @@ class SmoothFriction(Effect):
     ``y_fp`` is the piston position including that spring-back.  Not behind
     ``series_compliance`` (ParameterError).
 
+    The transition exponent n (Bouc-Wen's) shapes the pre-sliding: n = 1
+    is the exponential approach above; a large n keeps the bristle stiff
+    (slope sigma0) up to the sliding level and then slips sharply, the
+    elastic-plastic (Jenkins) element of a clamped band.
+
+    Direction-dependent level (``reverse_ratio`` q): F = F_c z for z >= 0
+    and q F_c z for z < 0 (:func:`~liquidamp.device.kernels.friction_level`),
+    sliding at +r F_c ... F_c forward and -q F_c in reverse, and zero where
+    the bristles are unloaded (inside a dead band).
+
     Parameters
     ----------
     force_N : float
@@ -578,6 +618,10 @@ class SmoothFriction(Effect):
         Stribeck velocity v_s > 0 [m/s].
     static_ratio : float
         Static-to-sliding force ratio r >= 1 [-] (1: no Stribeck dip, Dahl-like).
+    reverse_ratio : float
+        Reverse-to-forward level ratio q in [0.1, 10] [-] (1: symmetric).
+    transition_exponent : float
+        Pre-sliding transition exponent n in [1, 20] [-] (1: LuGre/Dahl).
     location : {"rod", "piston"}
         Where the seal sits (a composition choice, not fitted).
     """
@@ -586,14 +630,18 @@ class SmoothFriction(Effect):
     stiffness_N_per_m: float = 1.0e5
     stribeck_velocity_m_per_s: float = 0.005
     static_ratio: float = 1.0
+    reverse_ratio: float = 1.0
+    transition_exponent: float = 1.0
     location: str = _location_field()
     name: ClassVar[str] = "smooth_friction"
     units: ClassVar[dict] = {"force_N": "N", "stiffness_N_per_m": "N/m",
-                             "stribeck_velocity_m_per_s": "m/s", "static_ratio": "-"}
+                             "stribeck_velocity_m_per_s": "m/s", "static_ratio": "-",
+                             "reverse_ratio": "-", "transition_exponent": "-"}
     fit_keys: ClassVar[tuple] = ("force_N", "stiffness_N_per_m")
     bounds: ClassVar[dict] = {"force_N": (1e-2, 1e4), "stiffness_N_per_m": (1e2, 1e9),
                               "stribeck_velocity_m_per_s": (1e-5, 1.0),
-                              "static_ratio": (1.0, 5.0)}
+                              "static_ratio": (1.0, 5.0), "reverse_ratio": REVERSE_RATIO_BOUNDS,
+                              "transition_exponent": (1.0, 20.0)}
     order: ClassVar[int] = 35
     description: ClassVar[str] = "LuGre/Dahl friction: gradual reversal, Stribeck"
     state_names: ClassVar[tuple] = ("z_friction",)
@@ -609,6 +657,11 @@ class SmoothFriction(Effect):
         r = check_finite("smooth_friction static_ratio", self.static_ratio, "-")
         if r < 1.0:
             raise ParameterError(f"smooth_friction static_ratio must be >= 1 [-], got {r:g}")
+        _check_reverse_ratio(self)
+        n = check_finite("smooth_friction transition_exponent", self.transition_exponent, "-")
+        if not 1.0 <= n <= 20.0:
+            raise ParameterError("smooth_friction transition_exponent must be in [1, 20] [-] "
+                                 f"(1: LuGre/Dahl, large: elastic-plastic), got {n:g}")
         self._check_composition()
 
     def spec_flags(self):
@@ -622,6 +675,7 @@ class SmoothFriction(Effect):
     def pack(self, ep):
         ep[K.E_SFC], ep[K.E_SIG] = self.force_N, self.stiffness_N_per_m
         ep[K.E_VS], ep[K.E_SR] = self.stribeck_velocity_m_per_s, self.static_ratio
+        ep[K.E_FRQ], ep[K.E_FEX] = self.reverse_ratio, self.transition_exponent
 
     def describing_function(self, amplitude_m, omega, params, model=None):
         """Equivalent (k, c, 0) from the first harmonic of F_c z on its periodic orbit.
@@ -646,7 +700,7 @@ class SmoothFriction(Effect):
         if self.force_N == 0.0:
             return 0.0, 0.0, 0.0
         args = (self.force_N, self.stiffness_N_per_m, self.stribeck_velocity_m_per_s,
-                self.static_ratio)
+                self.static_ratio, self.transition_exponent)
         T = 2.0 * math.pi / w
         N = 512
         z0 = 0.0
@@ -658,7 +712,8 @@ class SmoothFriction(Effect):
             if abs(z[-1] - z0) < 1e-9:
                 break
             z0 = z[-1]
-        F1 = 2.0 / N * np.sum(self.force_N * z[:N] * np.exp(-1j * w * sol.t[:N]))
+        level = np.where(z[:N] >= 0.0, z[:N], self.reverse_ratio * z[:N])
+        F1 = 2.0 / N * np.sum(self.force_N * level * np.exp(-1j * w * sol.t[:N]))
         K = 1j * F1 / Y  # y = Y sin(w t) = Im(Y e^{iwt}): K = F1 / (-i Y)
         return float(K.real), float(K.imag / w), 0.0
 

@@ -72,7 +72,7 @@ __all__ = [
     "cavity_width", "cavity_rates", "c1_ramp", "relief_flow", "relief_force",
     "flow_direction", "loss_params", "elastomer_rate", "stop_force",
     "rotating_heads", "rotating_slope", "rotating_offset_slopes",
-    "model_rhs", "model_jac", "model_rhs_t", "model_force", "force_series",
+    "model_rhs", "model_jac", "model_rhs_t", "model_force", "friction_level", "force_series",
     "base_force_series",
 ]
 
@@ -138,9 +138,13 @@ E_PR, E_GR = 11, 12  # relief valve: cracking pressure [Pa], conductance [m^3/(s
 E_RR = 13  # direction-dependent losses: rebound ratio [-]
 E_K0, E_K1, E_C1E = 14, 15, 16  # elastomer: k0, k1 [N/m], c1 [N s/m]
 E_KS, E_CS, E_CLR, E_CTR = 17, 18, 19, 20  # end stops: k [N/m], c [N s/m], clearance, centre [m]
-#: Rotating frame: rotor speed [rad/s], radius of the device mid-point [m], cos(axis angle) [-]
-#: (slots 21, 22 and 26 are unused).
+#: Direction-dependent friction: reverse-to-forward level ratio of smooth friction (slot 21)
+#: and of Coulomb friction (slot 22) [-] (:func:`friction_level`).
+E_FRQ, E_CRQ = 21, 22
+#: Rotating frame: rotor speed [rad/s], radius of the device mid-point [m], cos(axis angle) [-].
 E_OMEGA, E_RM, E_COSA = 23, 24, 25
+#: Smooth friction's transition exponent n [-] (:func:`lugre_rate`).
+E_FEX = 26
 #: The effect slots; the state scales follow from ``ep[N_EP]`` on.
 N_EP = 27
 
@@ -244,22 +248,32 @@ def _stribeck(v, v_s, static_ratio):
 
 
 @njit(cache=True, error_model="numpy")
-def lugre_rate(v, z, force, stiffness, v_s, static_ratio):
+def lugre_rate(v, z, force, stiffness, v_s, static_ratio, exponent=1.0):
     """dz/dt of the normalized LuGre bristle state z = F_fr / F_c [1/s].
 
-    ``dz/dt = (sigma0 / F_c) (v - |v| z / g(v))``, ``g = 1 + (r - 1)
-    exp(-(v / v_s)^2)``: steady sliding gives F_fr = F_c g(v) sign(v), the
-    Stribeck curve; at reversal the force changes over a pre-sliding
-    displacement of about F_c / sigma0 instead of jumping.  Zero force gives 0.
+    ``dz/dt = (sigma0 / F_c) (v - |v| h)``, ``h = (z / g) |z / g|^(n - 1)``,
+    ``g = 1 + (r - 1) exp(-(v / v_s)^2)``: steady sliding gives
+    F_fr = F_c g(v) sign(v), the Stribeck curve; at reversal the force
+    changes over a pre-sliding displacement of about F_c / sigma0 instead
+    of jumping.  The transition exponent n >= 1 shapes that change as in
+    the Bouc-Wen law: n = 1 is LuGre's (and Dahl's) exponential approach;
+    a large n keeps the bristle stiff (slope sigma0) until the force is
+    near its sliding level and then slips sharply, the elastic-plastic
+    (Jenkins) element.  Zero force gives 0.
 
     Examples
     --------
     >>> lugre_rate(0.01, 1.0, 30.0, 1e5, 0.005, 1.0)   # steady sliding: z = 1 holds
     0.0
+    >>> lugre_rate(0.01, 0.5, 30.0, 1e5, 0.005, 1.0, 8.0) > lugre_rate(0.01, 0.5, 30.0, 1e5,
+    ...                                                                 0.005, 1.0)
+    True
     """
     if force <= 0.0:
         return 0.0
-    return stiffness / force * (v - abs(v) * z / _stribeck(v, v_s, static_ratio))
+    s = z / _stribeck(v, v_s, static_ratio)
+    h = s if exponent == 1.0 else s * abs(s) ** (exponent - 1.0)
+    return stiffness / force * (v - abs(v) * h)
 
 
 @njit(cache=True, error_model="numpy")
@@ -1087,14 +1101,15 @@ def model_rhs(spec, x, y, v, prm, ep, out):
         _fluid_rhs(spec, x, yi, vi, prm, ep, out)
     if iz >= 0:  # the bristles move with the rod, or with the piston behind the dead band
         vz = vi if spec[S_ZPIST] != 0 else v
-        out[iz] = lugre_rate(vz, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR])
+        out[iz] = lugre_rate(vz, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR],
+                             ep[E_FEX])
     iel = spec[S_IEL]
     if iel >= 0:
         out[iel] = elastomer_rate(v, x[iel], ep[E_K1], ep[E_C1E])
 
 
 @njit(cache=True, error_model="numpy")
-def _lugre_dz_dv(v, z, force, stiffness, v_s, r):
+def _lugre_dz_dv(v, z, force, stiffness, v_s, r, n):
     """(d/dz, d/dv) of :func:`lugre_rate` [1/s, 1/m]."""
     if force <= 0.0:
         return 0.0, 0.0
@@ -1102,7 +1117,10 @@ def _lugre_dz_dv(v, z, force, stiffness, v_s, r):
     dg = (r - 1.0) * math.exp(-(v / v_s) ** 2) * (-2.0 * v / (v_s * v_s))
     sgn = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
     c = stiffness / force
-    return -c * abs(v) / g, c * (1.0 - z * (sgn / g - abs(v) * dg / (g * g)))
+    s = z / g
+    a = 1.0 if n == 1.0 else abs(s) ** (n - 1.0)  # |s|^(n-1)
+    # h = s |s|^(n-1): dh/dz = n a / g, dh/dv = -n a s dg / g
+    return -c * abs(v) * n * a / g, c * (1.0 - sgn * s * a + abs(v) * n * a * s * dg / g)
 
 
 @njit(cache=True, error_model="numpy")
@@ -1129,7 +1147,8 @@ def model_jac(spec, x, y, v, prm, ep, J):
             base_jac(spec[S_MID], x, y, v, prm, kL, J)
         iz = spec[S_IZ]
         if iz >= 0:
-            J[iz, iz] = _lugre_dz_dv(v, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR])[0]
+            J[iz, iz] = _lugre_dz_dv(v, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR],
+                                     ep[E_FEX])[0]
         iel = spec[S_IEL]
         if iel >= 0:
             J[iel, iel] = -ep[E_K1] / ep[E_C1E]
@@ -1164,7 +1183,8 @@ def model_rhs_t(spec, x, y, v, yd, vd, prm, ep, out):
             base_rhs_t(spec[S_MID], x, y, v, yd, vd, prm, kL, out)
         iz = spec[S_IZ]
         if iz >= 0:
-            out[iz] = _lugre_dz_dv(v, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR])[1] * vd
+            out[iz] = _lugre_dz_dv(v, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR],
+                                   ep[E_FEX])[1] * vd
         iel = spec[S_IEL]
         if iel >= 0:
             out[iel] = ep[E_K1] * vd
@@ -1180,6 +1200,25 @@ def model_rhs_t(spec, x, y, v, yd, vd, prm, ep, out):
 @njit(cache=True, error_model="numpy")
 def _sign(v):
     return 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
+
+
+@njit(cache=True, error_model="numpy")
+def friction_level(z, reverse_ratio):
+    """Friction force per unit level of a direction-dependent friction [-].
+
+    ``z`` for z >= 0 and ``reverse_ratio z`` for z < 0: the bristle state
+    z (smooth friction, force F_c z) or sign(v) (Coulomb, F_c sign(v)).  A
+    band or seal that grips harder one way slides at F_c forward and
+    q F_c in reverse (q = ``reverse_ratio`` > 0); unlike a constant
+    offset, the force is still zero where the friction is unloaded (inside
+    a dead band, at rest).  Continuous in z, so the smooth law stays smooth.
+
+    Examples
+    --------
+    >>> friction_level(0.5, 0.8), friction_level(-0.5, 0.8), friction_level(0.0, 0.8)
+    (0.5, -0.4, 0.0)
+    """
+    return z if z >= 0.0 else reverse_ratio * z
 
 
 @njit(cache=True, error_model="numpy")
@@ -1214,10 +1253,11 @@ def model_force(spec, x, y, v, a, prm, ep, with_friction):
             f += prm[P_AP] * rotating_heads(yi, prm, ep)[0]
     iz = spec[S_IZ]
     if iz >= 0:
-        f += ep[E_SFC] * x[iz]
+        f += ep[E_SFC] * friction_level(x[iz], ep[E_FRQ])
     if spec[S_COUL] != 0:
         # at the piston the dead band passes the friction force only in contact
-        f += ep[E_CF] * _sign(v) * (cfp if spec[S_CPIST] != 0 else 1.0)
+        f += ep[E_CF] * friction_level(_sign(v), ep[E_CRQ]) * (
+            cfp if spec[S_CPIST] != 0 else 1.0)
     iel = spec[S_IEL]
     if iel >= 0:  # the elastomer on the rod: k0 y plus its Maxwell branch
         f += ep[E_K0] * y + x[iel]

@@ -103,9 +103,9 @@ def test_dahl_friction_behind_freeplay_matches_the_closed_form(sigma0):
 def test_location_is_a_composition_choice_not_a_parameter(tmp_path):
     e = parse_effect("coulomb_friction:force_N=100,location=piston")
     assert e == CoulombFriction(100.0, location="piston")
-    assert e.parameters == {"force_N": 100.0}          # what a fit may vary
-    assert e.as_dict() == {"force_N": 100.0, "location": "piston"}
-    assert str(e) == "coulomb_friction(force_N=100, location=piston)"
+    assert e.parameters == {"force_N": 100.0, "reverse_ratio": 1.0}  # what a fit may vary
+    assert e.as_dict() == {"force_N": 100.0, "reverse_ratio": 1.0, "location": "piston"}
+    assert str(e) == "coulomb_friction(force_N=100, reverse_ratio=1, location=piston)"
     assert e.replace(location="rod") == CoulombFriction(100.0)
     f = SmoothFriction(20.0, 1e6, location="piston")
     for fmt in ("toml", "json"):
@@ -140,7 +140,8 @@ def test_synthetic_record_with_freeplay_and_friction_at_the_piston():
     rec = synthetic_record(effects=truth, **common)
     recipe = recipe_from_dict(json.loads(json.dumps(rec.meta["recipe"])))
     assert recipe.effect_objects() == (Freeplay(g), CoulombFriction(fc, location="piston"))
-    assert rec.meta["true_effects"]["coulomb_friction"] == {"force_N": fc, "location": "piston"}
+    assert rec.meta["true_effects"]["coulomb_friction"] == {"force_N": fc, "reverse_ratio": 1.0,
+                                                            "location": "piston"}
     rod = synthetic_record(effects={"freeplay": {"gap_m": g},
                                     "coulomb_friction": {"force_N": fc}}, **common)
     diff = rod.meta["true_force"] - rec.meta["true_force"]

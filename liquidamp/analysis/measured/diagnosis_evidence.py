@@ -28,12 +28,18 @@ from liquidamp.analysis.measured.calibration import (
     CalibrationResult,
     predict,
 )
+from liquidamp.analysis.measured.candidates import (
+    COMPOSITES,
+    applicable,
+    candidate_change,
+    probe_effect,
+)
 from liquidamp.analysis.measured.record_model import simulate_record
-from liquidamp.device.effects import EFFECTS, Effect, with_effects
-from liquidamp.errors import LiquidampError, ParameterError
+from liquidamp.device.effects import EFFECTS
+from liquidamp.errors import LiquidampError
 
 __all__ = ["Candidate", "CONFOUNDED", "COMPOSITES", "signatures", "score", "probe_effect",
-           "candidate_effects", "applicable", "confounding", "confounding_warnings",
+           "candidate_change", "applicable", "confounding", "confounding_warnings",
            "harmonic_structure"]
 
 CONFOUNDED = {
@@ -154,37 +160,6 @@ def signatures(result: CalibrationResult) -> dict:
     return out
 
 
-def probe_effect(name: str, result: CalibrationResult) -> Effect:
-    """The effect at a probe strength scaled to the records and the calibrated model."""
-    recs = result.calibration
-    F = np.concatenate([r.force for r in recs])
-    Fa = math.sqrt(2.0) * float(np.sqrt(np.mean((F - F.mean()) ** 2)))
-    Y = float(np.mean([r.amplitude for r in recs]))
-    w = 2 * math.pi * float(np.mean([r.frequency for r in recs]))
-    p = result.params
-    cls = EFFECTS[name]
-    if name == "coulomb_friction":
-        return cls(force_N=0.05 * Fa)
-    if name == "smooth_friction":
-        return cls(force_N=0.05 * Fa, stiffness_N_per_m=0.05 * Fa / (0.05 * Y))
-    if name == "force_offset":
-        return cls(offset_N=0.02 * Fa)
-    if name == "moving_mass":
-        return cls(mass_kg=0.05 * Fa / (w * w * Y))
-    if name == "series_compliance":
-        return cls(stiffness_N_per_m=10.0 * Fa / Y)
-    if name == "freeplay":
-        return cls(gap_m=0.03 * Y)
-    if name == "leakage":
-        Q = p.A_p * w * Y
-        return cls(coefficient_m3_per_s_Pa=0.3 / (p.c1 + 8.0 / (3.0 * math.pi) * p.c2 * Q))
-    if name == "cavitation":
-        resp = simulate_record(result.device_model, p, recs[0], options=FIT_OPTIONS)
-        pmin = float(min(resp.p1.min(), resp.p2.min()))
-        return cls(vapour_pressure_Pa=max(pmin + 0.3 * (p.p0 - pmin), 1.0))
-    return cls.probe(Fa, Y, w, p)  # the other catalogue effects state their own probe
-
-
 def _free_columns(result, r, tol: float = 1e-3):
     """Jacobian columns of the fitted parameters that can still move to mimic an effect.
 
@@ -211,54 +186,6 @@ def _free_columns(result, r, tol: float = 1e-3):
     return J[:, keep]
 
 
-#: Candidates that change how effects compose rather than add one: name -> what it does.
-COMPOSITES = {
-    "backlash": "a dead band in series with the friction: freeplay added and the friction "
-                "already in the model moved behind it (location 'piston'), as in a friction "
-                "damper whose band slips only once the play is taken up",
-}
-
-_FRICTION = ("coulomb_friction", "smooth_friction")
-
-
-def _movable_friction(effects) -> list:
-    """The friction effects at the rod that can move behind a dead band."""
-    return [e for e in effects if e.name in _FRICTION
-            and getattr(e, "location", None) == "rod"]
-
-
-def candidate_effects(name: str, result: CalibrationResult) -> tuple[tuple, Effect]:
-    """The current model's effects as candidate ``name`` changes them, and the effect it adds
-    at its probe strength (whose fit keys the refit adds).
-
-    A catalogue effect is added at :func:`probe_effect`'s strength; ``"backlash"``
-    (:data:`COMPOSITES`) adds freeplay and moves the friction at the rod behind it: the gap
-    3 % of the stroke amplitude behind Coulomb friction; behind smooth friction, half its
-    pre-sliding stroke F_c / sigma0, whose bristle stiffness is doubled (the dead band
-    takes over half the compliance a soft bristle stood in for).
-
-    Returns
-    -------
-    (tuple of Effect, Effect)
-        The other effects of the candidate model and the one added.
-    """
-    if name == "backlash":
-        Y = float(np.mean([r.amplitude for r in result.calibration]))
-        movable = _movable_friction(result.effects)
-        smooth = [e for e in movable if e.name == "smooth_friction" and e.force_N > 0]
-        gap = 0.03 * Y
-        if smooth:
-            # a smooth friction's pre-sliding stroke F_c / sigma0 may stand in for a dead
-            # band: the probe trades half of it for a gap (sigma0 doubled, gap half the
-            # stroke), so that the score compares a dead band with a soft bristle
-            gap = 0.5 * smooth[0].force_N / smooth[0].stiffness_N_per_m
-        moved = tuple((e.replace(location="piston", stiffness_N_per_m=2 * e.stiffness_N_per_m)
-                       if e in smooth else e.replace(location="piston")) if e in movable
-                      else e for e in result.effects)
-        return moved, EFFECTS["freeplay"](gap_m=gap)
-    return result.effects, probe_effect(name, result)
-
-
 def score(name: str, result: CalibrationResult, options, preroll: int):
     """Score test of one candidate against a calibrated model.
 
@@ -275,17 +202,17 @@ def score(name: str, result: CalibrationResult, options, preroll: int):
 
     Returns
     -------
-    (Candidate, (tuple of Effect, Effect))
+    (Candidate, Change)
         The evidence (linearized relative drop of the calibration RSS, correlation with the
-        residual, linearized strength) and the probe it was computed with
-        (:func:`candidate_effects`).
+        residual, linearized value of the lead parameter) and the change it was computed
+        with (:func:`~.candidates.candidate_change`).
     """
-    others, probe = candidate_effects(name, result)
+    change = candidate_change(name, result)
     try:
-        Fp = predict(result.model, result.params, others + (probe,),
+        Fp = predict(result.model, result.params, change.effects,
                      result.calibration, options=options, preroll=preroll)
     except LiquidampError as exc:
-        return Candidate(name, 0.0, 0.0, {}, note=f"probe run failed: {exc}"), (others, probe)
+        return Candidate(name, 0.0, 0.0, {}, note=f"probe run failed: {exc}"), change
     meas = np.concatenate([r.force for r in result.calibration])
     scale = float(np.sqrt(np.mean((meas - meas.mean()) ** 2))) * math.sqrt(meas.size)
     r = (np.concatenate(result.predictions_calibration) - meas) / scale
@@ -296,32 +223,14 @@ def score(name: str, result: CalibrationResult, options, preroll: int):
     rss = float(r @ r)
     if ss <= 1e-30 * max(float(s @ s), 1e-300):
         return Candidate(name, 0.0, _corr(r, s), {}, note="signature fully mimicked by the "
-                         "fitted parameters"), (others, probe)
+                         "fitted parameters"), change
     beta = -float(s_perp @ r) / ss
     drop = (float(s_perp @ r) ** 2 / ss) / rss if rss > 0 else 0.0
-    key = probe.fit_keys[0]
-    signed_ok = beta > 0 or name == "force_offset"
-    est = {key: getattr(probe, key) * beta} if signed_ok else {}
-    note = "" if signed_ok else "the residual asks for a negative strength"
-    return (Candidate(name, drop if signed_ok else 0.0, -_corr(r, s), est, note=note),
-            (others, probe))
-
-
-def applicable(name: str, model) -> str:
-    """Why candidate ``name`` cannot be composed with ``model`` ('' when it can)."""
-    if name == "backlash":
-        if "location" not in EFFECTS["coulomb_friction"].__dataclass_fields__:
-            return "this catalogue cannot place friction behind a dead band"
-        if any(e.name == "freeplay" for e in model.effects):
-            return "the model holds freeplay already"
-        if not _movable_friction(model.effects):
-            return "no friction at the rod to move behind a dead band (add friction first)"
-        name = "freeplay"
-    try:
-        with_effects(model, EFFECTS[name]())
-    except ParameterError as exc:
-        return str(exc)
-    return ""
+    ok = beta > 0 or change.signed
+    eff, key = change.lead
+    est = {(key if eff == change.added else f"{eff}.{key}"): change.estimate(beta)} if ok else {}
+    note = "" if ok else "the residual asks for a negative strength"
+    return Candidate(name, drop if ok else 0.0, -_corr(r, s), est, note=note), change
 
 
 _PARTNERS = {"inv_gamma": ("inv_gamma1", "inv_gamma2"), "c1": ("c1",), "S_t": ("S_t",)}

@@ -182,14 +182,26 @@ class FitSpec:
             spec = spec.with_effect(e)
         return spec
 
-    def with_effect(self, effect, start: dict | None = None) -> FitSpec:
-        """Add the effect's default fit keys (start: the effect's values or ``start``)."""
+    def with_effect(self, effect, start: dict | None = None, keys=None) -> FitSpec:
+        """Add the effect's parameters ``keys`` (default: its fit keys; start: the effect's
+        values or ``start``).
+
+        Examples
+        --------
+        >>> from liquidamp.device.effects import make_effect
+        >>> f = make_effect("smooth_friction", force_N=10.0)
+        >>> FitSpec(()).with_effect(f, keys=("reverse_ratio",))["smooth_friction.reverse_ratio"]
+        Parameter(name='smooth_friction.reverse_ratio', value=1.0, min=0.1, max=10.0, \
+vary=True, log=True, scale=1.0)
+        """
         if isinstance(effect, str):
             check_choice("effect", effect, EFFECTS)
             effect = EFFECTS[effect]()
         start = dict(start or {})
         new = list(self.parameters)
-        for key in effect.fit_keys:
+        keys = effect.fit_keys if keys is None else tuple(keys)
+        for key in keys:
+            check_choice(f"{effect.name} fitted parameter", key, tuple(effect.bounds))
             lo, hi = effect.bounds[key]
             v = float(start.get(key, getattr(effect, key)))
             log = lo > 0

@@ -79,3 +79,37 @@ def test_dead_band_in_series_with_friction_is_backlash(force_N, gap_m, seed):
     friction = next(e for e in d.final.effects if e.name == "coulomb_friction")
     assert friction.location == "piston"
     assert d.stop_reason.startswith("residual is noise")
+
+
+def test_asymmetric_friction_behind_a_dead_band_is_its_reverse_ratio_not_an_offset():
+    """A band that slides at +60 N forward and -36 N in reverse behind a dead band: the
+    model holds symmetric Coulomb friction behind the dead band; an offset would also act
+    inside the gap, the friction's reverse ratio (composite ``friction_asymmetry``) does
+    not."""
+    truth = {"coulomb_friction": {"force_N": 60.0, "reverse_ratio": 0.6, "location": "piston"},
+             "freeplay": {"gap_m": 2e-4}}
+    cal, val = _records(truth, 85)
+    given = (make_effect("coulomb_friction", force_N=50.0, location="piston"),
+             make_effect("freeplay", gap_m=2e-4))
+    d = diagnose([cal], [val], effects=given, top=1, max_nfev=40, max_steps=2,
+                 candidates=ALL)
+    assert d.added[0] == "friction_asymmetry", (d.added, d.stop_reason)
+    params = d.steps[0].parameters
+    assert params["coulomb_friction.reverse_ratio"] == pytest.approx(0.6, rel=0.3)
+    friction = next(e for e in d.final.effects if e.name == "coulomb_friction")
+    assert friction.force_N == pytest.approx(60.0, rel=0.3)
+
+
+def test_sharp_slip_is_the_friction_transition_exponent():
+    """Smooth friction with an elastic-plastic pre-sliding (transition exponent 4, the
+    pre-sliding stroke F_c / sigma0 = 0.1 mm) diagnosed from a model holding LuGre's
+    exponential (exponent 1)."""
+    truth = {"smooth_friction": {"force_N": 60.0, "stiffness_N_per_m": 6e5,
+                                 "transition_exponent": 4.0}}
+    cal, val = _records(truth, 87)
+    given = (make_effect("smooth_friction", force_N=60.0, stiffness_N_per_m=6e5),)
+    d = diagnose([cal], [val], effects=given, top=1, max_nfev=40, max_steps=2,
+                 candidates=ALL)
+    assert d.added[0] == "friction_transition", (d.added, d.stop_reason)
+    n = d.steps[0].parameters["smooth_friction.transition_exponent"]
+    assert n == pytest.approx(4.0, rel=0.3)
