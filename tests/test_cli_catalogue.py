@@ -114,6 +114,8 @@ def catalogue(d: Path, rec: Path, dev: Path, rep: Path):
         (["diagnose", str(rec), "--validate", str(rec), "--json", j, "--max-steps", "-1"],
          "argument --max-steps: must be an integer in [0, 8] (effects added at most), got '-1'"),
         (["diagnose", str(rec), "--validate", str(rec), "--json", str(rec)], "is the input"),
+        (["diagnose", str(rec), "--validate", str(rec), "--json", j, "--candidate", "stiction"],
+         "unknown candidate effect 'stiction'"),
         # --- sweep
         (gr + ["--rpm", "a:b:3", "--json", j], "rpm START must be a number, got 'a'"),
         (gr + ["--rpm", "100:400:10000000", "--json", j],

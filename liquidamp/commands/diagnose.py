@@ -34,6 +34,12 @@ def register(sub) -> None:
                    "data: always the sized device")
     p.add_argument("--top", type=count_type("--top", 1, 8, "candidates refitted per step"),
                    default=2, help="candidates refitted per step, 1-8 (default %(default)s)")
+    p.add_argument("--candidate", action="append", default=None, metavar="NAME",
+                   help="consider only the named candidates (repeat the flag): catalogue "
+                   "effects, including those screened only on request (relief_valve, "
+                   "asymmetric_loss, elastomer, end_stops), and the composites backlash, "
+                   "friction_asymmetry, friction_transition (default: every screened effect "
+                   "and every composite)")
     p.set_defaults(func=run)
 
 
@@ -46,11 +52,17 @@ def run(args) -> int:
                              "FILE ...]")
     options = solver_options(args, "fit")  # flags added by add_fit_arguments
     check_fit_outputs(args, "diagnose")
-    from liquidamp.analysis.measured.diagnosis import diagnose
+    from liquidamp.analysis.measured.diagnosis import COMPOSITES, diagnose
+    from liquidamp.device.effects import EFFECTS
+    from liquidamp.errors import check_choice
+
+    for name in args.candidate or ():  # before the records are read
+        check_choice("candidate effect", name, {**EFFECTS, **COMPOSITES})
 
     cal, val, params, effects, spec = load(args)
     d = diagnose(cal, val, model=args.model, params=params, effects=effects, spec=spec,
-                 max_steps=args.max_steps, top=args.top, max_nfev=args.max_nfev,
+                 candidates=args.candidate, max_steps=args.max_steps, top=args.top,
+                 max_nfev=args.max_nfev,
                  options=options, sizing=args.sizing, **conditioning_options(args))
     nr = d.as_dict()
     write_json(args.json, nr)

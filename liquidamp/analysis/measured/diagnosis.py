@@ -581,8 +581,9 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
                        f"{best.n_effective:.4g}), validation NRMSE change "
                        f"{-best.relative_reduction:+.1%}" if best else "")
                     + (f"; best score: {scored[0].effect} {scored[0].score:.3g}, linearized "
-                       f"delta BIC {_linear_delta_bic(scored[0], n_now):+.3g}, not refitted"
-                       if scored and not best else ""))
+                       f"delta BIC "
+                       f"{_linear_delta_bic(scored[0], probes[scored[0].effect], n_now):+.3g}"
+                       ", not refitted" if scored and not best else ""))
             break
         tied = [c for c in passed
                 if c.nrmse_validation <= (1 + tie_tolerance) * passed[0].nrmse_validation]

@@ -53,6 +53,21 @@ def test_diagnose_command(files):
     assert "Candidates" in html and "force_offset" in html
 
 
+def test_diagnose_named_candidates_only(files):
+    """--candidate restricts the round to the named candidates (here an effect screened
+    only on request beside the offset)."""
+    d, cal, val = files
+    out = d / "diag_named.json"
+    code = main(["diagnose", str(cal), "--validate", str(val), "--json", str(out), "--top", "1",
+                 "--max-steps", "1", "--max-nfev", "40", "--candidate", "force_offset",
+                 "--candidate", "relief_valve"])
+    assert code == 0
+    data = json.loads(out.read_text())
+    assert [s["effect"] for s in data["steps"]] == ["force_offset"]
+    assert {c["effect"] for c in data["steps"][0]["evidence"]} == {"force_offset",
+                                                                    "relief_valve"}
+
+
 def test_bad_record_is_rejected_with_row(tmp_path, capsys):
     bad = tmp_path / "bad.csv"
     bad.write_text("time [s],displacement [mm],force [N]\n0,1,2\n0.005,x,3\n")
