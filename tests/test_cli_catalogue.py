@@ -75,7 +75,7 @@ def catalogue(d: Path, rec: Path, dev: Path, rep: Path):
         (sim + ["--effect", "cavitation:p=1", "--json", j],
          "unknown cavitation parameter 'p'; valid: vapour_pressure_Pa"),
         (sim + ["--effect", "freeplay:gap_m=wide", "--json", j],
-         "gap_m must be a number [SI], got 'wide'"),
+         "gap_m must be a number [m], got 'wide'"),
         (sim + ["--effect", "freeplay:gap_m", "--json", j], "entries must be KEY=VALUE"),
         (sim + ["--model", "ful", "--json", j], "unknown model 'ful'"),
         (sim + ["--device", str(dev), "--json", str(dev)], "is the input --device"),

@@ -497,13 +497,13 @@ def parse_effect(text: str):
     >>> parse_effect("freeplay:gap_m=1e-4").parameters
     {'gap_m': 0.0001}
     >>> parse_effect("coulomb_friction:force_N=100,location=piston").as_dict()
-    {'force_N': 100.0, 'location': 'piston'}
+    {'force_N': 100.0, 'reverse_ratio': 1.0, 'location': 'piston'}
     >>> parse_effect("freeplay:gap_m=wide")
     Traceback (most recent call last):
     ...
-    liquidamp.errors.ParameterError: --effect freeplay: gap_m must be a number [SI], got 'wide'
+    liquidamp.errors.ParameterError: --effect freeplay: gap_m must be a number [m], got 'wide'
     """
-    from liquidamp.device.effects import make_effect
+    from liquidamp.device.effects import EFFECTS, make_effect
     from liquidamp.errors import check_choice
 
     name, _, rest = str(text).partition(":")
@@ -527,7 +527,8 @@ def parse_effect(text: str):
             params[key] = float(value)
         except ValueError:
             raise ParameterError(
-                f"--effect {name}: {key} must be a number [SI], got {value.strip()!r}") from None
+                f"--effect {name}: {key} must be a number "
+                f"[{EFFECTS[name].units.get(key, '-')}], got {value.strip()!r}") from None
     return make_effect(name, **params)
 
 

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from liquidamp.analysis.measured.fit_spec import FitSpec
-from liquidamp.device.effects import with_effects
+from liquidamp.device.effects import EFFECTS, with_effects
 from liquidamp.device.models import DeviceModel, get_model
 from liquidamp.device.params import SCALABLE, DeviceParams
 
@@ -484,10 +484,6 @@ class CalibrationResult:
 
 
 def _effect_unit(name: str) -> str:
-    key = name.split(".", 1)[1]
-    for suffix, unit in (("_N_per_m", "[N/m]"), ("_m3_per_s_Pa", "[m^3/(s Pa)]"),
-                         ("_Pa", "[Pa]"), ("_N", "[N]"), ("_kg", "[kg]"), ("_m", "[m]"),
-                         ("_s", "[s]")):
-        if key.endswith(suffix):
-            return unit
-    return "[SI]"
+    """Unit of fitted effect parameter ``effect.key``, from the effect's ``units``."""
+    eff, key = name.split(".", 1)
+    return f"[{EFFECTS[eff].units.get(key, '-')}]"

@@ -45,7 +45,7 @@ def test_dual_frequency_time_method_and_effect(tmp_path):
                  "time", "--json", str(js), "--plot", str(png)]) == 0
     data = json.loads(js.read_text())
     assert data["model"] == "dashpot+coulomb_friction"
-    assert data["effects"] == {"coulomb_friction": {"force_N": 20.0}}
+    assert data["effects"] == {"coulomb_friction": {"force_N": 20.0, "reverse_ratio": 1.0}}
     (p,) = data["points"]
     assert p["method"] == "time_periodic"
     c_L = preset("damper").c_L
