@@ -1211,7 +1211,8 @@ def friction_level(z, reverse_ratio):
     band or seal that grips harder one way slides at F_c forward and
     q F_c in reverse (q = ``reverse_ratio`` > 0); unlike a constant
     offset, the force is still zero where the friction is unloaded (inside
-    a dead band, at rest).  Continuous in z, so the smooth law stays smooth.
+    a dead band, at rest).  Continuous in z (with a kink at z = 0 where
+    q != 1).
 
     Examples
     --------
