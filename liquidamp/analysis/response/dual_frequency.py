@@ -94,6 +94,7 @@ import numpy as np
 
 from liquidamp.analysis.response import _torus
 from liquidamp.analysis.response._dual_time import time_route
+from liquidamp.analysis.response.periodic import state_swing
 from liquidamp.device import kernels as K
 from liquidamp.device.fluid import bulk_modulus_gholizadeh
 from liquidamp.device.models import DeviceModel, ViscousParams, get_model
@@ -597,17 +598,6 @@ def _needed(X, floor: int) -> int:
     return max(floor, int(above[-1]) + 1 if above.size else floor)
 
 
-def _scales(X, model, params):
-    """Swing of every state over the torus, floored (same units as the states)."""
-    scale = np.asarray(model.state_scales(params), float)
-    swing = np.ptp(X, axis=1)
-    rel = swing / scale
-    top = float(np.max(rel)) if rel.size else 0.0
-    if not np.isfinite(top) or top <= 0.0:
-        return scale.copy()
-    return np.maximum(swing, 1e-6 * top * scale)
-
-
 def _check_grid(grid):
     try:
         N1, N2 = (int(v) for v in grid)
@@ -666,9 +656,9 @@ def _harmonic_balance(model, params, stroke, options, grid, fine, tol, max_iter,
         else:
             Ya, Va, Xa, wa, wb = Y.T, V.T, X3.transpose(0, 2, 1), w, W
         Xa = np.ascontiguousarray(Xa).reshape(n, -1)
+        swing = state_swing(Xa, np.asarray(model.state_scales(params), float))
         prob = _torus.TorusProblem(model.packed(params), wa, wb, np.ascontiguousarray(Ya),
-                                   np.ascontiguousarray(Va), _scales(Xa, model, params),
-                                   invariants, Xa)
+                                   np.ascontiguousarray(Va), swing, invariants, Xa)
         try:
             Xa, lam, its, residual, kry = prob.solve(Xa, tol=tol, max_iter=max_iter, what=what)
         except _torus.Stalled:

@@ -175,16 +175,7 @@ class _Manifold:
         """Nearest point of the level set (minimum-norm Gauss-Newton in swing coordinates)."""
         if self.m == 0:
             return x
-        x = np.array(x, float)
-        last = math.inf
-        for _ in range(12):
-            g, Gs = self.gap(x)
-            size = float(np.max(np.abs(g)))
-            if size < 1e-15 or size >= 0.5 * last:
-                break
-            last = size
-            x = x - self.swing * np.linalg.lstsq(Gs, g, rcond=None)[0]
-        return x
+        return project_level_set(x, self.gap, self.swing)
 
     def tangent(self, x):
         """Orthonormal basis of the tangent space at ``x`` (swing coordinates), n x (n - m)."""
@@ -196,8 +187,44 @@ class _Manifold:
         return vt[self.m:].T
 
 
-def _swing(X, scale):
-    """Peak-to-peak of every state over one period, floored (same units as the states)."""
+def project_level_set(x, gap, scale, cols=slice(None)):
+    """Nearest point of a level set g(x) = 0 by minimum-norm Gauss-Newton, states ``cols``
+    moved only.
+
+    Parameters
+    ----------
+    x : ndarray
+        Start state (units of the states).
+    gap : callable
+        ``gap(x) -> (g, Gs)``: scaled residuals [-] and their Jacobian in the scaled
+        coordinates x / ``scale``.
+    scale : ndarray
+        State scales (units of the states).
+    cols : slice or index array
+        States the projection may move (default: all).
+
+    Returns
+    -------
+    ndarray
+        At most 12 steps, stopped once |g| < 1e-15 or a step fails to halve it.
+    """
+    x = np.array(x, float)
+    last = math.inf
+    for _ in range(12):
+        g, Gs = gap(x)
+        size = float(np.max(np.abs(g)))
+        if size < 1e-15 or size >= 0.5 * last:
+            break
+        last = size
+        step = np.zeros_like(x)
+        step[cols] = np.linalg.lstsq(Gs[:, cols], g, rcond=None)[0]
+        x = x - scale * step
+    return x
+
+
+def state_swing(X, scale):
+    """Peak-to-peak of every state over one period, floored at 1e-6 of the largest relative
+    swing times ``scale`` (same units as the states); ``scale`` where nothing swings."""
     swing = np.ptp(X, axis=1)
     rel = swing / scale
     top = float(np.max(rel)) if rel.size else 0.0
@@ -345,7 +372,7 @@ def periodic_orbit(model, params: DeviceParams, stroke: HarmonicStroke, options=
     # one marched period removes the fast (stiff) part of the transient and
     # shows how far each state swings
     x, X = period(x, grid)
-    swing = _swing(X, scale)
+    swing = state_swing(X, scale)
     level = _Manifold(model, params, y0, inv_target, swing)
     x = level.project(x)
     xT, _ = period(x)

@@ -72,7 +72,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from liquidamp.analysis.response.periodic import invariants
+from liquidamp.analysis.response.periodic import invariants, project_level_set
 from liquidamp.analysis.stability.floquet import FloquetResult, floquet_from_monodromy
 from liquidamp.coupled import _rotor_kernel as RK
 from liquidamp.coupled.assembly import CoupledSystem
@@ -264,19 +264,8 @@ class _Level:
         """Nearest point (scaled minimum norm) with the device states only moved."""
         if not self.rows:
             return x
-        x = np.array(x, float)
-        nh = self.system.host.nstates
-        last = math.inf
-        for _ in range(12):
-            g, Gs = self.gap(x)
-            size = float(np.max(np.abs(g)))
-            if size < 1e-15 or size >= 0.5 * last:
-                break
-            last = size
-            step = np.zeros_like(x)
-            step[nh:] = np.linalg.lstsq(Gs[:, nh:], g, rcond=None)[0]
-            x = x - self.scale * step
-        return x
+        return project_level_set(x, self.gap, self.scale,
+                                 cols=slice(self.system.host.nstates, None))
 
     def tangent(self, x):
         """Orthonormal basis (scaled coordinates) of the level set's tangent space."""
