@@ -107,12 +107,28 @@ class HelpFormatter(argparse.HelpFormatter):
         return "\n\n".join(out) + "\n\n"
 
 
+_USAGE_ERRORS = ("required", "unrecognized", "expected", "invalid choice", "not allowed",
+                 "ignored explicit")
+
+
 class ArgumentParser(argparse.ArgumentParser):
-    """argparse parser with :class:`HelpFormatter` for itself and its sub-parsers."""
+    """argparse parser with :class:`HelpFormatter` for itself and its sub-parsers.
+
+    A value that starts with ``-`` and a digit (``--amplitude -3mm``,
+    ``--offset -.5mm``, ``--rpm -5:3:4``) is a value, never an option; an
+    argument error is one line ``liquidamp COMMAND: error: ...`` on stderr
+    (exit 2), with a pointer to ``--help`` for a usage error.
+    """
 
     def __init__(self, *args, **kwargs):
         kwargs.setdefault("formatter_class", HelpFormatter)
         super().__init__(*args, **kwargs)
+        self._negative_number_matcher = re.compile(r"^-\.?\d")
+
+    def error(self, message):
+        hint = f" (see '{self.prog} --help')" if any(w in message for w in _USAGE_ERRORS) \
+            else ""
+        self.exit(2, f"{self.prog}: error: {message}{hint}\n")
 
     def _check_help(self, action):  # Python >= 3.13 formats help at definition time
         pass
