@@ -14,14 +14,12 @@ import argparse
 import json
 import math
 import os
-import re
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from liquidamp.errors import ParameterError
-
 from liquidamp.commands._units import MAX_POINTS, parse_grid, parse_quantity
+from liquidamp.errors import ParameterError
 
 
 def parse_length(text: str, name: str = "length") -> float:
@@ -367,7 +365,7 @@ def _check_dir(out: Output, path: Path, inputs, force: bool) -> None:
     if existing and not force:
         raise ParameterError(
             f"{out.flag} {str(path)!r} already holds {', '.join(existing)}; "
-            "refusing to replace it: give a new folder or --force")
+            "refusing to replace it: give a new folder or --overwrite")
 
 
 def file_inputs(*pairs) -> list:

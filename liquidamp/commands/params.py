@@ -9,8 +9,6 @@ reads back to the same parameters.
 
 from __future__ import annotations
 
-import sys
-
 from liquidamp.commands._args import (
     Output,
     add_json_argument,

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import sys
-
 from liquidamp.commands._args import (
     Output,
     add_effect_argument,

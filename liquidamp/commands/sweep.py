@@ -30,16 +30,59 @@ import sys
 
 from liquidamp.commands._args import (
     Output,
+    add_json_argument,
+    add_plot_argument,
     add_quiet_argument,
     check_outputs,
+    emit,
     file_inputs,
-    parse_list,
-    print_warnings,
-    write_json,
+    json_path,
+    progress_bar,
+    save_figure,
+    show_progress,
+)
+from liquidamp.commands._units import (
+    MODEL_NAMES,
+    grid_type,
+    name_type,
+    preset_names,
+    quantity_type,
 )
 from liquidamp.errors import ParameterError, check_choice
 
-__all__ = ["register"]
+__all__ = ["register", "COST", "MAX_SECONDS"]
+
+#: Measured cost of one point [s] on this project's 2-core CI machine (idle, warm caches),
+#: by kind of sweep; a grid whose estimate exceeds :data:`MAX_SECONDS` is refused.
+COST = {"coleman": 1e-3, "floquet": 6e-3, "device coleman": 3e-3, "device floquet": 2e-2,
+        "flutter pk": 2e-3, "flutter k": 1e-3, "flutter p": 1e-2}
+#: Longest estimated run a sweep starts [s]; longer grids are refused with their estimate.
+MAX_SECONDS = 60.0
+
+
+def check_work(count: int, kind: str, what: str) -> None:
+    """Refuse a grid of ``count`` points whose estimated time exceeds :data:`MAX_SECONDS`.
+
+    Examples
+    --------
+    >>> check_work(100_000, "flutter pk", "reduced speeds")
+    Traceback (most recent call last):
+    ...
+    liquidamp.errors.ParameterError: 100000 reduced speeds (flutter pk) would take about \
+200 s (2 ms a point on a 2-core machine); at most 30000 points (60 s): use a coarser grid or \
+split the range
+    """
+    est = count * COST[kind]
+    if est > MAX_SECONDS:
+        limit = int(MAX_SECONDS / COST[kind])
+        raise ParameterError(
+            f"{count} {what} ({kind}) would take about {est:.0f} s ({1e3 * COST[kind]:g} ms a "
+            f"point on a 2-core machine); at most {limit} points ({MAX_SECONDS:g} s): use a "
+            "coarser grid or split the range")
+
+
+def _damper_names():
+    return ("viscous", "maxwell") + preset_names()
 
 
 def register(subparsers) -> None:
@@ -53,68 +96,102 @@ def register(subparsers) -> None:
 
     g = sub.add_parser("ground-resonance", help="rotor on its landing gear against rotor speed")
     g.add_argument("--rotor", default="hammond1974",
+                   type=name_type("--rotor", lambda: preset_names("rotor"), "rotor",
+                                  files=True),
                    help="rotor preset name ({rotors}) or .toml/.json file (default hammond1974)")
-    g.add_argument("--rpm", required=True,
-                   help="rotor speeds [rpm]: comma list or START:STOP:COUNT (COUNT points "
-                   "linearly spaced; at most 100000)")
+    g.add_argument("--rpm", required=True, metavar="LIST",
+                   type=grid_type("--rpm", "rotor_speed", "rpm"),
+                   help="rotor speeds, rpm or with a unit (4Hz): comma list or START:STOP:COUNT "
+                   "(COUNT points linearly spaced; log:START:STOP:COUNT log-spaced)")
     g.add_argument("--inoperative", action="append", default=[], metavar="K",
+                   type=_blade,
                    help="blade whose lag damper has failed (1-based; repeat for several)")
-    g.add_argument("--method", default="coleman", help="coleman (default) or floquet")
+    g.add_argument("--method", default="coleman", choices=("coleman", "floquet"),
+                   help="coleman (default) or floquet")
     g.add_argument("--damper", default="viscous",
+                   type=name_type("--damper", _damper_names, "damper", files=True),
                    help="viscous (default: the rotor's own dampers), maxwell, a device preset "
                    "({presets}) or a device file (sized to replace the lag damper)")
-    g.add_argument("--arm", default=None,
-                   help="damper arm, metres or with unit (250mm); default the rotor's")
-    g.add_argument("--model", default="full", help="device model (default full): {models}")
-    g.add_argument("--json", required=True, help="output JSON file (.json)")
-    g.add_argument("--plot", help="output figure (Coleman diagram; .png, .pdf, .svg, ...), "
-                   "written after the JSON")
+    g.add_argument("--arm", default=None, metavar="LEN",
+                   type=quantity_type("--arm", "length", "arm"),
+                   help="damper arm, metres or with unit (250mm), at most 10 m; default the "
+                   "rotor's")
+    g.add_argument("--model", default="full", type=name_type("--model", MODEL_NAMES, "model"),
+                   help="device model (default full): {models}")
+    add_json_argument(g, "sweep")
+    add_plot_argument(g, "Coleman diagram")
     add_quiet_argument(g)
     g.set_defaults(func=_ground_resonance, command_name="sweep ground-resonance")
 
     f = sub.add_parser("flutter", help="typical section against airspeed")
     f.add_argument("--section", default="hodges-pierce",
+                   type=name_type("--section", lambda: preset_names("section"), "section",
+                                  files=True),
                    help="section preset name ({sections}) or .toml/.json file (default "
                    "hodges-pierce)")
     f.add_argument("--aero", default=None,
+                   choices=("steady", "quasi-steady", "theodorsen", "jones"),
                    help="steady, quasi-steady, theodorsen (default) or jones (default with "
                    "--damper)")
-    f.add_argument("--method", default=None, help="pk (default), k or p (p with --damper)")
+    f.add_argument("--method", default=None, choices=("pk", "k", "p"),
+                   help="pk (default), k or p (p with --damper)")
     f.add_argument("--damper", default=None,
+                   type=name_type("--damper", _damper_names, "damper", files=True),
                    help="device on the section: viscous, maxwell, a device preset ({presets}) "
                    "or a device file")
-    f.add_argument("--port", default="plunge", help="plunge (default) or pitch")
-    f.add_argument("--zeta", type=float, default=0.05,
-                   help="damping ratio the device is sized for (default 0.05)")
-    f.add_argument("--model", default="full", help="device model (default full): {models}")
-    f.add_argument("--speeds", default="0.05:3.5:70",
+    f.add_argument("--port", default="plunge", choices=("plunge", "pitch"),
+                   help="plunge (default) or pitch")
+    f.add_argument("--zeta", default=0.05, metavar="RATIO",
+                   type=quantity_type("--zeta", "ratio", "zeta"),
+                   help="damping ratio the device is sized for, in (0, 1] or in percent (5%%) "
+                   "(default 0.05)")
+    f.add_argument("--model", default="full", type=name_type("--model", MODEL_NAMES, "model"),
+                   help="device model (default full): {models}")
+    f.add_argument("--speeds", default="0.05:3.5:70", metavar="LIST",
+                   type=grid_type("--speeds", "reduced", "reduced_speed"),
                    help="reduced speeds U/(b omega_theta) for pk and p: comma list or "
                    "START:STOP:COUNT (COUNT points linearly spaced; default 0.05:3.5:70)")
-    f.add_argument("--k", dest="reduced_frequencies", default=None,
+    f.add_argument("--k", dest="reduced_frequencies", default=None, metavar="LIST",
+                   type=grid_type("--k", "reduced", "reduced_frequency"),
                    help="reduced frequencies for the k method: comma list or START:STOP:COUNT "
                    "(COUNT points linearly spaced; default 80 log-spaced, 3 to 0.03)")
-    f.add_argument("--json", required=True, help="output JSON file (.json)")
-    f.add_argument("--plot", help="output figure (V-g and V-f; .png, .pdf, .svg, ...), "
-                   "written after the JSON")
+    add_json_argument(f, "sweep")
+    add_plot_argument(f, "V-g and V-f figure")
+    add_quiet_argument(f)
     f.set_defaults(func=_flutter, command_name="sweep flutter")
+
+
+def _blade(text: str) -> int:
+    """argparse type of --inoperative: a blade number >= 1."""
+    import argparse
+
+    try:
+        k = int(text)
+    except ValueError:
+        k = 0
+    if k < 1:
+        raise argparse.ArgumentTypeError(f"must be a blade number >= 1, got {text!r}")
+    return k
 
 
 def _check_paths(args, host_flag: str, host: str) -> None:
     """Check --json and --plot against the host and damper files, before any work."""
     inputs = file_inputs((host_flag, host), ("--damper", getattr(args, "damper", None)))
-    check_outputs([Output("--json", args.json, "json"), Output("--plot", args.plot, "plot")],
-                  inputs)
+    check_outputs([Output("--json", json_path(args), "json"),
+                   Output("--plot", args.plot, "plot")], inputs)
 
 
 def _ground_resonance(args) -> int:
+    _check_paths(args, "--rotor", args.rotor)
+    rpm = list(args.rpm)
+    if any(b <= a for a, b in zip(rpm, rpm[1:], strict=False)):
+        raise ParameterError(f"rpm values must be strictly increasing, got {args.rpm.text!r}")
+    device = args.damper != "viscous" or args.arm is not None
+    used = "floquet" if args.inoperative else args.method
+    check_work(len(rpm), ("device " if device else "") + used, "rotor speeds")
     import numpy as np
 
-    _check_paths(args, "--rotor", args.rotor)
-    rpm = parse_list(args.rpm, "rpm")
-    if not np.all(np.isfinite(rpm)) or np.any(rpm <= 0.0):
-        raise ParameterError(f"rpm values must be finite and > 0 [rpm], got {args.rpm!r}")
-    if rpm.size > 1 and np.any(np.diff(rpm) <= 0.0):
-        raise ParameterError(f"rpm values must be strictly increasing, got {args.rpm!r}")
+    rpm = np.asarray(rpm, float)
     from liquidamp.analysis.reports.stability_plots import plot_ground_resonance
     from liquidamp.analysis.stability.ground_resonance import (
         METHODS,
@@ -125,13 +202,7 @@ def _ground_resonance(args) -> int:
 
     method = check_choice("method", args.method, METHODS)
     rotor = load_rotor(args.rotor)
-    blades = []
-    for text in args.inoperative:
-        try:
-            k = int(text)
-        except ValueError:
-            raise ParameterError(f"--inoperative must be a blade number, got {text!r}") from None
-        blades.append(rotor.check_blade(k))
+    blades = [rotor.check_blade(k) for k in args.inoperative]
     damper = getattr(args, "damper", "viscous")
     arm = getattr(args, "arm", None)
     if damper != "viscous" or arm is not None:
@@ -153,15 +224,14 @@ def _ground_resonance_device(args, rotor, rpm, blades, method) -> int:
     from liquidamp.analysis.stability.damped_stability import device_ground_resonance_sweep
     from liquidamp.analysis.stability.ground_resonance import rpm_to_rad_s
     from liquidamp.analysis.stability.sizing import lag_damper_device
-    from liquidamp.commands._args import parse_length
 
-    arm = parse_length(args.arm, "arm") if args.arm else None
-    device, rotor, sizing = lag_damper_device(args.damper, rotor, arm=arm, model=args.model)
+    device, rotor, sizing = lag_damper_device(args.damper, rotor, arm=args.arm,
+                                              model=args.model)
     used = "floquet" if blades else method
-    tty = bool(getattr(sys.stderr, "isatty", lambda: False)())
-    sweep = device_ground_resonance_sweep(rotor, rpm_to_rad_s(rpm), device,
-                                          inoperative=blades, method=used, executor="serial",
-                                          progress=tty and not args.quiet)
+    with progress_bar(len(rpm), "rotor speeds", args.quiet) as bar:
+        sweep = device_ground_resonance_sweep(
+            rotor, rpm_to_rad_s(rpm), device, inoperative=blades, method=used,
+            executor="serial", progress=bar.update if show_progress(args.quiet) else False)
     if sweep.method != method:
         print(f"liquidamp sweep ground-resonance: note: {sweep.note}", file=sys.stderr)
     data = sweep.to_dict()
@@ -175,10 +245,17 @@ def _ground_resonance_device(args, rotor, rpm, blades, method) -> int:
 
 def _flutter(args) -> int:
     _check_paths(args, "--section", args.section)
-    speeds = parse_list(args.speeds, "speeds")
+    method = args.method or ("p" if args.damper else "pk")
+    grid = args.reduced_frequencies if method == "k" and args.reduced_frequencies else \
+        args.speeds
+    check_work(len(grid), f"flutter {method}", "reduced speeds" if method != "k" else
+               "reduced frequencies")
+    import numpy as np
+
+    speeds = np.asarray(args.speeds, float)
     kvals = None
     if args.reduced_frequencies is not None:
-        kvals = parse_list(args.reduced_frequencies, "k")
+        kvals = np.asarray(args.reduced_frequencies, float)
     if getattr(args, "damper", None):
         return _flutter_device(args, speeds)
     from liquidamp.analysis.reports.stability_plots import plot_flutter
@@ -249,9 +326,7 @@ def _write_outputs(args, data: dict, plot, result, summary: str) -> int:
 
     The figure is saved at 120 dpi; returns the exit code 0.
     """
-    write_json(args.json, data)
-    print_warnings(args.command_name, data)
-    print(summary)
+    emit(args, args.command_name, data, summary, "plot")
     if args.plot:
-        plot(result).savefig(args.plot, dpi=120)
+        save_figure(plot(result), args.plot, dpi=120)
     return 0
