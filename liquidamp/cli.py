@@ -199,8 +199,11 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     name = getattr(args, "command_name", None) or args.command
+    from liquidamp.commands._args import route_warnings
+
     try:
-        code = args.func(args)
+        with route_warnings(name):
+            code = args.func(args)
     except KeyboardInterrupt:
         if args.traceback:
             raise

@@ -72,7 +72,10 @@ References
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import dataclasses
+import functools
 import math
 import warnings
 
@@ -293,6 +296,43 @@ def _nrmse_kept(preds, records, masks) -> float:
                  [r.force[k] for r, k in zip(records, masks, strict=True)])
 
 
+_PROGRESS = contextvars.ContextVar("liquidamp_fit_progress", default=None)
+
+
+@contextlib.contextmanager
+def fit_progress(progress):
+    """Context manager: every model evaluation of the fits inside calls ``progress(1)``.
+
+    Parameters
+    ----------
+    progress : callable or None
+        E.g. a tqdm bar's ``update``; None does nothing.
+    """
+    if progress is None:
+        yield
+        return
+    token = _PROGRESS.set(progress)
+    try:
+        yield
+    finally:
+        _PROGRESS.reset(token)
+
+
+def with_progress(func):
+    """Decorator: ``func(..., progress=None)`` runs inside :func:`fit_progress`.
+
+    ``progress`` (optional callable) is called as ``progress(1)`` after every
+    model evaluation (every run of the model over all the records of one fit).
+    """
+
+    @functools.wraps(func)
+    def wrapper(*args, progress=None, **kwargs):
+        with fit_progress(progress):
+            return func(*args, **kwargs)
+
+    return wrapper
+
+
 class _Objective:
     def __init__(self, model, base_params, effects, spec, records, options, preroll,
                  keep=None):
@@ -327,6 +367,9 @@ class _Objective:
 
     def __call__(self, x):
         self.nfev += 1
+        report = _PROGRESS.get()
+        if report is not None:
+            report(1)
         try:
             _, _, F = self.forces(self.values(x))
         except (PressureError, ConvergenceError, ParameterError) as exc:
@@ -493,6 +536,7 @@ def _with_stroke_limit(quality, records, params: DeviceParams):
                  for q in quality)
 
 
+@with_progress
 def calibrate(records, *, model="full", params: DeviceParams | None = None, effects=(),
               spec: FitSpec | None = None, validate=(), options: SolverOptions | None = None,
               start: str = "physics", max_nfev: int = 80, preroll: int = 1,
@@ -548,6 +592,9 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
     warn : bool
         Issue ``CalibrationResult.warnings`` as :class:`LiquidampWarning` (default;
         :func:`~liquidamp.analysis.measured.diagnosis.diagnose` reports its own).
+    progress : callable, optional
+        Called as ``progress(1)`` after every model evaluation (e.g. a tqdm
+        bar's ``update``); keyword only (:func:`with_progress`).
 
     Returns
     -------

@@ -120,6 +120,7 @@ from liquidamp.analysis.measured.calibration import (
     FitSpec,
     calibrate,
     check_records,
+    with_progress,
 )
 from liquidamp.analysis.measured.conditioning import HARMONICS, condition
 from liquidamp.analysis.measured.diagnosis_evidence import (
@@ -334,6 +335,7 @@ def _converge(result, validation, options, preroll, max_nfev, tol, sizing):
                      tol=tol, warn=False, sizing=sizing)
 
 
+@with_progress
 def diagnose(calibration, validation, *, model="full", params=None, effects=(),
              candidates=None, spec: FitSpec | None = None, options=None, max_steps: int = 3,
              top: int = 2, bic_threshold: float = 10.0, validation_tolerance: float = 0.02,
@@ -373,6 +375,9 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
         Largest relative rise of the held-out NRMSE an added effect may cause [-].
     tie_tolerance, noise_factor, structure_factor : float
         Decision thresholds (module doc).
+    progress : callable, optional
+        Called as ``progress(1)`` after every model evaluation of every fit
+        (keyword only; :func:`~liquidamp.analysis.measured.calibration.with_progress`).
     max_nfev : int
         Evaluation budget of each fit.
     tol : float
