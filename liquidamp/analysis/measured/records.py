@@ -685,8 +685,10 @@ def write_record(path, record=None, *, time=None, displacement=None, force=None,
         raise ParameterError(f"displacement_unit must be one of {', '.join(units)}, "
                              f"got {displacement_unit!r}")
     k = units[displacement_unit]
+    from liquidamp.atomic import atomic_path
+
     path = Path(path)
-    with path.open("w", newline="") as fh:
+    with atomic_path(path) as tmp, tmp.open("w", newline="") as fh:  # whole file or none
         w = csv.writer(fh)
         w.writerow(["time [s]", f"displacement [{displacement_unit}]", "force [N]"])
         for t, y, f in zip(np.asarray(time, float), np.asarray(displacement, float) / k,

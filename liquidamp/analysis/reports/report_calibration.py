@@ -18,6 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
+from liquidamp.atomic import save_figure, write_text
+
 __all__ = ["plot_records", "plot_loops_fit", "plot_residuals", "plot_fit", "write_report",
            "CSS"]
 
@@ -397,10 +399,10 @@ def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibrat
                 ["effect", "score", "signature corr.", "linear estimate", "NRMSE val.",
                  "rel. reduction", "dBIC", "fitted", "accepted", "note"]))
     for fname, fig, caption in figs:
-        fig.savefig(out / fname, dpi=DPI)
+        save_figure(fig, out / fname, dpi=DPI)
         plt.close(fig)
         parts.append(f"<h2>{html.escape(caption)}</h2><img src='{fname}' alt='{fname}'>")
     parts.append("</body></html>")
     path = out / "index.html"
-    path.write_text("\n".join(parts))
+    write_text(path, "\n".join(parts))
     return path
