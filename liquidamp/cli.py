@@ -178,9 +178,10 @@ def _message(exc: BaseException) -> str:
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; return the process exit code.
 
-    Argument errors exit through argparse (SystemExit 2, usage and one
-    error line).  Errors found while running (bad input the library
-    rejects, an unreadable or unwritable file, a solver that did not
+    Argument errors (a bad value, unit, bound or name, found at parse time
+    before any numerical import) print one line ``liquidamp COMMAND: error:
+    ...`` and return 2; ``--help`` and ``--version`` return 0.  Errors found
+    while running (bad input the library rejects, an unreadable or unwritable file, a solver that did not
     converge) are printed as ``liquidamp COMMAND: error: ...`` on stderr
     with exit code 2; an interrupt exits with 130; anything else is a bug
     and is reported in one line with exit code 3.  ``--traceback`` shows
@@ -197,7 +198,10 @@ def main(argv: list[str] | None = None) -> int:
         Exit code.
     """
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # argument errors (2), --help and --version (0)
+        return exc.code if isinstance(exc.code, int) else 2
     name = getattr(args, "command_name", None) or args.command
     from liquidamp.commands._args import route_warnings
 

@@ -80,7 +80,8 @@ def catalogue(d: Path, rec: Path, dev: Path, rep: Path):
         (sim + ["--model", "ful", "--json", j], "unknown model 'ful'"),
         (sim + ["--device", str(dev), "--json", str(dev)], "is the input --device"),
         (["simulate", "--frequency", "3", "--amplitude"], "expected one argument"),
-        (["simulate", "--frequency", "x", "--amplitude", "1mm"], "invalid float value"),
+        (["simulate", "--frequency", "x", "--amplitude", "1mm"],
+         "frequency must be a number with an optional unit (Hz, kHz, rpm, rad/s), got 'x'"),
         # --- stiffness
         (["stiffness", "--frequency", "1", "--amplitude", "1mm", "--out", str(d / "a" / "b")],
          "does not exist"),
@@ -93,7 +94,7 @@ def catalogue(d: Path, rec: Path, dev: Path, rep: Path):
         (["stiffness", "--frequency", "a:10:3", "--amplitude", "1mm", "--out", str(d / "k")],
          "frequency START must be a number, got 'a'"),
         (["stiffness", "--frequency", "0:10:3", "--amplitude", "1mm", "--out", str(d / "k")],
-         "log-spaced and needs START, STOP > 0"),
+         "frequency START must be > 0 and at most 10000 [Hz]"),
         (["stiffness", "--frequency", "1", "--amplitude", "1mm", "--out", str(d / "k"),
           "--effect", "nope"], "unknown effect 'nope'"),
         # --- calibrate
@@ -134,15 +135,16 @@ def catalogue(d: Path, rec: Path, dev: Path, rep: Path):
          "k COUNT must lie in [1, 100000]"),
         # --- lco
         (["lco", "--damper", "device_a", "--rpm", "230", "--t-end", "1e5", "--json", j],
-         "argument --t-end: must be a finite number in (0, 600] [s] (the run keeps every sample"),
+         "argument --t-end: t-end must be > 0 and at most 600 [s] (the run keeps every sample"),
         (["lco", "--damper", "device_a", "--rpm", "-3", "--json", j],
-         "argument --rpm: must be a finite number > 0 [rpm], got '-3'"),
+         "argument --rpm: rpm must be > 0 and at most 10000 [rpm] (167 Hz: faster than any "
+         "rotor), got '-3'"),
         (["lco", "--damper", "device_a", "--rpm", "nan", "--json", j], "--rpm"),
         (["lco", "--damper", "device_a", "--rpm", "230", "--json", j, "--plot",
           str(d / "l.bad")], "unknown figure format"),
         # --- dual-frequency
         (df + ["--lag-amplitude", "0", "--json", j, "--plot", png],
-         "--lag-amplitude must be > 0 [m], got 0"),
+         "--lag-amplitude: lag-amplitude entry must be > 0 and at most 1 [m]"),
         (df + ["--lag-amplitude", "0.5mm", "--json", j, "--plot", str(d / "p.bad")],
          "unknown figure format '.bad'"),
         (df + ["--lag-amplitude", "12mm", "--json", j, "--plot", png],
@@ -151,7 +153,8 @@ def catalogue(d: Path, rec: Path, dev: Path, rep: Path):
          "does not conserve mass"),
         (["dual-frequency", "--rev-frequency", "-4", "--lag-frequency", "1", "--rev-amplitude",
           "1mm", "--lag-amplitude", "1mm", "--json", j, "--plot", png],
-         "argument --rev-frequency: must be a finite number in (0, 10000] [Hz], got '-4'"),
+         "argument --rev-frequency: rev-frequency must be > 0 and at most 10000 [Hz] (the "
+         "highest frequency of a lumped device model), got '-4'"),
         # --- bench, demo
         (["bench", "--repeats", "0"], "argument --repeats: must be an integer in [1, 1000] "
          "(repeats of the fast routes), got '0'"),
@@ -222,7 +225,7 @@ def test_report_index_is_kept_unless_force(files, capsys, monkeypatch):
     out = d / "cal.json"
     code, _, err = run(["calibrate", str(rec), "--json", str(out), "--report", str(rep)], capsys)
     assert code == 2
-    assert f"--report {str(rep)!r} already holds index.html" in err and "--force" in err
+    assert f"--report {str(rep)!r} already holds index.html" in err and "--overwrite" in err
     assert (rep / "index.html").read_text() == "<html>old report</html>"
     assert not out.exists()  # refused before any work
     # with --force the check passes: the (too short) record is what fails now

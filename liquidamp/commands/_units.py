@@ -193,7 +193,7 @@ def quantity_type(flag: str, dimension: str, bound: Bound | str):
 any rotor), got '1e300'
     """
     b = BOUNDS[bound] if isinstance(bound, str) else bound
-    name = flag.lstrip("-").replace("-", " ")
+    name = flag.lstrip("-")
     unit = BASE[dimension]
 
     def convert(text: str) -> float:

@@ -106,7 +106,8 @@ def register(subparsers) -> None:
     g.add_argument("--inoperative", action="append", default=[], metavar="K",
                    type=_blade,
                    help="blade whose lag damper has failed (1-based; repeat for several)")
-    g.add_argument("--method", default="coleman", choices=("coleman", "floquet"),
+    g.add_argument("--method", default="coleman",
+                   type=name_type("--method", ("coleman", "floquet"), "method"),
                    help="coleman (default) or floquet")
     g.add_argument("--damper", default="viscous",
                    type=name_type("--damper", _damper_names, "damper", files=True),
@@ -130,16 +131,19 @@ def register(subparsers) -> None:
                    help="section preset name ({sections}) or .toml/.json file (default "
                    "hodges-pierce)")
     f.add_argument("--aero", default=None,
-                   choices=("steady", "quasi-steady", "theodorsen", "jones"),
+                   type=name_type("--aero", ("steady", "quasi-steady", "theodorsen", "jones"),
+                                  "aerodynamics"),
                    help="steady, quasi-steady, theodorsen (default) or jones (default with "
                    "--damper)")
-    f.add_argument("--method", default=None, choices=("pk", "k", "p"),
+    f.add_argument("--method", default=None, type=name_type("--method", ("pk", "k", "p"),
+                                                            "method"),
                    help="pk (default), k or p (p with --damper)")
     f.add_argument("--damper", default=None,
                    type=name_type("--damper", _damper_names, "damper", files=True),
                    help="device on the section: viscous, maxwell, a device preset ({presets}) "
                    "or a device file")
-    f.add_argument("--port", default="plunge", choices=("plunge", "pitch"),
+    f.add_argument("--port", default="plunge",
+                   type=name_type("--port", ("plunge", "pitch"), "port"),
                    help="plunge (default) or pitch")
     f.add_argument("--zeta", default=0.05, metavar="RATIO",
                    type=quantity_type("--zeta", "ratio", "zeta"),
