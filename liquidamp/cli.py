@@ -183,8 +183,9 @@ def main(argv: list[str] | None = None) -> int:
     ...`` and return 2; ``--help`` and ``--version`` return 0.  Errors found
     while running (bad input the library rejects, an unreadable or
     unwritable file, a solver that did not converge) are printed as
-    ``liquidamp COMMAND: error: ...`` on stderr with exit code 2; an interrupt exits with 130; anything else is a bug
-    and is reported in one line with exit code 3.  ``--traceback`` shows
+    ``liquidamp COMMAND: error: ...`` on stderr with exit code 2; an
+    interrupt exits with 130; anything else is a bug and is reported in
+    one line with exit code 3.  ``--traceback`` shows
     the traceback instead.
 
     Parameters
