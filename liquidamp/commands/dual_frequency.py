@@ -64,11 +64,11 @@ def register(sub) -> None:
     add_effect_argument(p)
     p.add_argument("--rev-frequency", required=True, metavar="HZ",
                    type=quantity_type("--rev-frequency", "frequency", "frequency"),
-                   help="1/rev frequency f_rev = Omega / 2 pi, Hz or with a unit (4.2Hz, "
+                   help="1/rev frequency f_rev = Omega / 2 pi [Hz], or with a unit (4.2Hz, "
                    "252rpm)")
     p.add_argument("--lag-frequency", required=True, metavar="HZ",
                    type=quantity_type("--lag-frequency", "frequency", "frequency"),
-                   help="lag frequency f_lag = omega / 2 pi, Hz or with a unit")
+                   help="lag frequency f_lag = omega / 2 pi [Hz], or with a unit")
     p.add_argument("--rev-amplitude", required=True, metavar="LIST",
                    type=grid_type("--rev-amplitude", "length",
                                   Bound(0.0, 1.0, low_open=False,
@@ -155,7 +155,7 @@ def run(args) -> int:
         "failures": failures,
     }
     if effects:
-        data["effects"] = {e.name: e.as_dict() for e in effects}
+        data["effects"] = {e.name: e.parameters for e in effects}
     wrote = ", ".join(str(f) for f in (json_path(args), args.plot) if f)
     emit(args, "dual-frequency", data, f"wrote {wrote}" if wrote else None, "plot")
     for msg in failures:

@@ -43,7 +43,7 @@ def register(subparsers) -> None:
         "lco", help="limit cycle of a rotor with liquid lag dampers (linear, DF, time domain)",
         description=__doc__.split("\n\n", 1)[1])
     p.add_argument("--rotor", default="hammond1974",
-                   type=name_type("--rotor", lambda: preset_names("rotor"), "rotor",
+                   type=name_type("--rotor", lambda: preset_names("rotor"), "rotor preset",
                                   files=True),
                    help="rotor preset ({rotors}) or .toml/.json file (default hammond1974)")
     p.add_argument("--damper", required=True,

@@ -74,7 +74,64 @@ def device_and_effects(args, default: str = "reference"):
             raise ParameterError(
                 f"--effect {e.name}: the device file {args.device!r} already has "
                 f"[effects.{e.name}]; give it once (edit the file or leave out --effect)")
-    return params, file_effects + extra
+    effects = file_effects + extra
+    from liquidamp.commands._args import warn_once
+
+    for text in plausibility(params, effects, getattr(args, "amplitude", None)):
+        warn_once(getattr(args, "command_name", None) or args.command, text)
+    return params, effects
+
+
+def plausibility(params, effects, amplitude=None) -> list[str]:
+    """Warnings for effect geometry the device (or the stroke) cannot have.
+
+    A freeplay half-gap or an end stop's reach (centre + clearance) beyond
+    the chamber's stroke limit min(V01, V02)/A_p, and a freeplay half-gap
+    at least the stroke amplitude (the stroke never closes the gap).
+
+    Parameters
+    ----------
+    params : DeviceParams
+    effects : sequence of Effect
+    amplitude : float or sequence of float, optional
+        Stroke amplitude(s) [m] of the run.
+
+    Returns
+    -------
+    list of str
+
+    Examples
+    --------
+    >>> from liquidamp.device import preset
+    >>> from liquidamp.device.effects import make_effect
+    >>> print(plausibility(preset("reference"), [make_effect("freeplay", gap_m=0.1)])[0])
+    freeplay gap_m = 0.1 m is beyond the chamber: the stroke limit min(V01, V02)/A_p is 0.025 m
+    """
+    lim = params.stroke_limit
+    out = []
+    if amplitude is None:
+        amps = []
+    elif isinstance(amplitude, (int, float)):
+        amps = [float(amplitude)]
+    else:
+        amps = [float(a) for a in amplitude]
+    for e in effects:
+        d = e.as_dict()
+        if e.name == "freeplay":
+            gap = d["gap_m"]
+            if gap > lim:
+                out.append(f"freeplay gap_m = {gap:g} m is beyond the chamber: the stroke limit "
+                           f"min(V01, V02)/A_p is {lim:.4g} m")
+            elif amps and gap >= max(amps):
+                out.append(f"freeplay gap_m = {gap:g} m (half-width) is at least the stroke "
+                           f"amplitude {max(amps):g} m: the stroke never closes the gap")
+        elif e.name == "end_stops":
+            reach = abs(d.get("centre_m", 0.0)) + d["clearance_m"]
+            if reach > lim:
+                out.append(f"end_stops centre_m + clearance_m = {reach:g} m lies beyond the "
+                           f"chamber: the stroke limit min(V01, V02)/A_p is {lim:.4g} m, so "
+                           "the stops are never reached")
+    return out
 
 
 def device_inputs(args) -> list:

@@ -96,7 +96,7 @@ def register(subparsers) -> None:
 
     g = sub.add_parser("ground-resonance", help="rotor on its landing gear against rotor speed")
     g.add_argument("--rotor", default="hammond1974",
-                   type=name_type("--rotor", lambda: preset_names("rotor"), "rotor",
+                   type=name_type("--rotor", lambda: preset_names("rotor"), "rotor preset",
                                   files=True),
                    help="rotor preset name ({rotors}) or .toml/.json file (default hammond1974)")
     g.add_argument("--rpm", required=True, metavar="LIST",
@@ -126,7 +126,7 @@ def register(subparsers) -> None:
 
     f = sub.add_parser("flutter", help="typical section against airspeed")
     f.add_argument("--section", default="hodges-pierce",
-                   type=name_type("--section", lambda: preset_names("section"), "section",
+                   type=name_type("--section", lambda: preset_names("section"), "section preset",
                                   files=True),
                    help="section preset name ({sections}) or .toml/.json file (default "
                    "hodges-pierce)")
