@@ -200,7 +200,12 @@ def main(argv: list[str] | None = None) -> int:
     """
     parser = build_parser()
     try:
-        args = parser.parse_args(argv)
+        args, extra = parser.parse_known_args(argv)
+        if extra:  # named by the command's own parser
+            sub = parser._subparsers._group_actions[0].choices[args.command]
+            if getattr(args, "sweep_kind", None):
+                sub = sub._subparsers._group_actions[0].choices[args.sweep_kind]
+            sub.error(f"unrecognized arguments: {' '.join(extra)}")
     except SystemExit as exc:  # argument errors (2), --help and --version (0)
         return exc.code if isinstance(exc.code, int) else 2
     name = getattr(args, "command_name", None) or args.command
