@@ -104,7 +104,7 @@ def amplitude_key(value: float) -> str:
 
     Examples
     --------
-    >>> amplitude_key(parse_length("1mm"))
+    >>> amplitude_key(1e-3)
     '0.001'
     """
     return repr(float(value))
