@@ -156,6 +156,9 @@ def test_registries_read_without_numerics_equal_the_library():
     assert _units.EFFECT_UNITS == {k: dict(v.units) for k, v in EFFECTS.items()}
     assert _units.EFFECT_CHOICES == {k: dict(v.composition_keys()) for k, v in EFFECTS.items()
                                      if v.composition_keys()}
+    from liquidamp.analysis.measured.candidates import COMPOSITES
+
+    assert _units.COMPOSITE_NAMES == tuple(COMPOSITES)
     assert _units.preset_names() == preset_names()
     assert _units.preset_names("rotor") == host_names("rotor")
     assert _units.preset_names("section") == host_names("section")

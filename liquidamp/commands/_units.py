@@ -399,6 +399,9 @@ EFFECT_UNITS = {
     "rotating_frame": {"rotor_speed_rad_per_s": "rad/s", "mounting_radius_m": "m",
                        "axis_angle_rad": "rad"},
 }
+#: Composite candidates of :data:`liquidamp.analysis.measured.candidates.COMPOSITES`
+#: (held equal by a test).
+COMPOSITE_NAMES = ("backlash", "friction_asymmetry", "friction_transition")
 #: Composition choices of the effects (``Effect.composition_keys()``; held equal by a test).
 EFFECT_CHOICES = {"coulomb_friction": {"location": ("rod", "piston")},
                   "smooth_friction": {"location": ("rod", "piston")}}

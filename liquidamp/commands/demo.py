@@ -40,6 +40,7 @@ def register(sub) -> None:
 
 def run(args) -> int:
     """Run the demo; return the exit code."""
+    options = solver_options(args, "casestudy")  # the arguments before the numerics
     check_outputs([Output("--out", args.out, "dir", ("index.html",))], force=args.overwrite)
     from liquidamp.analysis.reports.casestudy import run_case_study, write_case_study
     from liquidamp.atomic import atomic_folder
@@ -52,7 +53,7 @@ def run(args) -> int:
 
     out = Path(args.out)
     try:
-        study = run_case_study(options=solver_options(args, "casestudy"), progress=progress)
+        study = run_case_study(options=options, progress=progress)
         with atomic_folder(out) as stage:
             extra = ""
             if not args.skip_diagnosis:

@@ -6,6 +6,7 @@ import sys
 
 from liquidamp.commands._args import count_type, emit, json_path, json_to_stdout, warn_once
 from liquidamp.commands._solver import solver_options
+from liquidamp.commands._units import COMPOSITE_NAMES, EFFECT_UNITS, name_type
 from liquidamp.commands.calibrate import (
     add_fit_arguments,
     check_fit_outputs,
@@ -38,6 +39,8 @@ def register(sub) -> None:
     p.add_argument("--top", type=count_type("--top", 1, 8, "candidates refitted per step"),
                    default=2, help="candidates refitted per step, 1-8 (default %(default)s)")
     p.add_argument("--candidate", action="append", default=None, metavar="NAME",
+                   type=name_type("--candidate", tuple(EFFECT_UNITS) + COMPOSITE_NAMES,
+                                  "candidate effect"),
                    help="consider only the named candidates (repeat the flag): catalogue "
                    "effects, including those screened only on request (relief_valve, "
                    "asymmetric_loss, elastomer, end_stops), and the composites backlash, "

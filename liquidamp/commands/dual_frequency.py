@@ -96,6 +96,7 @@ def register(sub) -> None:
 
 def run(args) -> int:
     """Compute every point; write the JSON, then the figure."""
+    options = solver_options(args, "default")  # every argument before the numerics
     check_outputs([Output("--json", json_path(args), "json"),
                    Output("--plot", args.plot, "plot")], device_inputs(args))
     import numpy as np
@@ -112,7 +113,6 @@ def run(args) -> int:
     from liquidamp.device.models import get_model
     from liquidamp.errors import ConvergenceError, LiquidampWarning, PressureError
 
-    options = solver_options(args, "default")
     params, effects = device_and_effects(args)
     model = get_model(args.model)
     if effects:

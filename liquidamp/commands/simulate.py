@@ -74,6 +74,7 @@ def summary(response) -> dict:
 
 def run(args) -> int:
     """Run the simulation and write its summary (JSON first, then the figure)."""
+    options = solver_options(args, "default")  # every argument before any numerical import
     check_outputs([Output("--json", json_path(args), "json"),
                    Output("--plot", args.plot, "plot")], device_inputs(args))
     from liquidamp.coupled.testrig import steady_state
@@ -81,7 +82,6 @@ def run(args) -> int:
     from liquidamp.device.models import get_model
     from liquidamp.structure.testmachine import HarmonicStroke
 
-    options = solver_options(args, "default")
     params, effects = device_and_effects(args)
     model = get_model(args.model)
     if effects:

@@ -141,27 +141,28 @@ def _nonlinear(params, model, freqs, amps, quiet: bool, options=None):
 def run(args) -> int:
     """Compute the sweep; write JSON, CSV, then PNG (data before the figure) into a folder
     built beside ``--out`` and swapped in whole."""
-    import numpy as np
-
     from liquidamp.atomic import atomic_folder
 
+    options = solver_options(args, "default")  # every argument before the numerics
     out = Path(args.out)
     check_outputs([Output("--out", args.out, "dir", FILES),
                    Output("--json", json_path(args), "json")],
                   device_inputs(args), force=args.overwrite)
+    n_f, n_a = len(args.frequency), len(args.amplitude)
+    if n_f * n_a > MAX_GRID:
+        raise ParameterError(
+            f"frequency x amplitude grid has {n_f} x {n_a} = {n_f * n_a} nonlinear points; at "
+            f"most {MAX_GRID} (each is a periodic steady state of 0.01-1 s, about "
+            f"{n_f * n_a * 0.05:.0f} s in all)")
+    import numpy as np
+
     freqs = np.asarray(args.frequency, float)
     amps = np.asarray(args.amplitude, float)
-    if freqs.size * amps.size > MAX_GRID:
-        raise ParameterError(
-            f"frequency x amplitude grid has {freqs.size} x {amps.size} = "
-            f"{freqs.size * amps.size} nonlinear points; at most {MAX_GRID} (each is a periodic "
-            "steady state of 0.01-1 s)")
     from liquidamp.analysis.response.linear import linearize, transfer_function
     from liquidamp.analysis.response.stiffness import equivalent_sweep, linear_stiffness
     from liquidamp.device.effects import with_effects
     from liquidamp.device.models import get_model
 
-    options = solver_options(args, "default")
     params, effects = device_and_effects(args)
     model = get_model(args.model).name
     nl_model = with_effects(get_model(model), *effects) if effects else model

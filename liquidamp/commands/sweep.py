@@ -58,6 +58,10 @@ COST = {"coleman": 1e-3, "floquet": 6e-3, "device coleman": 3e-3, "device floque
         "flutter pk": 2e-3, "flutter k": 1e-3, "flutter p": 1e-2}
 #: Longest estimated run a sweep starts [s]; longer grids are refused with their estimate.
 MAX_SECONDS = 60.0
+#: Kinds whose library call reports progress (a tqdm bar); the others run silent, so they
+#: are held to :data:`MAX_SILENT_SECONDS`.
+WITH_PROGRESS = ("device coleman", "device floquet")
+MAX_SILENT_SECONDS = 30.0
 
 
 def check_work(count: int, kind: str, what: str) -> None:
@@ -69,15 +73,16 @@ def check_work(count: int, kind: str, what: str) -> None:
     Traceback (most recent call last):
     ...
     liquidamp.errors.ParameterError: 100000 reduced speeds (flutter pk) would take about \
-200 s (2 ms a point on a 2-core machine); at most 30000 points (60 s): use a coarser grid or \
+200 s (2 ms a point on a 2-core machine); at most 15000 points (30 s): use a coarser grid or \
 split the range
     """
     est = count * COST[kind]
-    if est > MAX_SECONDS:
-        limit = int(MAX_SECONDS / COST[kind])
+    top = MAX_SECONDS if kind in WITH_PROGRESS else MAX_SILENT_SECONDS
+    if est > top:
+        limit = int(top / COST[kind])
         raise ParameterError(
             f"{count} {what} ({kind}) would take about {est:.0f} s ({1e3 * COST[kind]:g} ms a "
-            f"point on a 2-core machine); at most {limit} points ({MAX_SECONDS:g} s): use a "
+            f"point on a 2-core machine); at most {limit} points ({top:g} s): use a "
             "coarser grid or split the range")
 
 
