@@ -12,6 +12,7 @@ from liquidamp.commands._args import (
     emit,
     json_path,
     save_figure,
+    working,
 )
 from liquidamp.commands._solver import add_solver_arguments, solver_options
 from liquidamp.commands._units import MODEL_NAMES, name_type, quantity_type
@@ -87,7 +88,8 @@ def run(args) -> int:
     if effects:
         model = with_effects(model, *effects)
     stroke = HarmonicStroke(args.amplitude, args.frequency)
-    response = steady_state(model, params, stroke, options=options)
+    with working("simulate: periodic steady state", args.quiet):
+        response = steady_state(model, params, stroke, options=options)
     data = summary(response)
     if effects:
         data["effects"] = {e.name: e.as_dict() for e in effects}

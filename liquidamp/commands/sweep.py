@@ -40,6 +40,7 @@ from liquidamp.commands._args import (
     progress_bar,
     save_figure,
     show_progress,
+    working,
 )
 from liquidamp.commands._units import (
     MODEL_NAMES,
@@ -218,7 +219,8 @@ def _ground_resonance(args) -> int:
         return _ground_resonance_device(args, rotor, rpm, blades, method)
     for k in blades:
         rotor = rotor.with_inoperative_damper(k)
-    sweep = ground_resonance_sweep(rotor, rpm_to_rad_s(rpm), method)
+    with working(f"sweep ground-resonance: {len(rpm)} rotor speeds", args.quiet):
+        sweep = ground_resonance_sweep(rotor, rpm_to_rad_s(rpm), method)
     if sweep.method != method:
         print(f"liquidamp sweep ground-resonance: note: {sweep.note}", file=sys.stderr)
     data = sweep.to_dict()
@@ -275,8 +277,9 @@ def _flutter(args) -> int:
     args.method = args.method or "pk"
     check_combination(args.aero, args.method)
     section = load_section(args.section)
-    result = flutter_analysis(section, args.aero, args.method, speeds=speeds,
-                              reduced_frequencies=kvals)
+    with working(f"sweep flutter: {args.method}", args.quiet):
+        result = flutter_analysis(section, args.aero, args.method, speeds=speeds,
+                                  reduced_frequencies=kvals)
     return _write_outputs(args, result.to_dict(), plot_flutter, result,
                           _flutter_summary(section.name, args.aero, args.method, result))
 
@@ -298,7 +301,9 @@ def _flutter_device(args, speeds) -> int:
     section = load_section(args.section)
     device, sizing = flutter_damper_device(args.damper, section, port=args.port,
                                            zeta=args.zeta, model=args.model)
-    result = damped_flutter_analysis(section, {args.port: device}, speeds=speeds, aero=aero)
+    with working(f"sweep flutter: {method} with {device.label}", args.quiet):
+        result = damped_flutter_analysis(section, {args.port: device}, speeds=speeds,
+                                         aero=aero)
     data = result.to_dict()
     data["damper"] = args.damper
     data["port"] = args.port
