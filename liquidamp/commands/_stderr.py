@@ -79,7 +79,9 @@ def warn_once(command: str, text: str) -> None:
     if any(k == p or (len(p) > 30 and (p in k or k in p)) for p in _PRINTED):
         return
     _PRINTED.add(k)
-    print(f"liquidamp {command}: warning: {' '.join(str(text).split())}", file=sys.stderr)
+    clear = "\r\x1b[K" if show_progress() else ""  # over a progress bar's line
+    print(f"{clear}liquidamp {command}: warning: {' '.join(str(text).split())}",
+          file=sys.stderr)
 
 
 def route_warnings(command: str):
