@@ -101,6 +101,7 @@ def route_warnings(command: str):
     def ctx():
         from liquidamp.errors import LiquidampWarning
 
+        _PRINTED.clear()  # once per command run
         with warnings.catch_warnings():
             warnings.simplefilter("always", LiquidampWarning)  # the others: Python's filters
             warnings.showwarning = lambda message, *a, **k: warn_once(command, str(message))
