@@ -735,3 +735,37 @@ def test_calibrate_saves_the_fitted_device_with_its_covariance(tmp_path, capsys)
                           "3mm", "--json", "-", "--quiet"], capsys)
     assert code == 0, err
     assert json.loads(out)["effects"]["smooth_friction"]["force_N"] == f.effects[0].force_N
+
+
+def test_sweep_and_lco_read_a_device_file_as_measured(tmp_path, capsys):
+    """``--device`` is the device as measured (not sized): the sized device written to a
+    file gives the sweep of ``--damper`` (two routes); its effects are used; a ``--damper``
+    file with effects is refused, never sized without them."""
+    from liquidamp.analysis.stability.sizing import lag_damper_device
+    from liquidamp.device import write_device_file
+    from liquidamp.device.effects import make_effect
+    from liquidamp.structure.hostio import load_rotor
+
+    device, rotor, _ = lag_damper_device("device_a", load_rotor("hammond1974"))
+    sized = write_device_file(tmp_path / "sized.toml", device.params)
+    a, b = tmp_path / "a.json", tmp_path / "b.json"
+    base = ["sweep", "ground-resonance", "--rpm", "150:350:11", "--quiet"]
+    assert main(base + ["--damper", "device_a", "--json", str(a)]) == 0
+    assert main(base + ["--device", str(sized), "--json", str(b)]) == 0
+    da, db = json.loads(a.read_text()), json.loads(b.read_text())
+    assert db["sized"] is False and db["effects"] == {}
+    (a0, a1), = da["unstable_ranges [rpm]"]
+    (b0, b1), = db["unstable_ranges [rpm]"]
+    assert (b0, b1) == pytest.approx((a0, a1), abs=1e-6)
+    fx = write_device_file(tmp_path / "fx.toml", device.params,
+                           [make_effect("series_compliance", stiffness_N_per_m=2e5)])
+    c = tmp_path / "c.json"
+    assert main(base + ["--device", str(fx), "--json", str(c)]) == 0
+    dc = json.loads(c.read_text())
+    assert dc["effects"] == {"series_compliance": {"stiffness_N_per_m": 2e5}}
+    assert dc["unstable_ranges [rpm]"] != db["unstable_ranges [rpm]"]  # the effect acts
+    code, _, err = run(base + ["--damper", str(fx), "--json", str(c)], capsys)
+    assert code == 2 and "has effects (series_compliance)" in err
+    code, _, err = run(["lco", "--damper", "device_a", "--device", str(fx), "--rpm", "230"],
+                       capsys)
+    assert code == 2 and "not allowed with argument" in err

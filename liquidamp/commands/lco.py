@@ -28,6 +28,11 @@ from liquidamp.commands._args import (
 )
 from liquidamp.commands._solver import add_solver_arguments, solver_options
 from liquidamp.commands._units import MODEL_NAMES, name_type, preset_names, quantity_type
+from liquidamp.commands.params import (
+    add_measured_device_argument,
+    measured_device,
+    measured_entries,
+)
 from liquidamp.commands.sweep import _blade, _damper_names
 
 #: Longest limit-cycle run [s]: the run keeps every sample (at least 200 per
@@ -46,9 +51,12 @@ def register(subparsers) -> None:
                    type=name_type("--rotor", lambda: preset_names("rotor"), "rotor preset",
                                   files=True),
                    help="rotor preset ({rotors}) or .toml/.json file (default hammond1974)")
-    p.add_argument("--damper", required=True,
+    g = p.add_mutually_exclusive_group(required=True)
+    g.add_argument("--damper",
                    type=name_type("--damper", _damper_names, "damper", files=True),
-                   help="viscous, maxwell, a device preset ({presets}) or a device file")
+                   help="viscous, maxwell, a device preset ({presets}) or a device file, sized "
+                   "to the rotor's lag damper")
+    add_measured_device_argument(g)
     p.add_argument("--rpm", required=True, metavar="RPM",
                    type=quantity_type("--rpm", "rotor_speed", "rpm"),
                    help="rotor speed, rpm or with a unit (4Hz), > 0 and at most 10000 rpm")
@@ -141,20 +149,30 @@ def run(args) -> int:
     options = solver_options(args, "rotor")
     check_outputs([Output("--json", json_path(args), "json"),
                    Output("--plot", args.plot, "plot")],
-                  file_inputs(("--rotor", args.rotor), ("--damper", args.damper)))
+                  file_inputs(("--rotor", args.rotor), ("--damper", args.damper),
+                              ("--device", args.device)))
     from liquidamp.analysis.stability.ground_resonance import rpm_to_rad_s
     from liquidamp.analysis.stability.sizing import lag_damper_device
     from liquidamp.structure.hostio import load_rotor
 
     rotor = load_rotor(args.rotor)
     inop = [rotor.check_blade(k) for k in args.inoperative]
-    device, rotor, sizing = lag_damper_device(args.damper, rotor, arm=args.arm,
-                                              model=args.model)
+    dev = None
+    if args.device:
+        device, dev = measured_device(args)
+        if args.arm is not None:
+            rotor = rotor.replace(blade=rotor.blade.replace(damper_arm=args.arm))
+        sizing = None
+    else:
+        device, rotor, sizing = lag_damper_device(args.damper, rotor, arm=args.arm,
+                                                  model=args.model)
     with progress_bar(4, "lco stages", args.quiet) as bar:
         data, sim = analyse(rotor, rpm_to_rad_s(args.rpm), device, inop, args.t_end, bar,
                             options)
     if sizing is not None:
         data["sizing"] = sizing.as_dict()
+    if dev is not None:
+        data.update(measured_entries(dev))
     amp = data["time_domain_amplitude [rad]"]
     emit(args, "lco", data,
          f"{rotor.name} + {device.label} at {args.rpm:g} rpm: linear rate "

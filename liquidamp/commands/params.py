@@ -134,6 +134,43 @@ def plausibility(params, effects, amplitude=None) -> list[str]:
     return out
 
 
+def add_measured_device_argument(parser) -> None:
+    """Add ``--device FILE``: a device used as measured (not sized), effects included."""
+    parser.add_argument("--device", default=None, metavar="FILE",
+                        help="device file used as measured, not sized (e.g. written by "
+                        "calibrate --save-device; its [effects.NAME] tables included), one per "
+                        "damper position, through --arm; instead of --damper")
+
+
+def measured_device(args, default_model: str = "full"):
+    """The ``--device`` file as a :class:`~liquidamp.coupled.assembly.Device` (not sized).
+
+    The file's effects are composed with ``--model`` (``with_effects``); the
+    label is the file's stem.
+    """
+    from pathlib import Path
+
+    from liquidamp.coupled.assembly import Device
+    from liquidamp.device import load_device_file
+    from liquidamp.device.effects import with_effects
+
+    dev = load_device_file(args.device)
+    model = getattr(args, "model", None) or default_model
+    if dev.effects:
+        model = with_effects(model, *dev.effects)
+    return Device(model, dev.params, Path(args.device).stem), dev
+
+
+def measured_entries(dev) -> dict:
+    """JSON entries of a device used as measured: file, effects, fit table (if any)."""
+    out = {"device_file": dev.source, "sized": False,
+           "effects": {e.name: e.as_dict() for e in dev.effects}}
+    if dev.fit is not None:
+        out["device_fit"] = {k: dev.fit[k] for k in ("source", "varied", "values", "stderr")
+                             if k in dev.fit}
+    return out
+
+
 def device_inputs(args) -> list:
     """``[("--device", path)]`` when a device file is given, else ``[]``."""
     return file_inputs(("--device", getattr(args, "device", None)))

@@ -49,6 +49,11 @@ from liquidamp.commands._units import (
     preset_names,
     quantity_type,
 )
+from liquidamp.commands.params import (
+    add_measured_device_argument,
+    measured_device,
+    measured_entries,
+)
 from liquidamp.errors import ParameterError, check_choice
 
 __all__ = ["register", "COST", "MAX_SECONDS"]
@@ -119,6 +124,7 @@ def register(subparsers) -> None:
                    type=name_type("--damper", _damper_names, "damper", files=True),
                    help="viscous (default: the rotor's own dampers), maxwell, a device preset "
                    "({presets}) or a device file (sized to replace the lag damper)")
+    add_measured_device_argument(g)
     g.add_argument("--arm", default=None, metavar="LEN",
                    type=quantity_type("--arm", "length", "arm"),
                    help="damper arm, metres or with unit (250mm), at most 10 m; default the "
@@ -148,6 +154,7 @@ def register(subparsers) -> None:
                    type=name_type("--damper", _damper_names, "damper", files=True),
                    help="device on the section: viscous, maxwell, a device preset ({presets}) "
                    "or a device file")
+    add_measured_device_argument(f)
     f.add_argument("--port", default="plunge",
                    type=name_type("--port", ("plunge", "pitch"), "port"),
                    help="plunge (default) or pitch")
@@ -186,7 +193,12 @@ def _blade(text: str) -> int:
 
 def _check_paths(args, host_flag: str, host: str) -> None:
     """Check --json and --plot against the host and damper files, before any work."""
-    inputs = file_inputs((host_flag, host), ("--damper", getattr(args, "damper", None)))
+    inputs = file_inputs((host_flag, host), ("--damper", getattr(args, "damper", None)),
+                         ("--device", getattr(args, "device", None)))
+    if getattr(args, "device", None) and getattr(args, "damper", None) not in (None,
+                                                                               "viscous"):
+        raise ParameterError("give either --device FILE (used as measured) or --damper "
+                             "(sized to the host), not both")
     check_outputs([Output("--json", json_path(args), "json"),
                    Output("--plot", args.plot, "plot")], inputs)
 
@@ -196,7 +208,7 @@ def _ground_resonance(args) -> int:
     rpm = list(args.rpm)
     if any(b <= a for a, b in zip(rpm, rpm[1:], strict=False)):
         raise ParameterError(f"rpm values must be strictly increasing, got {args.rpm.text!r}")
-    device = args.damper != "viscous" or args.arm is not None
+    device = args.damper != "viscous" or args.arm is not None or args.device is not None
     used = "floquet" if args.inoperative else args.method
     check_work(len(rpm), ("device " if device else "") + used, "rotor speeds")
     import numpy as np
@@ -215,7 +227,7 @@ def _ground_resonance(args) -> int:
     blades = [rotor.check_blade(k) for k in args.inoperative]
     damper = getattr(args, "damper", "viscous")
     arm = getattr(args, "arm", None)
-    if damper != "viscous" or arm is not None:
+    if damper != "viscous" or arm is not None or args.device:
         return _ground_resonance_device(args, rotor, rpm, blades, method)
     for k in blades:
         rotor = rotor.with_inoperative_damper(k)
@@ -236,8 +248,14 @@ def _ground_resonance_device(args, rotor, rpm, blades, method) -> int:
     from liquidamp.analysis.stability.ground_resonance import rpm_to_rad_s
     from liquidamp.analysis.stability.sizing import lag_damper_device
 
-    device, rotor, sizing = lag_damper_device(args.damper, rotor, arm=args.arm,
-                                              model=args.model)
+    if args.device:
+        device, dev = measured_device(args)
+        if args.arm is not None:
+            rotor = rotor.replace(blade=rotor.blade.replace(damper_arm=args.arm))
+        sizing = None
+    else:
+        device, rotor, sizing = lag_damper_device(args.damper, rotor, arm=args.arm,
+                                                  model=args.model)
     used = "floquet" if blades else method
     with progress_bar(len(rpm), "rotor speeds", args.quiet) as bar:
         sweep = device_ground_resonance_sweep(
@@ -247,16 +265,20 @@ def _ground_resonance_device(args, rotor, rpm, blades, method) -> int:
         print(f"liquidamp sweep ground-resonance: note: {sweep.note}", file=sys.stderr)
     data = sweep.to_dict()
     data["inoperative_blades"] = [int(k) for k in blades]
-    data["damper"] = args.damper
     data["damper_arm [m]"] = rotor.blade.damper_arm
-    _add_device_entries(data, device, sizing)
+    if args.device:
+        data["damper"] = args.device
+        data.update(measured_entries(dev))
+    else:
+        data["damper"] = args.damper
+        _add_device_entries(data, device, sizing)
     return _write_outputs(args, data, plot_ground_resonance, sweep,
                           _ground_resonance_summary(f"{rotor.name} + {device.label}", sweep))
 
 
 def _flutter(args) -> int:
     _check_paths(args, "--section", args.section)
-    method = args.method or ("p" if args.damper else "pk")
+    method = args.method or ("p" if args.damper or args.device else "pk")
     grid = args.reduced_frequencies if method == "k" and args.reduced_frequencies else \
         args.speeds
     check_work(len(grid), f"flutter {method}", "reduced speeds" if method != "k" else
@@ -267,7 +289,7 @@ def _flutter(args) -> int:
     kvals = None
     if args.reduced_frequencies is not None:
         kvals = np.asarray(args.reduced_frequencies, float)
-    if getattr(args, "damper", None):
+    if getattr(args, "damper", None) or args.device:
         return _flutter_device(args, speeds)
     from liquidamp.analysis.reports.stability_plots import plot_flutter
     from liquidamp.analysis.stability.flutter import check_combination, flutter_analysis
@@ -294,20 +316,28 @@ def _flutter_device(args, speeds) -> int:
     aero = args.aero or "jones"
     method = args.method or "p"
     if method != "p":
-        raise ParameterError(f"--damper needs the p method (the device is in the state-space "
-                             f"loop), got --method {method}")
+        raise ParameterError(f"{'--device' if args.device else '--damper'} needs the p method "
+                             f"(the device is in the state-space loop), got --method {method}")
     check_combination(aero, method)
     check_choice("port", args.port, ("plunge", "pitch"))
     section = load_section(args.section)
-    device, sizing = flutter_damper_device(args.damper, section, port=args.port,
-                                           zeta=args.zeta, model=args.model)
+    if args.device:
+        device, dev = measured_device(args)
+        sizing = None
+    else:
+        device, sizing = flutter_damper_device(args.damper, section, port=args.port,
+                                               zeta=args.zeta, model=args.model)
     with working(f"sweep flutter: {method} with {device.label}", args.quiet):
         result = damped_flutter_analysis(section, {args.port: device}, speeds=speeds,
                                          aero=aero)
     data = result.to_dict()
-    data["damper"] = args.damper
     data["port"] = args.port
-    _add_device_entries(data, device, sizing)
+    if args.device:
+        data["damper"] = args.device
+        data.update(measured_entries(dev))
+    else:
+        data["damper"] = args.damper
+        _add_device_entries(data, device, sizing)
     return _write_outputs(args, data, plot_flutter, result,
                           _flutter_summary(f"{section.name} + {device.label} on {args.port}",
                                            aero, method, result))
