@@ -236,7 +236,9 @@ def atomic_folder(path: str | Path) -> Iterator[Path]:
     """
     path = Path(path)
     parent = path.parent if str(path.parent) else Path(".")
-    stage = parent / f".{path.name}.{os.getpid()}.building"
+    inside = path.is_dir() and not os.access(parent, os.W_OK | os.X_OK)
+    # a folder in a read-only parent is built inside itself and its files moved in
+    stage = (path if inside else parent) / f".{path.name}.{os.getpid()}.building"
     if stage.exists():
         shutil.rmtree(stage)
     try:
@@ -245,7 +247,11 @@ def atomic_folder(path: str | Path) -> Iterator[Path]:
         raise _named(exc, path) from None
     try:
         yield stage
-        _commit(stage, path, parent)
+        if inside:
+            _move_in(stage, path)
+            shutil.rmtree(stage, ignore_errors=True)
+        else:
+            _commit(stage, path, parent)
     except BaseException as exc:
         shutil.rmtree(stage, ignore_errors=True)
         if isinstance(exc, OSError) and exc.filename and str(stage) in str(exc.filename):
