@@ -9,6 +9,7 @@ from liquidamp.commands._solver import solver_options
 from liquidamp.commands.calibrate import (
     add_fit_arguments,
     check_fit_outputs,
+    checked,
     conditioning_options,
     load,
 )
@@ -60,9 +61,12 @@ def run(args) -> int:
         check_choice("candidate effect", name, {**EFFECTS, **COMPOSITES})
 
     cal, val, params, effects, spec = load(args)
+    # the data checks first, as read, naming the command-line options (diagnose repeats
+    # them on the same records)
+    cal, val = checked(cal, val, args, params, "diagnose")
     d = diagnose(cal, val, model=args.model, params=params, effects=effects, spec=spec,
                  candidates=args.candidate, max_steps=args.max_steps, top=args.top,
-                 max_nfev=args.max_nfev,
+                 max_nfev=args.max_nfev, outliers=args.outliers,
                  options=options, sizing=args.sizing, **conditioning_options(args))
     nr = d.as_dict()
     write_json(args.json, nr)
