@@ -4,6 +4,7 @@ from pathlib import Path
 
 import pytest
 
+
 #: The real test-machine records of a banded rotary friction damper with backlash
 #: (CC BY-SA 4.0, Coble, Huggins, Cao, Ricles, Downey 2022; see the folder's README).
 def _shared_data() -> Path:

@@ -18,10 +18,16 @@ References
 from __future__ import annotations
 
 import dataclasses
+import weakref
 
 import numpy as np
 
-from liquidamp.analysis.measured.record_quality import DataQuality, as_read, check_record
+from liquidamp.analysis.measured.record_quality import (
+    DataQuality,
+    as_read,
+    check_record,
+    check_record_stroke,
+)
 from liquidamp.analysis.measured.records import Record
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import DataFileError, check_choice
@@ -102,7 +108,7 @@ def check_records(records, params: DeviceParams | None = None, *, outliers: str 
     >>> try:
     ...     check_records([rec], cli=True)
     ... except DataFileError as e:
-    ...     print(str(e)[:72])
+    ...     print(str(e)[:73])
     calibrate: a.csv: 2 force outlier(s) on lines 102 and 202 (spikes against
     >>> len(check_records([rec], outliers="drop")[1])
     2
@@ -110,7 +116,7 @@ def check_records(records, params: DeviceParams | None = None, *, outliers: str 
     check_choice("outliers", outliers, OUTLIER_CHOICES)
     records = tuple(records)
     read = tuple(as_read(r) for r in records)
-    qs = tuple(check_record(r, params) for r in read)
+    qs = tuple(_checked(r, params) for r in read)
     items, kinds = [], set()
     for q, r in zip(qs, read, strict=True):
         items += list(q.problems)
@@ -178,6 +184,23 @@ def drop_outliers(record: Record, quality: DataQuality) -> Record:
     from liquidamp.analysis.measured.conditioning import recondition
 
     return recondition(fixed, cond)
+
+
+#: The checks of each record as read (a Record is immutable: its checks do not change), so
+#: that a command, a diagnosis and each of its refits check a record once.
+_CHECKED: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _checked(record: Record, params: DeviceParams | None) -> DataQuality:
+    """check_record(record, params), the part that does not depend on ``params`` computed
+    once per record."""
+    q = _CHECKED.get(record)
+    if q is None:
+        q = _CHECKED[record] = check_record(record)
+    if params is None:
+        return q
+    return dataclasses.replace(q, problems=q.problems + tuple(check_record_stroke(record, params)),
+                               stroke_limit=float(params.stroke_limit))
 
 
 def keep_outliers(record: Record, quality: DataQuality) -> Record:

@@ -654,11 +654,11 @@ def check_record(record: Record, params: DeviceParams | None = None, *,
           f"is {1 - gain:.1%} low there")
     if 1.0 - gain > VELOCITY_GAIN_PROBLEM and periodic:
         problems.append(f"{label}: {sg} (at most {VELOCITY_GAIN_PROBLEM:.0%} allowed): the "
-                        "model would be driven by a wrong stroke rate; use a shorter window "
-                        "(--window) or a record sampled faster")
+                        "model would be driven by a wrong stroke rate; read the record with a "
+                        "shorter Savitzky-Golay window or use one sampled faster")
     elif 1.0 - gain > VELOCITY_GAIN_NOTE:
         notes.append(f"{label}: {sg}; the damping fitted is biased by about as much (a shorter "
-                     "window, --window, reduces it)")
+                     "Savitzky-Golay window reduces it)")
     if periodic and n_harm < MIN_HARMONICS:
         notes.append(f"{label}: only {n_harm} harmonics of the stroke frequency "
                      f"{record.frequency:.4g} Hz lie below 0.8 x Nyquist "

@@ -51,10 +51,10 @@ class Outlier:
     expected: float
 
     def describe(self) -> str:
-        """'line L (t = ... s): force 5e+04 N, neighbours ~ 312 N'."""
+        """'line L (t = ... s): force 5e+04 N where its neighbours give 312 N'."""
         unit, k = ("N", 1.0) if self.column == "force" else ("mm", 1e3)
         return (f"line {self.line} (t = {self.time:.6g} s): {self.column} {self.value * k:.6g} "
-                f"{unit}, its neighbours {self.expected * k:.6g} {unit}")
+                f"{unit} where its neighbours give {self.expected * k:.6g} {unit}")
 
 
 #: A spike departs from both its outer neighbours by more than this many times the record's
