@@ -5,8 +5,6 @@ from pathlib import Path
 import pytest
 
 
-#: The real test-machine records of a banded rotary friction damper with backlash
-#: (CC BY-SA 4.0, Coble, Huggins, Cao, Ricles, Downey 2022; see the folder's README).
 def _shared_data() -> Path:
     """The ../shared/data folder beside the repository (or beside a parent folder of it, as
     for a git worktree), else where it would be beside the repository."""
@@ -18,6 +16,8 @@ def _shared_data() -> Path:
 
 
 SHARED_DATA = _shared_data()
+#: The real test-machine records of a banded rotary friction damper with backlash
+#: (CC BY-SA 4.0, Coble, Huggins, Cao, Ricles, Downey 2022; see the folder's README).
 FRICTION_DAMPER_DIR = SHARED_DATA / "friction-damper-backlash"
 #: Synthetic records with undeclared effects made by an independent simulator (CC0; README
 #: and truth.json in the folder).
