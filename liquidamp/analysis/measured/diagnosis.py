@@ -242,10 +242,14 @@ class Diagnosis:
                 "noise_floors": [{"record": c.source, "force_std [N]": f.force_std,
                                   "rate_force_std [N]": f.rate_force_std,
                                   "nrmse": f.nrmse, "method": f.method,
-                                  "harmonics": f.harmonics}
+                                  "harmonics": f.harmonics,
+                                  "drift_std [N]": getattr(f, "drift_std", 0.0),
+                                  "nonstationary": bool(getattr(f, "drift", None)
+                                                        and f.drift.nonstationary)}
                                  for c, f in zip(self.conditioning[:len(self.noise_floors)],
                                                  self.noise_floors, strict=True)],
                 "conditioning": [c.as_dict() for c in self.conditioning],
+                "data_quality": [q.as_dict() for q in self.baseline.data_quality],
                 "nrmse_raw": dict(self.nrmse_raw),
                 "signatures": self.signatures, "stop_reason": self.stop_reason,
                 "unexplained": self.unexplained, "warnings": list(self.warnings),

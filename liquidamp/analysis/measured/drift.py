@@ -277,7 +277,9 @@ def record_drift(record, alpha: float = ALPHA, min_change: float = MIN_CHANGE) -
     nonstat = bool(drift_a or drift_m)
     deg = _degree([amps / A, means / A], n) if nonstat and A > 0 else 0
     pct = 100.0 * ba / A if A > 0 else 0.0
-    figures = (f"first-harmonic force amplitude {pct:+.3g} %/{unit} ({100 * ca:+.3g} % over "
+    what = ("first-harmonic force amplitude" if method == "cycles" else
+            "force amplitude (gain on the linear-device regression)")
+    figures = (f"{what} {pct:+.3g} %/{unit} ({100 * ca:+.3g} % over "
                f"{n} {unit}s, t = {ta:.3g}, p = {pa:.2g}); mean force {bm:+.3g} N/{unit} "
                f"({cm:+.4g} N, t = {tm:.3g}, p = {pm:.2g})")
     if nonstat:
