@@ -3,9 +3,13 @@
 :func:`noise_floor` estimates the force a model driven by the stroke cannot reproduce
 (cycle-to-cycle scatter; load-cell noise from the high-frequency content where the
 stroke is not periodic) and the NRMSE a perfect model would reach;
-:func:`check_record` finds isolated force spikes and other outliers
-(:class:`Outlier`), checks the loop's energy sign, the sampling and the stroke
-against the chamber, and summarizes them (:class:`DataQuality`).
+:func:`check_record` finds isolated force and displacement spikes judged against the
+record's own local rates (:func:`~liquidamp.analysis.measured.spikes.find_spikes`,
+:class:`Outlier`), tests the force for a drift over the record
+(:func:`~liquidamp.analysis.measured.drift.record_drift`), checks the loop's energy sign,
+the sampling and the stroke against the chamber, and summarizes them
+(:class:`DataQuality`).  Run it on the record as read (:func:`as_read`), never on samples
+the conditioning made.
 
 Periodic and non-periodic strokes (:attr:`Record.periodic
 <liquidamp.analysis.measured.records.Record.periodic>`): the checks that rest on
@@ -534,10 +538,10 @@ def check_record(record: Record, params: DeviceParams | None = None, *,
 
     References
     ----------
-    .. [1] F. R. Hampel, "The influence curve and its role in robust
-       estimation", JASA 69(346), 1974.
-    .. [2] R. K. Pearson, "Outliers in process modeling and identification",
-       IEEE Trans. Control Syst. Technol. 10(1), 2002 (Hampel filter).
+    .. [1] R. K. Pearson, "Outliers in process modeling and identification",
+       IEEE Trans. Control Syst. Technol. 10(1), 2002 (local outlier scales).
+    .. [2] J. S. Bendat, A. G. Piersol, Random Data, 4th ed., Wiley, 2010, Sec. 4.5
+       (stationarity from segment statistics).
 
     Examples
     --------
