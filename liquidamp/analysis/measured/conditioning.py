@@ -523,7 +523,7 @@ def condition(record: Record, *, force_cutoff: float | None = None, filter_order
                                 else v) for k, v in dec.meta.items()})
     cycles = int(math.floor((dec.time[-1] - dec.time[0]) * f + 1e-9))
     check_choice("average", average, ("auto", True, False))
-    periodic = nf.method == "cycle scatter"
+    periodic = nf.method.startswith("cycle scatter")
     if average is True and (not periodic or cycles < 2):
         raise ParameterError(
             f"{record.label} cannot be averaged over cycles: "

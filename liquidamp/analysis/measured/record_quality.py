@@ -63,7 +63,8 @@ class NoiseFloor:
         The NRMSE a perfect model driven by the recorded stroke would reach,
         hypot(force_std, rate_force_std) over the force's RMS about its mean [-].
     method : str
-        ``"cycle scatter"``: the force less its best periodic fit (all harmonics of
+        ``"cycle scatter"`` (``"cycle scatter, drift removed (degree D in time)"`` for a
+        drifting record): the force less its best periodic fit (all harmonics of
         the stroke frequency up to 0.45 x the sampling rate, at most 64), robust
         scale: the cycle-to-cycle scatter at the same phase plus what lies above the
         harmonics fitted; ``"high band"``: the
