@@ -218,6 +218,11 @@ def test_drift_rule_figures_and_noise_floor():
     nf = noise_floor(rec)
     assert nf.force_std == pytest.approx(1.5, rel=0.08) and "drift removed" in nf.method
     assert noise_floor(rec, Drift(True, False, "cycles")).force_std > 3.0
+    # the conditioning still averages its cycles, its floor with the drift removed
+    c = condition(rec)[1]
+    assert c.cycles_averaged == 29 and c.noise.method.startswith("cycle scatter, drift removed")
+    # each averaged point interpolates two samples: sigma^2 x E[(1 - a)^2 + a^2] = 2/3 sigma^2
+    assert c.noise.force_std == pytest.approx(nf.force_std * math.sqrt(2 / 3 / 29), rel=0.05)
     steady = record_drift(Record.from_arrays(t, y, F0 + noise))
     assert steady.tested and not steady.nonstationary and steady.amplitude_p > 1e-3
     creep = record_drift(Record.from_arrays(t, y, F0 + 15.0 * t / t[-1] + noise))
