@@ -243,8 +243,8 @@ class Diagnosis:
                                   "rate_force_std [N]": f.rate_force_std,
                                   "nrmse": f.nrmse, "method": f.method,
                                   "harmonics": f.harmonics,
-                                  "drift_std [N]": getattr(f, "drift_std", 0.0),
-                                  "nonstationary": bool(getattr(f, "drift", None)
+                                  "drift_std [N]": f.drift_std,
+                                  "nonstationary": bool(f.drift is not None
                                                         and f.drift.nonstationary)}
                                  for c, f in zip(self.conditioning[:len(self.noise_floors)],
                                                  self.noise_floors, strict=True)],
