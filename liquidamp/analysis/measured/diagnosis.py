@@ -244,6 +244,7 @@ class Diagnosis:
                                   "nrmse": f.nrmse, "method": f.method,
                                   "harmonics": f.harmonics,
                                   "drift_std [N]": f.drift_std,
+                                  "drift_nrmse": f.drift_nrmse,
                                   "nonstationary": bool(f.drift is not None
                                                         and f.drift.nonstationary)}
                                  for c, f in zip(self.conditioning[:len(self.noise_floors)],

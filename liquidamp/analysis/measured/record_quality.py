@@ -82,6 +82,9 @@ class NoiseFloor:
         (:func:`~liquidamp.analysis.measured.drift.record_drift`).
     drift_std : float
         RMS of the force drift kept out of ``force_std`` [N] (0 when stationary).
+    drift_nrmse : float
+        ``drift_std`` over the force's RMS about its mean [-]: the NRMSE a model of a
+        stationary device would keep from the drift alone (0 when stationary).
     """
 
     force_std: float
@@ -93,6 +96,7 @@ class NoiseFloor:
     rate_std: float = 0.0
     drift: Drift | None = None
     drift_std: float = 0.0
+    drift_nrmse: float = 0.0
 
     @property
     def std(self) -> float:
@@ -221,10 +225,10 @@ def noise_floor(record: Record, drift: Drift | None = None) -> NoiseFloor:
         if drift.nonstationary:
             method += f", drift removed (degree {drift.degree} in time)"
     F = record.force
-    return NoiseFloor(force_std=fs, displacement_std=ys,
-                      nrmse=math.hypot(fs, rs) / float(np.sqrt(np.mean((F - F.mean()) ** 2))),
+    rms = float(np.sqrt(np.mean((F - F.mean()) ** 2)))
+    return NoiseFloor(force_std=fs, displacement_std=ys, nrmse=math.hypot(fs, rs) / rms,
                       method=method, harmonics=H, rate_force_std=rs, rate_std=vs,
-                      drift=drift, drift_std=ds)
+                      drift=drift, drift_std=ds, drift_nrmse=ds / rms)
 
 
 # ---------------------------------------------------------------------------
