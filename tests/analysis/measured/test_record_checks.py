@@ -217,6 +217,8 @@ def test_drift_rule_figures_and_noise_floor():
     assert js["nonstationary"] is True and js["drift"]["amplitude_change"] == d.amplitude_change
     nf = noise_floor(rec)
     assert nf.force_std == pytest.approx(1.5, rel=0.08) and "drift removed" in nf.method
+    # the drift taken out: 0.05 (t / T - 1/2) F0, RMS 0.05 / sqrt(12) of the force's
+    assert nf.drift_nrmse == pytest.approx(0.05 / math.sqrt(12), rel=0.05)
     assert noise_floor(rec, Drift(True, False, "cycles")).force_std > 3.0
     # the conditioning still averages its cycles, its floor with the drift removed
     c = condition(rec)[1]
