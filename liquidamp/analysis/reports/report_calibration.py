@@ -336,11 +336,13 @@ def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibrat
             [[q.source, q.stroke.get("description", ""), q.force_first_harmonic,
               q.force_noise_std, q.force_snr, q.periodic_fraction,
               q.energy_per_cycle, q.loss_share, q.samples_per_cycle, q.max_stroke * 1e3,
-              len(q.outliers), _drift_cell(q)]
+              len(q.outliers), _drift_cell(q),
+              "; ".join(f"{k} {c['min']:.4g}-{c['max']:.4g} {c['unit']}"
+                        for k, c in getattr(q, "channels", {}).items()) or "-"]
              for q in first.data_quality],
             ["record", "stroke", "|F1| [N]", "noise std [N]", "signal / std. error",
              "periodic share", "energy per cycle [J]", "loss share", "samples per cycle",
-             "max |stroke| [mm]", "outliers", "drift"]))
+             "max |stroke| [mm]", "outliers", "drift", "measured channels"]))
     parts += _start_section(first)
     figs = [("records.png", plot_records(list(first.calibration) + list(first.validation)),
              "Records")]

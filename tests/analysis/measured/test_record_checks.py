@@ -38,7 +38,7 @@ def _multisine(t, rms, lo, hi, seed):
     return A * np.sin(arg).sum(1), A * (np.cos(arg) * 2 * np.pi * f).sum(1)
 
 
-def test_fast_kinks_and_yield_steps_are_not_spikes_a_30mm_sample_is():
+def test_fast_kinks_and_yield_steps_are_not_spikes_a_30mm_sample_is(tmp_path):
     """An MR-like record: broadband stroke at 3 kHz moving at up to ~0.6 m/s with 1 % kinks,
     a force with Bingham yield steps (a jump of 2 F_y in one sample at every reversal,
     F_y following a stepped voltage).  Nothing in it is a spike; one 30 mm sample is."""
@@ -58,6 +58,9 @@ def test_fast_kinks_and_yield_steps_are_not_spikes_a_30mm_sample_is():
     assert not rec.periodic
     q = check_record(rec)
     assert q.outliers == () and q.problems == ()
+    # the voltage channel is written and read back with its unit
+    back = read_record(write_record(tmp_path / "mr.csv", rec))
+    assert back.channels["voltage"] == pytest.approx(rec.channels["voltage"][10:-10], abs=1e-6)
     # a triangle stroke at 580 mm/s: a kink of 100 % of the rate at every reversal
     tri = 0.003 * (2 / np.pi) * np.arcsin(np.sin(2 * np.pi * 0.0 + 2 * np.pi * 24.2 * t))
     assert find_spikes(tri)[0].size == 0
