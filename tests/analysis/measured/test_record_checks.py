@@ -193,8 +193,9 @@ def test_independent_records_checks_and_drift_verdicts(independent_records):
             assert 0.5 * true > d.amplitude_change > 1.5 * true, (f.name, true)
             nf = noise_floor(rec)
             assert nf.force_std == pytest.approx(1.5, rel=0.1), f.name
-            stationary = Drift(True, False, "cycles")
-            assert noise_floor(rec, stationary).force_std > 1.2 * nf.force_std
+            if role == "cal":  # the drift left in, the floor was inflated
+                stationary = Drift(True, False, "cycles")
+                assert noise_floor(rec, stationary).force_std > 1.2 * nf.force_std
 
 
 def test_drift_rule_figures_and_noise_floor():
