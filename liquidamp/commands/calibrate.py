@@ -51,6 +51,12 @@ def add_fit_arguments(p) -> None:
                    default=80,
                    help="model evaluations per fit, 1-100000 (default %(default)s)")
     add_conditioning_arguments(p)
+    p.add_argument("--outliers", choices=("refuse", "drop", "keep"), default="refuse",
+                   help="spikes found in the records as read (a sample that leaves its "
+                   "neighbours and comes back by more than the record's own local rates): "
+                   "refuse (default) the records, listing every spike with its file line; "
+                   "drop the force spikes (a displacement spike is still refused: the stroke "
+                   "drives the model); keep every spike, fitted as recorded")
     add_json_argument(p, "fit")
     p.add_argument("--report", default=None, metavar="DIR",
                    help="folder for an HTML report (index.html and PNGs, written after the "
@@ -153,6 +159,21 @@ def _read(path, window: int, order: int):
                             f"byte {exc.start})") from None
 
 
+def checked(cal, val, args, params, command: str):
+    """The records after the data checks, as read, with ``--outliers``
+    (:func:`~liquidamp.analysis.measured.checks.check_records`): refused with every problem
+    and file line, or with their force spikes dropped, or their spikes kept, before any
+    conditioning."""
+    from liquidamp.analysis.measured.checks import check_records, drop_outliers, keep_outliers
+
+    recs = tuple(cal) + tuple(val)
+    quality, _ = check_records(recs, params, outliers=args.outliers, what=command, cli=True)
+    if args.outliers != "refuse":
+        how = drop_outliers if args.outliers == "drop" else keep_outliers
+        recs = tuple(how(r, q) for r, q in zip(recs, quality, strict=True))
+    return list(recs[:len(cal)]), list(recs[len(cal):])
+
+
 def load(args):
     """Records, validation records, start parameters, effects and fit spec from the arguments."""
     from liquidamp.analysis.measured.calibration import FitSpec
@@ -231,20 +252,21 @@ def run(args) -> int:
     """Calibrate; exit 1 if the fit did not converge (the JSON says so)."""
     options = solver_options(args, "fit")  # the arguments first, then the outputs
     check_fit_outputs(args, "calibrate")
-    from liquidamp.analysis.measured.calibration import calibrate, check_records
+    from liquidamp.analysis.measured.calibration import calibrate
     from liquidamp.analysis.measured.conditioning import condition
 
     cal, val, params, effects, spec = load(args)
     # spikes, noise-only records and strokes past the chamber end are found in the records
-    # as given (the conditioned ones are checked again by calibrate)
-    check_records(tuple(cal) + tuple(val), params)
+    # as read, before any conditioning (calibrate checks the same records as read again)
+    cal, val = checked(cal, val, args, params, "calibrate")
     kw = conditioning_options(args)
     cal, cc = zip(*(condition(r, **kw) for r in cal), strict=True)
     val, vc = zip(*(condition(r, **kw) for r in val), strict=True) if val else ((), ())
     with fit_progress(args, "calibrate: model evaluations") as bar:
         res = calibrate(cal, model=args.model, params=params, effects=effects, spec=spec,
                         validate=val, max_nfev=args.max_nfev, options=options,
-                        sizing=args.sizing, progress=bar.update)
+                        sizing=args.sizing, progress=bar.update,
+                        outliers=args.outliers)
     d = res.as_dict()
     d["conditioning"] = [c.as_dict() for c in cc + vc]
     if args.save_device:

@@ -10,6 +10,7 @@ from liquidamp.commands._units import COMPOSITE_NAMES, EFFECT_UNITS, name_type
 from liquidamp.commands.calibrate import (
     add_fit_arguments,
     check_fit_outputs,
+    checked,
     conditioning_options,
     fit_progress,
     load,
@@ -66,10 +67,14 @@ def run(args) -> int:
         check_choice("candidate effect", name, {**EFFECTS, **COMPOSITES})
 
     cal, val, params, effects, spec = load(args)
+    # the data checks first, as read, naming the command-line options (diagnose repeats
+    # them on the same records)
+    cal, val = checked(cal, val, args, params, "diagnose")
     with fit_progress(args, "diagnose: model evaluations") as bar:
         d = diagnose(cal, val, model=args.model, params=params, effects=effects, spec=spec,
                      candidates=args.candidate, max_steps=args.max_steps, top=args.top,
-                     max_nfev=args.max_nfev, options=options, sizing=args.sizing,
+                     max_nfev=args.max_nfev, outliers=args.outliers, options=options,
+                     sizing=args.sizing,
                      progress=bar.update, **conditioning_options(args))
     nr = d.as_dict()
     if args.save_device:

@@ -288,8 +288,9 @@ class CalibrationResult:
         out = []
         for p, r in zip(preds, recs, strict=True):
             res = p - r.force
-            idx = [o.index for lab, o in self.dropped if lab == r.label]
-            res[idx] = 0.0
+            if r.meta.get("conditioning") is None:  # indices of the record as read
+                idx = [o.index for lab, o in self.dropped if lab == r.label]
+                res[idx] = 0.0
             out.append(res)
         return out
 
