@@ -209,7 +209,7 @@ def main(argv: list[str] | None = None) -> int:
     except SystemExit as exc:  # argument errors (2), --help and --version (0)
         return exc.code if isinstance(exc.code, int) else 2
     name = getattr(args, "command_name", None) or args.command
-    from liquidamp.commands._args import route_warnings
+    from liquidamp.commands import route_warnings
 
     try:
         with route_warnings(name):
