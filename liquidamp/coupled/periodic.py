@@ -28,8 +28,9 @@ and pressure (``rho_i = r_i(p_i)`` from the rest state).  Each puts a Floquet
 multiplier at exactly 1, so the periodic orbits form a family and ``x(T) - x0``
 has a singular Jacobian.  The iteration holds the invariants of the march's start
 exactly (every iterate is projected onto their level set, which selects the orbit
-the march converges to; an invariant that a one-period run of the composed model
-does not conserve to 1e-6 is dropped) and solves
+the march converges to; an invariant that the composed model does not conserve to
+1e-6, over the march so far or over one period, is dropped: e.g. with vapour
+cavities open a chamber's density leaves its pressure curve) and solves
 
 .. math:: (M - I)\\, Z\\, a = -(x(T) - x_0), \\qquad \\Delta x = Z a,
 
@@ -413,7 +414,10 @@ def _shoot(rig, engine, x, target, options, shooting: ShootingOptions):
     swing = state_swing(X, scale)
     v_start, _ = invariants(model, params, x, y0)
     v_end, _ = invariants(model, params, x_end, y0)
-    held = np.abs(v_end - v_start) <= INVARIANT_DRIFT * (np.abs(v_start) + (v_start == 0.0))
+    size = np.abs(target) + (target == 0.0)
+    # held: conserved by this (composed) model over the march so far and over one period
+    held = ((np.abs(v_end - v_start) <= INVARIANT_DRIFT * size)
+            & (np.abs(v_start - target) <= INVARIANT_DRIFT * size))
     rows = np.flatnonzero(held)
     level = _Manifold(model, params, y0, target, swing, rows)
     x = level.project(x_end)
