@@ -480,7 +480,8 @@ def _shoot(rig, engine, x, target, options, shooting: ShootingOptions):
 
 
 def periodic_state(rig, engine, x0, options, *, route: str = "auto",
-                   shooting: ShootingOptions | None = None) -> PeriodicState:
+                   shooting: ShootingOptions | None = None,
+                   invariants_of=None) -> PeriodicState:
     """Periodic steady state of a device on the test machine (module steps 1-3).
 
     Parameters
@@ -503,6 +504,9 @@ def periodic_state(rig, engine, x0, options, *, route: str = "auto",
         ``"shooting"``: one marched period, then Newton.
     shooting : ShootingOptions, optional
         Tolerance and iterations of the Newton shooting.
+    invariants_of : array, optional
+        A state whose invariants select the orbit (default ``x0``; give the rest
+        state when ``x0`` is a warm start whose invariants are already those).
 
     Returns
     -------
@@ -533,7 +537,8 @@ def periodic_state(rig, engine, x0, options, *, route: str = "auto",
     model, params, stroke = rig.model, rig.params, rig.stroke
     x0 = np.asarray(x0, float)
     y0 = float(stroke(0.0)[0])
-    target, _ = invariants(model, params, x0, y0)
+    ref = x0 if invariants_of is None else np.asarray(invariants_of, float)
+    target, _ = invariants(model, params, ref, y0)
     stats: dict = {}
     where = stroke.describe() if hasattr(stroke, "describe") else "this stroke"
     name = f"model {model.name!r}"

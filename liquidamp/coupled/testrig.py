@@ -337,7 +337,8 @@ def simulate(model, params: DeviceParams, stroke, t_end: float, *, t_start: floa
 
 def steady_state(model, params: DeviceParams, stroke, *,
                  options: SolverOptions | None = None, x0=None, route: str = "auto",
-                 shooting: ShootingOptions | None = None) -> DeviceResponse:
+                 shooting: ShootingOptions | None = None,
+                 invariants_of=None) -> DeviceResponse:
     """Periodic steady state of ``model`` under a periodic stroke: one period of samples.
 
     The route that always arrives (:func:`liquidamp.coupled.periodic.periodic_state`):
@@ -373,6 +374,9 @@ def steady_state(model, params: DeviceParams, stroke, *,
         marching alone; ``"shooting"``: Newton from the first period.
     shooting : ShootingOptions, optional
         Tolerance and iterations of the shooting.
+    invariants_of : array, optional
+        A state whose invariants select the orbit (default ``x0``): with a warm
+        start ``x0`` from a nearby orbit, the rest state.
 
     Returns
     -------
@@ -420,7 +424,8 @@ def steady_state(model, params: DeviceParams, stroke, *,
                          stats={"route": "algebraic"})
     rig = TestRig(model, params, stroke)
     engine = engine_for(rig, options)
-    sol = periodic_state(rig, engine, x, options, route=route, shooting=shooting)
+    sol = periodic_state(rig, engine, x, options, route=route, shooting=shooting,
+                         invariants_of=invariants_of)
     return build_response(model, params, stroke, grid[:N], sol.states, options,
                           status="steady", message=sol.message, residual=sol.residual,
                           cycles=sol.cycles + sol.runs, stats=sol.stats)

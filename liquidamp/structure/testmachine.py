@@ -316,7 +316,8 @@ class FourierStroke:
 
     @classmethod
     def fit(cls, time, displacement, frequency: float, *, max_harmonics: int = 64,
-            threshold: float = 4.0, t0: float | None = None):
+            threshold: float = 4.0, t0: float | None = None,
+            refine_frequency: bool = False):
         """Least-squares periodic fit of a sampled stroke; the harmonics that stand out.
 
         Harmonics k f up to the lesser of ``max_harmonics`` and 0.45 x the sampling
@@ -337,6 +338,12 @@ class FourierStroke:
             Kept above this many standard errors [-].
         t0 : float, optional
             Time origin of the series [s] (default ``time[0]``).
+        refine_frequency : bool
+            Also fit the fundamental: the residual of the harmonics kept at
+            ``frequency`` is minimized over f within 0.1 / span of it (Brent),
+            then the series is fitted again at that f.  An estimate off by
+            df turns the phase by 2 pi df t: over 8 cycles at 7 Hz, 3e-4 Hz
+            is a force error of 0.2 % of its amplitude at the end.
 
         Returns
         -------
@@ -361,18 +368,36 @@ class FourierStroke:
         origin = float(t[0]) if t0 is None else float(t0)
         rate = (n - 1) / (t[-1] - t[0])
         H = max(1, min(int(0.45 * rate / f), int(max_harmonics)))
-        w = 2 * math.pi * f * (t - origin)
-        A = np.empty((n, 2 * H + 1))
-        A[:, 0] = 1.0
-        for k in range(1, H + 1):
-            A[:, 2 * k - 1], A[:, 2 * k] = np.sin(k * w), np.cos(k * w)
-        c, _, rank, _ = np.linalg.lstsq(A, y, rcond=None)
-        r = y - A @ c
-        sigma = float(np.sqrt(r @ r / max(n - int(rank), 1)))
-        se = sigma * math.sqrt(2.0 / n)
-        amp = np.hypot(c[1::2], c[2::2])
-        floor = max(threshold * se, 1e-9 * float(np.max(amp)))  # 1e-9: round-off of a clean fit
-        keep = [k for k in range(1, H + 1) if k == 1 or amp[k - 1] > floor]
+
+        def lsq(fk, ks):
+            w = 2 * math.pi * fk * (t - origin)
+            A = np.empty((n, 2 * len(ks) + 1))
+            A[:, 0] = 1.0
+            for j, k in enumerate(ks):
+                A[:, 2 * j + 1], A[:, 2 * j + 2] = np.sin(k * w), np.cos(k * w)
+            c, _, rank, _ = np.linalg.lstsq(A, y, rcond=None)
+            r = y - A @ c
+            return c, float(r @ r), int(rank)
+
+        def select(fk):
+            c, rss, rank = lsq(fk, range(1, H + 1))
+            sigma = math.sqrt(rss / max(n - rank, 1))
+            se = sigma * math.sqrt(2.0 / n)
+            amp = np.hypot(c[1::2], c[2::2])
+            floor = max(threshold * se, 1e-9 * float(np.max(amp)))  # 1e-9: clean round-off
+            return c, se, [k for k in range(1, H + 1) if k == 1 or amp[k - 1] > floor]
+
+        c, se, keep = select(f)
+        if refine_frequency:
+            from scipy.optimize import minimize_scalar
+
+            span = (t[-1] - t[0]) * n / (n - 1)
+            d = 0.1 / span
+            best = minimize_scalar(lambda fk: lsq(fk, keep)[1], bounds=(f - d, f + d),
+                                   method="bounded", options={"xatol": 1e-10 * f})
+            if best.fun < lsq(f, keep)[1]:
+                f = float(best.x)
+                c, se, keep = select(f)
         K = keep[-1]
         sine, cosine = np.zeros(K), np.zeros(K)
         for k in keep:
