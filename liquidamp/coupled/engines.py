@@ -217,8 +217,8 @@ class CompiledEngine(Engine):
         if isinstance(system, TestRig):
             if not isinstance(system.stroke, (HarmonicStroke, TwoFrequencyStroke,
                                               FourierStroke, RecordedStroke)):
-                return (f"the compiled engine needs a TwoFrequencyStroke, HarmonicStroke, "
-                        f"FourierStroke or RecordedStroke, got "
+                return (f"the compiled engine needs a TwoFrequencyStroke, FourierStroke, "
+                        f"HarmonicStroke or RecordedStroke, got "
                         f"{type(system.stroke).__name__}; use engine='scipy' for another "
                         "stroke callable")
             return fast.supports(system.model)

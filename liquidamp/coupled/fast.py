@@ -152,7 +152,7 @@ def _stroke_arrays(stroke):
     if isinstance(stroke, FourierStroke):
         return 3, stroke.packed(), _DUMMY, _DUMMY, _DUMMY, _DUMMY
     raise ParameterError(
-        f"engine 'compiled' needs a TwoFrequencyStroke, HarmonicStroke, FourierStroke or "
+        f"engine 'compiled' needs a TwoFrequencyStroke, FourierStroke, HarmonicStroke or "
         f"RecordedStroke, got "
         f"{type(stroke).__name__}; use engine='scipy' for another stroke callable"
     )
