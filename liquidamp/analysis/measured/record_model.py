@@ -284,8 +284,10 @@ def _simulate_periodic(model, params, record, cond, options, x0, route):
     origin = stroke.t0
     # the rig runs in time from the series' origin (t = origin is rig time 0)
     rig_stroke = FourierStroke(stroke.frequency, stroke.sine, stroke.cosine, 0.0, 0.0)
-    rest = model.initial_state(params, float(rig_stroke(0.0)[0]))
-    guess = rest if x0 is None else _onto_invariants(model, params, np.asarray(x0, float), rest)
+    y0 = float(rig_stroke(0.0)[0])
+    rest = model.initial_state(params, y0)
+    guess = rest if x0 is None else _onto_invariants(model, params, np.asarray(x0, float), rest,
+                                                     y0)
     orbit = steady_state(model, params, rig_stroke, options=options, x0=guess, route=route,
                          invariants_of=rest)
     if cond is not None:
@@ -313,21 +315,22 @@ def _simulate_periodic(model, params, record, cond, options, x0, route):
     return _response(model, params, t, X, u, options, stats, force=force, note=note)
 
 
-def _onto_invariants(model, params, x, rest):
-    """``x`` moved (minimum-norm, in state scales) onto the invariants of ``rest``."""
+def _onto_invariants(model, params, x, rest, y=0.0):
+    """``x`` moved (minimum-norm, in state scales) onto the invariants of ``rest``, both at
+    stroke ``y`` [m] (the total mass depends on the chamber volumes there)."""
     from liquidamp.coupled.periodic import invariants, project_level_set
 
     if x.shape != rest.shape:
         raise ParameterError(f"x0 must hold the {rest.size} states of model {model.name!r}, "
                              f"got shape {x.shape}")
-    target, _ = invariants(model, params, rest, 0.0)
+    target, _ = invariants(model, params, rest, y)
     if not target.size:
         return x
     scale = np.asarray(model.state_scales(params), float)
     size = np.abs(target) + (target == 0.0)
 
     def gap(z):
-        v, G = invariants(model, params, z, 0.0)
+        v, G = invariants(model, params, z, y)
         return (v - target) / size, G * scale / size[:, None]
 
     return project_level_set(x, gap, scale)
