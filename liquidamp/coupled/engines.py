@@ -30,7 +30,8 @@ The contract every engine keeps (``tests/coupled/test_engines.py`` checks
    floor 50 rtol) after at least ``options.min_cycles``, or
    ``options.max_cycles`` have passed (``converged`` False, no error); ``X``
    the last period at ``options.samples_per_period`` + 1 samples, both ends
-   included.  ``steady`` (the base class) is the march alone, raising when it
+   included (or at the sorted times ``grid`` within a period, ending at its
+   end, where given).  ``steady`` (the base class) is the march alone, raising when it
    does not converge; the route that always arrives (march, then shooting)
    is :func:`liquidamp.coupled.periodic.periodic_state`.
 5. Failures raise, never return NaN: :class:`~liquidamp.errors.PressureError`
@@ -136,9 +137,10 @@ class Engine:
         """States of ``rig`` at ``t_eval`` (contract item 3)."""
         raise NotImplementedError
 
-    def march_cycles(self, rig: TestRig, x0, options, stats: dict
+    def march_cycles(self, rig: TestRig, x0, options, stats: dict, grid=None
                      ) -> tuple[np.ndarray, int, float, float, bool]:  # pragma: no cover
-        """Whole cycles marched until the steady-state rule accepts (contract item 4)."""
+        """Whole cycles marched until the steady-state rule accepts (contract item 4);
+        ``grid``: sorted sample times within a period ending at its end (default uniform)."""
         raise NotImplementedError
 
     def steady(self, rig: TestRig, x0, options, stats: dict) -> tuple[np.ndarray, int, float]:
@@ -173,11 +175,12 @@ class ScipyEngine(Engine):
         _add_scipy_stats(stats, options, sol)
         return sol.y
 
-    def march_cycles(self, rig, x0, options, stats):
+    def march_cycles(self, rig, x0, options, stats, grid=None):
         model, params, stroke = rig.model, rig.params, rig.stroke
         T = stroke.period
-        N = options.samples_per_period
-        grid = np.arange(N + 1) * (T / N)
+        grid = (np.arange(options.samples_per_period + 1) * (T / options.samples_per_period)
+                if grid is None else np.asarray(grid, float))
+        N = grid.size - 1
         x = np.asarray(x0, float)
         prev_force = None
         prev_change = math.inf
@@ -233,10 +236,11 @@ class CompiledEngine(Engine):
                              max_step, stats=stats)
         return X
 
-    def march_cycles(self, rig, x0, options, stats):
+    def march_cycles(self, rig, x0, options, stats, grid=None):
         from liquidamp.coupled import fast
 
-        return fast.march_cycles(rig.model, rig.params, rig.stroke, x0, options, stats=stats)
+        return fast.march_cycles(rig.model, rig.params, rig.stroke, x0, options, stats=stats,
+                                 grid=grid)
 
 
 def _events(model: DeviceModel, params: DeviceParams, stroke, options):

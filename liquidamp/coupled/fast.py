@@ -340,15 +340,19 @@ def steady_loop(model: DeviceModel, params: DeviceParams, stroke: HarmonicStroke
 
 
 def march_cycles(model: DeviceModel, params: DeviceParams, stroke, x0, options, *,
-                 stats: dict | None = None):
+                 stats: dict | None = None, grid=None):
     """March whole cycles in compiled code until the steady-state rule accepts or
     ``options.max_cycles`` have passed; never raises for non-convergence.
+
+    ``grid`` (optional): sorted times within one period [s], the last at the
+    period's end, at which the states are returned and the force waveforms
+    compared (default ``options.samples_per_period`` + 1 uniform samples).
 
     Returns
     -------
     X : ndarray
-        States over the last period marched at ``options.samples_per_period`` + 1
-        uniform samples, both ends included, shape (n_states, N + 1).
+        States over the last period marched at ``grid``, both ends included,
+        shape (n_states, len(grid)).
     cycles : int
         Cycles marched.
     residual : float
@@ -368,11 +372,12 @@ def march_cycles(model: DeviceModel, params: DeviceParams, stroke, x0, options, 
     T = stroke.period
     N = options.samples_per_period
     n = model.n_states
-    out = np.empty((n, N + 1))
+    grid = (np.arange(N + 1) * (T / N) if grid is None
+            else np.ascontiguousarray(grid, dtype=float))
+    out = np.empty((n, grid.size))
     info = np.zeros(N_INFO)
     kind, sp, st, sy, sv, sa = _stroke_arrays(stroke)
     fi1, fi2 = _floor_indices(model, params)
-    grid = np.arange(N + 1) * (T / N)
     # the same compiled entry points as march, in their periodic mode
     _, rerun = _run(options, (spec, prm, ep, kind, sp, st, sy, sv, sa,
                               np.ascontiguousarray(x0, dtype=float), 0.0, float(T), grid,

@@ -338,7 +338,7 @@ def _to_go(change: float, rho: float, tol: float) -> float:
     return max(math.log(need) / math.log(rho), 0.0) if need < 1.0 else 0.0
 
 
-def _march(rig, engine, x0, options, stats):
+def _march(rig, engine, x0, options, stats, grid=None):
     """March in chunks while the march converges fast enough (module step 1).
 
     Returns ``(X, cycles, residual, change, converged, rho, why)``: the last period
@@ -354,7 +354,7 @@ def _march(rig, engine, x0, options, stats):
     while True:
         run_opts = options.replace(max_cycles=chunk,
                                    min_cycles=min(options.min_cycles, chunk) if first else 1)
-        X, c, residual, change, ok = engine.march_cycles(rig, x, run_opts, stats)
+        X, c, residual, change, ok = engine.march_cycles(rig, x, run_opts, stats, grid)
         marched += c
         if ok:
             return X, marched, residual, change, True, math.nan, ""
@@ -381,7 +381,7 @@ def _march(rig, engine, x0, options, stats):
         chunk = int(min(left, max(math.ceil(1.5 * to_go) + 3, 10)))
 
 
-def _shoot(rig, engine, x, target, options, shooting: ShootingOptions):
+def _shoot(rig, engine, x, target, options, shooting: ShootingOptions, out_grid=None):
     """Newton shooting from ``x`` with the invariant values ``target`` held (module notes).
 
     Returns ``(X, runs, iterations, newton, marched, residual, tightened_rtol)`` on
@@ -473,7 +473,7 @@ def _shoot(rig, engine, x, target, options, shooting: ShootingOptions):
             x = level.project(xT)
             xT, _ = period(x)
             marched += 1
-    xe, X = period(x, grid)
+    xe, X = period(x, grid if out_grid is None else out_grid)
     res = float(np.max(np.abs((xe - x) / scale)))
     return (X, runs, len(history) - 1, newton, marched, res,
             run_opts.rtol if tightened else None)
@@ -481,7 +481,7 @@ def _shoot(rig, engine, x, target, options, shooting: ShootingOptions):
 
 def periodic_state(rig, engine, x0, options, *, route: str = "auto",
                    shooting: ShootingOptions | None = None,
-                   invariants_of=None) -> PeriodicState:
+                   invariants_of=None, grid=None) -> PeriodicState:
     """Periodic steady state of a device on the test machine (module steps 1-3).
 
     Parameters
@@ -507,6 +507,10 @@ def periodic_state(rig, engine, x0, options, *, route: str = "auto",
     invariants_of : array, optional
         A state whose invariants select the orbit (default ``x0``; give the rest
         state when ``x0`` is a warm start whose invariants are already those).
+    grid : array, optional
+        Sorted times within one period [s] from 0, the last at the period's end,
+        at which the states are returned (and the march's force waveforms
+        compared); default ``options.samples_per_period`` uniform samples.
 
     Returns
     -------
@@ -542,15 +546,30 @@ def periodic_state(rig, engine, x0, options, *, route: str = "auto",
     stats: dict = {}
     where = stroke.describe() if hasattr(stroke, "describe") else "this stroke"
     name = f"model {model.name!r}"
+    if grid is not None:
+        grid = np.asarray(grid, float)
+        T = stroke.period
+        if (grid.ndim != 1 or grid.size < 2 or grid[0] < 0.0 or np.any(np.diff(grid) <= 0.0)
+                or abs(grid[-1] - T) > 1e-12 * T):
+            raise ParameterError(f"grid must be increasing times in [0, {T:g}] s ending at the "
+                                 "period's end")
     if route == "march":
-        X, cycles, residual = engine.steady(rig, x0, options, stats)
+        X, cycles, residual, change, ok = engine.march_cycles(rig, x0, options, stats, grid)
+        if not ok:
+            raise ConvergenceError(
+                f"{name}: no periodic steady state after {options.max_cycles} cycles at "
+                f"{where}; last relative change per cycle {change:.2e}, estimated remaining "
+                f"{residual:.2e} (allowed {options.steady_tol:g}); raise max_cycles or "
+                "steady_tol")
+        X = X[:, :-1]
         stats.update(route="march", march_cycles=cycles, shooting_runs=0, newton_iterations=0)
         msg = (f"periodic steady state after {cycles} cycles (march); estimated remaining "
                f"change {residual:.2e} of peak force ({engine.name} engine)")
         return PeriodicState(X, "march", cycles, 0, 0, residual, msg, stats)
     cycles, change, why, x = 0, math.nan, "", x0
     if route == "auto":
-        X, cycles, residual, change, ok, rho, why = _march(rig, engine, x0, options, stats)
+        X, cycles, residual, change, ok, rho, why = _march(rig, engine, x0, options, stats,
+                                                           grid)
         if ok:
             stats.update(route="march", march_cycles=cycles, shooting_runs=0,
                          newton_iterations=0)
@@ -560,7 +579,7 @@ def periodic_state(rig, engine, x0, options, *, route: str = "auto",
         x = X[:, -1]
     try:
         X, runs, iters, newton, marched, res, rtol = _shoot(rig, engine, x, target, options,
-                                                            shooting)
+                                                            shooting, grid)
     except ConvergenceError as exc:
         if route == "shooting":
             raise ConvergenceError(f"{name} at {where}: {exc}") from None

@@ -31,7 +31,7 @@ import numpy as np
 from liquidamp.analysis.measured.record_quality import velocity_gain
 from liquidamp.analysis.measured.records import Record
 from liquidamp.coupled.engines import TestRig, engine_for
-from liquidamp.coupled.periodic import ROUTES
+from liquidamp.coupled.periodic import ROUTES, periodic_state
 from liquidamp.coupled.testrig import DeviceResponse
 from liquidamp.device.models import DeviceModel, get_model
 from liquidamp.device.params import DeviceParams
@@ -275,7 +275,7 @@ def record_stroke(record: Record):
 
 def _simulate_periodic(model, params, record, cond, options, x0, route):
     """The periodic record on its periodic orbit (see :func:`simulate_record`)."""
-    from liquidamp.coupled.testrig import steady_state
+    from liquidamp.coupled.testrig import prepare_run
 
     stroke = record_stroke(record)
     _check_reach(stroke.max_abs, params)
@@ -284,12 +284,11 @@ def _simulate_periodic(model, params, record, cond, options, x0, route):
     origin = stroke.t0
     # the rig runs in time from the series' origin (t = origin is rig time 0)
     rig_stroke = FourierStroke(stroke.frequency, stroke.sine, stroke.cosine, 0.0, 0.0)
+    model, options = prepare_run(model, params, rig_stroke, options)
     y0 = float(rig_stroke(0.0)[0])
     rest = model.initial_state(params, y0)
     guess = rest if x0 is None else _onto_invariants(model, params, np.asarray(x0, float), rest,
                                                      y0)
-    orbit = steady_state(model, params, rig_stroke, options=options, x0=guess, route=route,
-                         invariants_of=rest)
     if cond is not None:
         tq, at_record = cond.model_times(t)
     else:
@@ -297,18 +296,19 @@ def _simulate_periodic(model, params, record, cond, options, x0, route):
     phase = np.mod(tq - origin, T)
     phase[phase >= T * (1.0 - 1e-12)] = 0.0
     uniq, inverse = np.unique(phase, return_inverse=True)
+    # the orbit is found on the phases the record needs (no extra period to sample it)
+    grid = np.append(uniq, T)
     rig = TestRig(model, params, rig_stroke)
     engine = engine_for(rig, options)
-    stats = dict(orbit.solver_stats)
-    te = np.append(uniq, T) if uniq[-1] < T else uniq
-    Xu = engine.march(rig, orbit.states[:, 0], 0.0, T, te, options,
-                      options.max_step_fraction * T, {})
-    Xq = np.ascontiguousarray(Xu[:, inverse])
+    orbit = periodic_state(rig, engine, guess, options, route=route, invariants_of=rest,
+                           grid=grid)
+    Xq = np.ascontiguousarray(orbit.states[:, inverse])
     uq = rig_stroke(phase)
     fq = np.broadcast_to(np.asarray(model.force(phase, Xq, uq, params), float), phase.shape)
     X = np.ascontiguousarray(Xq[:, at_record])
     u = tuple(np.asarray(q)[at_record] for q in uq)
     force = cond.model_force(fq) if cond is not None else None
+    stats = dict(orbit.stats)
     stats.update(stroke="fourier", harmonics=stroke.harmonics, velocity_gain=1.0)
     note = (f"on the periodic orbit of its cycle ({orbit.message}); stroke: Fourier series "
             f"of {stroke.harmonics} harmonic(s), exact derivatives")
