@@ -301,31 +301,13 @@ def march(model: DeviceModel, params: DeviceParams, stroke, x0, t0: float, t1: f
 
 def steady_loop(model: DeviceModel, params: DeviceParams, stroke: HarmonicStroke, x0, options,
                 *, stats: dict | None = None):
-    """Periodic steady state by marching cycles in compiled code.
+    """Periodic steady state by marching cycles in compiled code (the march alone).
 
-    ``stroke`` is a :class:`HarmonicStroke` or a commensurate
-    :class:`TwoFrequencyStroke` (a cycle is then its common period; the
-    largest step is ``options.max_step_fraction`` of the faster component's
-    period), or any stroke the compiled engine takes that has a ``period``.
-    ``stats`` (optional dict) is filled in place as by :func:`march`, over
-    all cycles marched.
-
-    Returns
-    -------
-    X : ndarray
-        States over the last period at ``options.samples_per_period`` uniform
-        samples (end point excluded), shape (n_states, N).
-    cycles : int
-        Cycles marched.
-    residual : float
-        Estimated remaining relative change of the force waveform [-].
-
-    Raises
-    ------
-    ConvergenceError
-        No steady state within ``options.max_cycles``.
-    PressureError
-        As the Python path.
+    Returns ``(X, cycles, residual)``: the last period at
+    ``options.samples_per_period`` samples (end point excluded), the cycles marched and
+    the estimated remaining relative change of the force; raises ConvergenceError after
+    ``options.max_cycles`` (:func:`march_cycles` does not; the route that always arrives
+    is :func:`liquidamp.coupled.periodic.periodic_state`).
     """
     X, cycles, residual, change, converged = march_cycles(model, params, stroke, x0, options,
                                                           stats=stats)
