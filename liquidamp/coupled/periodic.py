@@ -13,9 +13,10 @@ goes through it.
    chunks from the change per cycle at their ends, within the first from the rule's
    own estimate) and with it the cycles still to go,
    ``log(tol (1 - rho) / (d rho)) / log rho``.
-2. **Shoot** when the march stalls (``rho >= RHO_STALL``: the change sits at the
-   integration noise, as for a 1 um stroke, whose force is a small difference of
-   two large pressures) or converges too slowly (cycles to go beyond what is left of
+2. **Shoot** when the march stalls (``rho >= RHO_STALL``, or a chunk of at least 10
+   cycles that does not reduce the change per cycle by 30 %: the change sits at the
+   integration noise, as for a 1 um stroke, whose force is a small difference of two
+   large pressures) or converges too slowly (cycles to go beyond what is left of
    ``options.max_cycles``): Newton on the one-period map from the last marched state,
    with the sealed device's invariants held (below).
 3. If both fail, :class:`~liquidamp.errors.ConvergenceError` gives both routes'
@@ -88,7 +89,8 @@ MIN_RTOL = 1e-12
 #: A march whose contraction ratio per cycle is at or above this has stalled [-].
 RHO_STALL = 0.98
 
-#: Cycles of the first march chunk (at most ``options.max_cycles``) [-].
+#: Cycles of the first march chunk (at most ``options.max_cycles``) [-]; later chunks are
+#: sized by the estimated cycles to go.
 FIRST_CHUNK = 40
 
 #: Largest relative drift of an invariant over one period for it to be held [-].
@@ -359,12 +361,21 @@ def _march(rig, engine, x0, options, stats, grid=None):
         if ok:
             return X, marched, residual, change, True, math.nan, ""
         x = X[:, -1]
+        if last is not None and change > STALL_RATIO * last[1]:
+            # a whole chunk (>= 10 cycles) without the change falling by 30 %: it sits at
+            # the integration noise or converges slower than shooting would
+            rho = (change / last[1]) ** (1.0 / (marched - last[0])) if last[1] > 0 else 1.0
+            return X, marched, residual, change, False, rho, (
+                f"stalled (change per cycle {last[1]:.2e} -> {change:.2e} over "
+                f"{marched - last[0]} cycles)")
         if last is not None and last[1] > 0.0 and change > 0.0:
             rho = (change / last[1]) ** (1.0 / (marched - last[0]))
         elif math.isfinite(residual) and residual + change > 0.0 and residual < change:
-            rho = residual / (residual + change)  # residual = change rho / (1 - rho)
+            rho = residual / (residual + change)  # the rule's residual = change rho / (1 - rho)
         else:
-            rho = 1.0 if not math.isfinite(residual) or residual >= change else 0.5
+            # residual >= change: the rule saw the change grow, or fall by less than half
+            # per cycle after a whole chunk: taken as stalled
+            rho = 1.0
         last = (marched, change)
         first = False
         left = budget - marched
@@ -378,7 +389,7 @@ def _march(rig, engine, x0, options, stats, grid=None):
             return X, marched, residual, change, False, rho, (
                 f"too slow (contraction {rho:.3f} per cycle, about {to_go:.0f} cycles to "
                 f"go, {left} left)")
-        chunk = int(min(left, max(math.ceil(1.5 * to_go) + 3, 10)))
+        chunk = int(min(left, max(math.ceil(1.5 * to_go) + 3, 10), 5 * FIRST_CHUNK))
 
 
 def _shoot(rig, engine, x, target, options, shooting: ShootingOptions, out_grid=None):
