@@ -530,7 +530,9 @@ def periodic_state(rig, engine, x0, options, *, route: str = "auto",
     Raises
     ------
     ConvergenceError
-        Neither route arrived (both routes' figures in the message).
+        Neither route arrived (both routes' figures in the message; with route
+        ``"auto"`` its attribute ``marched`` holds (last marched period on ``grid``,
+        cycles, last change per cycle)).
     PressureError
         A chamber pressure at the floor during the march.
 
@@ -594,11 +596,15 @@ def periodic_state(rig, engine, x0, options, *, route: str = "auto",
     except ConvergenceError as exc:
         if route == "shooting":
             raise ConvergenceError(f"{name} at {where}: {exc}") from None
-        raise ConvergenceError(
+        err = ConvergenceError(
             f"{name}: no periodic steady state at {where}: the march {why} after {cycles} "
             f"cycles, last relative change per cycle {change:.2e} (allowed "
             f"{options.steady_tol:g} remaining); then {exc}; raise max_cycles, steady_tol "
-            "or the shooting's max_iter") from None
+            "or the shooting's max_iter")
+        # the last marched period (on ``grid``, end point excluded), for a caller that can
+        # use a state that is not periodic and says so
+        err.marched = (X[:, :-1], cycles, change)
+        raise err from None
     stats.update(route="shooting", march_cycles=cycles, shooting_runs=runs,
                  newton_iterations=iters)
     msg = (f"periodic orbit by shooting: {iters} iterations ({newton} Newton steps, "

@@ -38,7 +38,7 @@ import numpy as np
 from liquidamp.analysis.measured.record_quality import velocity_gain
 from liquidamp.analysis.measured.records import Record
 from liquidamp.coupled.engines import TestRig, engine_for
-from liquidamp.coupled.periodic import ROUTES, periodic_state
+from liquidamp.coupled.periodic import ROUTES, ShootingOptions, periodic_state
 from liquidamp.coupled.testrig import DeviceResponse
 from liquidamp.device.models import DeviceModel, get_model
 from liquidamp.device.params import DeviceParams
@@ -47,6 +47,11 @@ from liquidamp.options import SolverOptions, resolve_options
 from liquidamp.structure.testmachine import FourierStroke, RecordedStroke
 
 __all__ = ["simulate_record", "record_stroke", "integrate", "nrmse"]
+
+
+#: Newton iterations the record simulation allows the shooting (the march's last cycle,
+#: flagged, where it does not arrive: a fit must not stall on one hard point).
+RECORD_SHOOTING_ITER = 12
 
 
 def integrate(model: DeviceModel, params: DeviceParams, stroke, t_eval, x0, *,
@@ -303,15 +308,31 @@ def _simulate_periodic(model, params, record, cond, options, x0, route):
     phase = np.mod(tq - origin, T)
     phase[phase >= T * (1.0 - 1e-12)] = 0.0
     uniq, inverse = np.unique(phase, return_inverse=True)
+    warn = []
     if model.n_states:
         # the orbit is found on the phases the record needs (no extra period to sample it)
         grid = np.append(uniq, T)
         rig = TestRig(model, params, rig_stroke)
         engine = engine_for(rig, options)
-        orbit = periodic_state(rig, engine, guess, options, route=route, invariants_of=rest,
-                               grid=grid)
-        Xq = np.ascontiguousarray(orbit.states[:, inverse])
-        stats, how = dict(orbit.stats), f"on the periodic orbit of its cycle ({orbit.message})"
+        try:
+            orbit = periodic_state(rig, engine, guess, options, route=route,
+                                   invariants_of=rest, grid=grid,
+                                   shooting=ShootingOptions(max_iter=RECORD_SHOOTING_ITER))
+        except ConvergenceError as exc:
+            if getattr(exc, "marched", None) is None:
+                raise
+            # neither route arrived (e.g. vapour cavities that close ever more slowly): the
+            # last marched cycle, said so
+            states, cycles, change = exc.marched
+            Xq = np.ascontiguousarray(states[:, inverse])
+            stats = {"route": "march (not converged)", "march_cycles": cycles}
+            how = (f"NOT on a periodic orbit: the last of {cycles} marched cycles (change per "
+                   f"cycle {change:.2e}; shooting did not converge)")
+            warn.append(f"{record.label}: {how}")
+        else:
+            Xq = np.ascontiguousarray(orbit.states[:, inverse])
+            stats = dict(orbit.stats)
+            how = f"on the periodic orbit of its cycle ({orbit.message})"
     else:
         Xq = np.zeros((0, phase.size))
         stats, how = {"route": "algebraic"}, "by a model without states (no orbit needed)"
@@ -323,7 +344,8 @@ def _simulate_periodic(model, params, record, cond, options, x0, route):
     stats.update(stroke="fourier", harmonics=stroke.harmonics, velocity_gain=1.0)
     note = (f"{how}; stroke: Fourier series of {stroke.harmonics} harmonic(s), exact "
             "derivatives")
-    return _response(model, params, t, X, u, options, stats, force=force, note=note)
+    return _response(model, params, t, X, u, options, stats, force=force, note=note,
+                     warnings=warn)
 
 
 def _onto_invariants(model, params, x, rest, y=0.0):
@@ -348,12 +370,12 @@ def _onto_invariants(model, params, x, rest, y=0.0):
 
 
 def _response(model, params, t, X, u, options, stats=None, force=None,
-              note: str = "") -> DeviceResponse:
+              note: str = "", warnings=()) -> DeviceResponse:
     if force is None:
         force = np.broadcast_to(np.asarray(model.force(t, X, u, params), float), t.shape)
     force = np.array(force, float)
     p1 = p2 = None
-    warn = []
+    warn = list(warnings)
     if model.pressures is not None:
         p1, p2 = (np.broadcast_to(np.asarray(q, float), t.shape).copy()
                   for q in model.pressures(X, u, params))
