@@ -56,6 +56,10 @@ Cases (keys of ``"cases"``):
     (1 and 3 mm), as ``liquidamp stiffness`` runs it (default options: the
     compiled engine); the baseline is the same sweep on the Python engine
     (scipy Radau), measured only without ``quick`` (about a minute).
+``stiffness_1um``
+    Every preset's first-harmonic K* at 1 um, 7 frequencies 0.5-20 Hz: time, points
+    present (7 of 56 were missing before the march-then-shoot route), largest departure
+    from the equivalent linearization (:mod:`liquidamp.analysis.bench_steady`).
 ``dual_frequency``
     One dual-frequency point by harmonic balance, compiled
     (:func:`~liquidamp.analysis.response.dual_frequency.dual_frequency_stiffness`):
@@ -81,7 +85,7 @@ __all__ = ["run_bench", "GOALS", "CASES"]
 
 CASES = ("steady_state_loop", "calibration", "floquet_sweep", "coupled_rotor", "diagnosis",
          "stiffness_sweep", "diagnosis_hidden_effects", "diagnosis_3khz_20s",
-         "diagnosis_200hz_10_cycles", "dual_frequency")
+         "diagnosis_200hz_10_cycles", "dual_frequency", "stiffness_1um")
 
 #: The issue's goals: case -> (quantity, comparison, target).
 GOALS = {
@@ -99,8 +103,16 @@ GOALS = {
                                   ("seconds_freeplay", "<", 3.0),
                                   ("seconds_series_compliance", "<", 3.0)],
     "dual_frequency": [("seconds", "<", 0.05)],
+    "stiffness_1um": [("seconds", "<", 3.0), ("points_present", ">=", 56)],
     "first_call": [("cold_cache_seconds", "<", 10.0)],
 }
+
+
+def _case_stiffness_1um(quick: bool, repeats: int) -> dict:
+    """Every preset at 1 um (:mod:`liquidamp.analysis.bench_steady`)."""
+    from liquidamp.analysis.bench_steady import case_stiffness_1um
+
+    return case_stiffness_1um(quick, repeats)
 
 
 def _median_time(fn, repeats: int) -> tuple[float, object]:
@@ -691,6 +703,7 @@ def _case_dual_frequency(quick: bool, repeats: int) -> dict:
 _RUNNERS = {"steady_state_loop": _case_steady, "calibration": _case_calibration,
             "floquet_sweep": _case_floquet, "coupled_rotor": _case_coupled,
             "diagnosis": _case_diagnosis, "stiffness_sweep": _case_stiffness,
+            "stiffness_1um": _case_stiffness_1um,
             "diagnosis_hidden_effects": _case_hidden_effects,
             "diagnosis_3khz_20s": _real_rates("diagnosis_3khz_20s"),
             "diagnosis_200hz_10_cycles": _real_rates("diagnosis_200hz_10_cycles"),

@@ -15,8 +15,10 @@ engines run), called on the arrays of
 * the stroke is ``kind`` 0 (harmonic, evaluated analytically from
   ``sp = [Y, omega, offset, phase]``), 1 (recorded, linear interpolation of
   the arrays ``st, sy, sv, sa`` with the end values held outside, like
-  :func:`numpy.interp`) or 2 (two frequencies, evaluated analytically from
-  ``sp = [offset, Y1, omega1, phase1, Y2, omega2, phase2]``).
+  :func:`numpy.interp`), 2 (two frequencies, evaluated analytically from
+  ``sp = [offset, Y1, omega1, phase1, Y2, omega2, phase2]``) or 3 (a Fourier
+  series, evaluated analytically from ``sp = [offset, omega, t0, K, s_1, c_1,
+  ..., s_K, c_K]``, :class:`~liquidamp.structure.testmachine.FourierStroke`).
 
 Two steppers share one loop, one error norm ``atol_i + rtol max(|x_i|,
 |x_new,i|)``, one largest step and one polynomial form of the continuous
@@ -229,6 +231,18 @@ def stroke_eval(kind, t, sp, st, sy, sv, sa):
             y += Y * s
             v += Y * w * c
             a -= Y * w * w * s
+        return y, v, a
+    if kind == 3:  # Fourier series [offset, w, t0, K, s_1, c_1, ..., s_K, c_K]
+        y, v, a = sp[0], 0.0, 0.0
+        w, tau = sp[1], t - sp[2]
+        for k in range(1, int(sp[3]) + 1):
+            s_k, c_k = sp[2 + 2 * k], sp[3 + 2 * k]
+            kw = k * w
+            s = math.sin(kw * tau)
+            c = math.cos(kw * tau)
+            y += s_k * s + c_k * c
+            v += kw * (s_k * c - c_k * s)
+            a -= kw * kw * (s_k * s + c_k * c)
         return y, v, a
     n = st.size
     if t <= st[0]:

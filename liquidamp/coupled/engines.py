@@ -23,12 +23,17 @@ The contract every engine keeps (``tests/coupled/test_engines.py`` checks
    ``atol_i + rtol |x_i|`` (``atol = options.atol_scale * state_scales``)
    and steps no longer than ``max_step``; ``stats`` (a dict) receives the
    work counts.
-4. ``steady(rig, x0, options, stats) -> (X, cycles, residual)``: the periodic
-   steady state of a rig under a harmonic stroke, one period of
-   ``options.samples_per_period`` samples (end point excluded), accepted
-   when the estimated remaining relative change of the force waveform is
-   below ``options.steady_tol`` twice in a row (or the change is at the
-   round-off floor 50 rtol) after at least ``options.min_cycles``.
+4. ``march_cycles(rig, x0, options, stats) -> (X, cycles, residual, change,
+   converged)``: whole cycles of a rig under a periodic stroke marched until
+   the estimated remaining relative change of the force waveform is below
+   ``options.steady_tol`` twice in a row (or the change is at the round-off
+   floor 50 rtol) after at least ``options.min_cycles``, or
+   ``options.max_cycles`` have passed (``converged`` False, no error); ``X``
+   the last period at ``options.samples_per_period`` + 1 samples, both ends
+   included (or at the sorted times ``grid`` within a period, ending at its
+   end, where given).  ``steady`` (the base class) is the march alone, raising when it
+   does not converge; the route that always arrives (march, then shooting)
+   is :func:`liquidamp.coupled.periodic.periodic_state`.
 5. Failures raise, never return NaN: :class:`~liquidamp.errors.PressureError`
    when a chamber pressure reaches ``options.pressure_floor`` (models on the
    pressure-dependent bulk law), :class:`~liquidamp.errors.ConvergenceError`
@@ -57,7 +62,12 @@ from liquidamp.device.models import DeviceModel
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, ParameterError, PressureError, check_choice
 from liquidamp.structure.port import DevicePort
-from liquidamp.structure.testmachine import HarmonicStroke, RecordedStroke, TwoFrequencyStroke
+from liquidamp.structure.testmachine import (
+    FourierStroke,
+    HarmonicStroke,
+    RecordedStroke,
+    TwoFrequencyStroke,
+)
 
 __all__ = ["TestRig", "Engine", "ScipyEngine", "CompiledEngine", "ENGINES", "get_engine",
            "engine_for",
@@ -127,10 +137,25 @@ class Engine:
         """States of ``rig`` at ``t_eval`` (contract item 3)."""
         raise NotImplementedError
 
-    def steady(self, rig: TestRig, x0, options, stats: dict
-               ) -> tuple[np.ndarray, int, float]:  # pragma: no cover - abstract
-        """Periodic steady state of ``rig`` (contract item 4)."""
+    def march_cycles(self, rig: TestRig, x0, options, stats: dict, grid=None
+                     ) -> tuple[np.ndarray, int, float, float, bool]:  # pragma: no cover
+        """Whole cycles marched until the steady-state rule accepts (contract item 4);
+        ``grid``: sorted sample times within a period ending at its end (default uniform)."""
         raise NotImplementedError
+
+    def steady(self, rig: TestRig, x0, options, stats: dict) -> tuple[np.ndarray, int, float]:
+        """Periodic steady state of ``rig`` by marching alone (contract item 4): the last
+        period (end point excluded), the cycles and the estimated remaining change; raises
+        ConvergenceError after ``options.max_cycles``.  (The route that always arrives,
+        marching then shooting, is :func:`liquidamp.coupled.periodic.periodic_state`.)"""
+        X, cycles, residual, change, converged = self.march_cycles(rig, x0, options, stats)
+        if not converged:
+            raise ConvergenceError(
+                f"model {rig.model.name!r}: no periodic steady state after "
+                f"{options.max_cycles} cycles at {rig.stroke.describe()}; last relative change "
+                f"per cycle {change:.2e}, estimated remaining {residual:.2e} (allowed "
+                f"{options.steady_tol:g}); raise max_cycles or steady_tol")
+        return X[:, :-1], cycles, residual
 
 
 class ScipyEngine(Engine):
@@ -150,11 +175,12 @@ class ScipyEngine(Engine):
         _add_scipy_stats(stats, options, sol)
         return sol.y
 
-    def steady(self, rig, x0, options, stats):
+    def march_cycles(self, rig, x0, options, stats, grid=None):
         model, params, stroke = rig.model, rig.params, rig.stroke
         T = stroke.period
-        N = options.samples_per_period
-        grid = np.arange(N + 1) * (T / N)
+        grid = (np.arange(options.samples_per_period + 1) * (T / options.samples_per_period)
+                if grid is None else np.asarray(grid, float))
+        N = grid.size - 1
         x = np.asarray(x0, float)
         prev_force = None
         prev_change = math.inf
@@ -163,6 +189,7 @@ class ScipyEngine(Engine):
         from liquidamp.coupled.fast import step_period
 
         h_max = options.max_step_fraction * step_period(stroke)
+        X = None
         for k in range(options.max_cycles):
             t0 = k * T
             X = self.march(rig, x, t0, t0 + T, t0 + grid, options, h_max, stats)
@@ -174,14 +201,10 @@ class ScipyEngine(Engine):
                                                      hits, k, options.rtol, options.steady_tol,
                                                      options.min_cycles)
                 if hits >= 2:
-                    return X[:, :N], k + 1, min(residual, change)
+                    return X, k + 1, min(residual, change), change, True
                 prev_change = change
             prev_force = force
-        raise ConvergenceError(
-            f"model {model.name!r}: no periodic steady state after {options.max_cycles} "
-            f"cycles at {stroke.describe()}; last relative change "
-            f"per cycle {prev_change:.2e}, estimated remaining {residual:.2e} (allowed "
-            f"{options.steady_tol:g}); raise max_cycles or steady_tol")
+        return X, options.max_cycles, residual, prev_change, False
 
 
 class CompiledEngine(Engine):
@@ -196,9 +219,9 @@ class CompiledEngine(Engine):
 
         if isinstance(system, TestRig):
             if not isinstance(system.stroke, (HarmonicStroke, TwoFrequencyStroke,
-                                              RecordedStroke)):
-                return (f"the compiled engine needs a TwoFrequencyStroke, HarmonicStroke or "
-                        f"RecordedStroke, got "
+                                              FourierStroke, RecordedStroke)):
+                return (f"the compiled engine needs a TwoFrequencyStroke, FourierStroke, "
+                        f"HarmonicStroke or RecordedStroke, got "
                         f"{type(system.stroke).__name__}; use engine='scipy' for another "
                         "stroke callable")
             return fast.supports(system.model)
@@ -213,10 +236,11 @@ class CompiledEngine(Engine):
                              max_step, stats=stats)
         return X
 
-    def steady(self, rig, x0, options, stats):
+    def march_cycles(self, rig, x0, options, stats, grid=None):
         from liquidamp.coupled import fast
 
-        return fast.steady_loop(rig.model, rig.params, rig.stroke, x0, options, stats=stats)
+        return fast.march_cycles(rig.model, rig.params, rig.stroke, x0, options, stats=stats,
+                                 grid=grid)
 
 
 def _events(model: DeviceModel, params: DeviceParams, stroke, options):

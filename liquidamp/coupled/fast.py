@@ -79,10 +79,16 @@ from liquidamp.device import kernels as DK
 from liquidamp.device.models import BASES, DeviceModel
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, ParameterError, PressureError
-from liquidamp.structure.testmachine import HarmonicStroke, RecordedStroke, TwoFrequencyStroke
+from liquidamp.structure.testmachine import (
+    FourierStroke,
+    HarmonicStroke,
+    RecordedStroke,
+    TwoFrequencyStroke,
+)
 
 __all__ = ["COMPILED_MODELS", "supports", "check_compiled", "march", "RotorRun",
            "simulate_rotor", "simulate_blade", "FlowRun", "second_order_flow", "steady_loop",
+           "march_cycles",
            "step_period", "warm_up"]
 
 #: Registry names of the base models the compiled engine runs: all of them, with any
@@ -143,8 +149,11 @@ def _stroke_arrays(stroke):
         sp = np.array([stroke.offset, stroke.amplitude1, stroke.omega1, stroke.phase1,
                        stroke.amplitude2, stroke.omega2, stroke.phase2])
         return 2, sp, _DUMMY, _DUMMY, _DUMMY, _DUMMY
+    if isinstance(stroke, FourierStroke):
+        return 3, stroke.packed(), _DUMMY, _DUMMY, _DUMMY, _DUMMY
     raise ParameterError(
-        f"engine 'compiled' needs a TwoFrequencyStroke, HarmonicStroke or RecordedStroke, got "
+        f"engine 'compiled' needs a TwoFrequencyStroke, FourierStroke, HarmonicStroke or "
+        f"RecordedStroke, got "
         f"{type(stroke).__name__}; use engine='scipy' for another stroke callable"
     )
 
@@ -292,40 +301,65 @@ def march(model: DeviceModel, params: DeviceParams, stroke, x0, t0: float, t1: f
 
 def steady_loop(model: DeviceModel, params: DeviceParams, stroke: HarmonicStroke, x0, options,
                 *, stats: dict | None = None):
-    """Periodic steady state by marching cycles in compiled code.
+    """Periodic steady state by marching cycles in compiled code (the march alone).
 
-    ``stroke`` is a :class:`HarmonicStroke` or a commensurate
-    :class:`TwoFrequencyStroke` (a cycle is then its common period; the
-    largest step is ``options.max_step_fraction`` of the faster component's
-    period).  ``stats`` (optional dict) is filled in place as by
-    :func:`march`, over all cycles marched.
+    Returns ``(X, cycles, residual)``: the last period at
+    ``options.samples_per_period`` samples (end point excluded), the cycles marched and
+    the estimated remaining relative change of the force; raises ConvergenceError after
+    ``options.max_cycles`` (:func:`march_cycles` does not; the route that always arrives
+    is :func:`liquidamp.coupled.periodic.periodic_state`).
+    """
+    X, cycles, residual, change, converged = march_cycles(model, params, stroke, x0, options,
+                                                          stats=stats)
+    if not converged:
+        raise ConvergenceError(
+            f"model {model.name!r}: no periodic steady state after {options.max_cycles} cycles "
+            f"at {stroke.describe()}; last relative change per "
+            f"cycle {change:.2e}, estimated remaining {residual:.2e} (allowed "
+            f"{options.steady_tol:g}); raise max_cycles or steady_tol"
+        )
+    return X[:, :-1], cycles, residual
+
+
+def march_cycles(model: DeviceModel, params: DeviceParams, stroke, x0, options, *,
+                 stats: dict | None = None, grid=None):
+    """March whole cycles in compiled code until the steady-state rule accepts or
+    ``options.max_cycles`` have passed; never raises for non-convergence.
+
+    ``grid`` (optional): sorted times within one period [s], the last at the
+    period's end, at which the states are returned and the force waveforms
+    compared (default ``options.samples_per_period`` + 1 uniform samples).
 
     Returns
     -------
     X : ndarray
-        States over the last period at ``options.samples_per_period`` uniform
-        samples (end point excluded), shape (n_states, N).
+        States over the last period marched at ``grid``, both ends included,
+        shape (n_states, len(grid)).
     cycles : int
         Cycles marched.
     residual : float
-        Estimated remaining relative change of the force waveform [-].
+        Estimated remaining relative change of the force waveform [-] (inf before
+        two cycles).
+    change : float
+        Last relative change of the force waveform per cycle [-].
+    converged : bool
+        Whether the rule of :func:`liquidamp.coupled.testrig.steady_state` accepted.
 
     Raises
     ------
-    ConvergenceError
-        No steady state within ``options.max_cycles``.
-    PressureError
-        As the Python path.
+    PressureError, ConvergenceError
+        A pressure at the floor or a failed step (as :func:`march`).
     """
     spec, prm, ep = check_compiled(model).packed(params)
     T = stroke.period
     N = options.samples_per_period
     n = model.n_states
-    out = np.empty((n, N + 1))
+    grid = (np.arange(N + 1) * (T / N) if grid is None
+            else np.ascontiguousarray(grid, dtype=float))
+    out = np.empty((n, grid.size))
     info = np.zeros(N_INFO)
     kind, sp, st, sy, sv, sa = _stroke_arrays(stroke)
     fi1, fi2 = _floor_indices(model, params)
-    grid = np.arange(N + 1) * (T / N)
     # the same compiled entry points as march, in their periodic mode
     _, rerun = _run(options, (spec, prm, ep, kind, sp, st, sy, sv, sa,
                               np.ascontiguousarray(x0, dtype=float), 0.0, float(T), grid,
@@ -338,19 +372,12 @@ def steady_loop(model: DeviceModel, params: DeviceParams, stroke: HarmonicStroke
     _fill_stats(stats, options, info, rerun)
     status = int(info[0])
     cycles = int(info[5])
-    if status == K.ST_NOT_CONVERGED:
-        raise ConvergenceError(
-            f"model {model.name!r}: no periodic steady state after {options.max_cycles} cycles "
-            f"at {stroke.describe()}; last relative change per "
-            f"cycle {info[7]:.2e}, estimated remaining {info[6]:.2e} (allowed "
-            f"{options.steady_tol:g}); raise max_cycles or steady_tol"
-        )
-    k = cycles
-    _raise_status(model, options, info, k * T, (k + 1) * T)
-    X = out[:, :N]
-    if not np.all(np.isfinite(X)):
+    converged = status != K.ST_NOT_CONVERGED
+    if converged:
+        _raise_status(model, options, info, cycles * T, (cycles + 1) * T)
+    if not np.all(np.isfinite(out)):
         raise ConvergenceError(f"model {model.name!r}: non-finite state in time integration")
-    return X, cycles, float(info[6])
+    return out, cycles, float(info[6]), float(info[7]), converged
 
 
 def step_period(stroke) -> float:

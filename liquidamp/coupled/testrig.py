@@ -3,10 +3,12 @@
 The host is the test machine of :mod:`liquidamp.structure.testmachine`, which
 prescribes the stroke; the device is any registered model of
 :mod:`liquidamp.device.models`.  :func:`simulate` marches over a time span;
-:func:`steady_state` marches whole excitation cycles until the force waveform
-stops changing, judged by the change between successive cycles and the rate
-at which it shrinks (an estimate of the distance still to go, not a guessed
-cycle count).
+:func:`steady_state` finds the periodic steady state by the route that always
+arrives (:mod:`liquidamp.coupled.periodic`): whole excitation cycles marched
+until the force waveform stops changing, judged by the change between
+successive cycles and the rate at which it shrinks (an estimate of the
+distance still to go, not a guessed cycle count), and Newton shooting with the
+sealed device's invariants where the march stalls or is too slow.
 
 References
 ----------
@@ -22,12 +24,13 @@ from types import MappingProxyType
 import numpy as np
 
 from liquidamp.coupled.engines import TestRig, engine_for
+from liquidamp.coupled.periodic import ROUTES, ShootingOptions, periodic_state
 from liquidamp.device.effects import least_pressures
 from liquidamp.device.models import get_model
 from liquidamp.device.params import DeviceParams
-from liquidamp.errors import ParameterError
+from liquidamp.errors import ParameterError, check_choice
 from liquidamp.options import SolverOptions, resolve_options
-from liquidamp.structure.testmachine import HarmonicStroke, TwoFrequencyStroke
+from liquidamp.structure.testmachine import FourierStroke, HarmonicStroke, TwoFrequencyStroke
 
 __all__ = ["DeviceResponse", "simulate", "steady_state", "check_stroke", "prepare_run",
            "build_response"]
@@ -332,16 +335,22 @@ def simulate(model, params: DeviceParams, stroke, t_end: float, *, t_start: floa
                      message=f"integrated {t_end - t_start:.4g} s", stats=stats)
 
 
-def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
-                 options: SolverOptions | None = None, x0=None) -> DeviceResponse:
-    """Periodic steady state of ``model`` under a harmonic stroke: one period of samples.
+def steady_state(model, params: DeviceParams, stroke, *,
+                 options: SolverOptions | None = None, x0=None, route: str = "auto",
+                 shooting: ShootingOptions | None = None,
+                 invariants_of=None) -> DeviceResponse:
+    """Periodic steady state of ``model`` under a periodic stroke: one period of samples.
 
-    Cycles are marched one at a time.  After each, the change of the force
+    The route that always arrives (:func:`liquidamp.coupled.periodic.periodic_state`):
+    cycles are marched one at a time.  After each, the change of the force
     waveform against the previous cycle, relative to the force peak, is
     ``d_k``; with the contraction ratio ``rho = d_k / d_{k-1}`` the distance
-    still to go is estimated as ``d_k rho / (1 - rho)``.  The run stops when
+    still to go is estimated as ``d_k rho / (1 - rho)``.  The march stops when
     that estimate (or ``d_k`` itself once the change is at round-off level)
-    is below ``options.steady_tol`` for two cycles in a row.
+    is below ``options.steady_tol`` for two cycles in a row.  Where the march
+    stalls (the change sits at the integration noise) or would need more
+    cycles than ``options.max_cycles`` leaves, Newton shooting with the sealed
+    device's invariants held takes over from the last marched state.
 
     Parameters
     ----------
@@ -349,7 +358,7 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
         Registered model.
     params : DeviceParams
         Device parameters.
-    stroke : HarmonicStroke or TwoFrequencyStroke
+    stroke : HarmonicStroke, TwoFrequencyStroke or FourierStroke
         Excitation; a two-frequency stroke must have a common period
         (commensurate frequencies, :attr:`TwoFrequencyStroke.common_period`),
         which is then the cycle.
@@ -358,20 +367,34 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
         cycle loop runs in the numba core of :mod:`liquidamp.coupled.fast`).
         Default: the ``"default"`` preset (:data:`liquidamp.options.PRESETS`).
     x0 : array, optional
-        Initial state (default: rest at ``p0``).
+        Initial state, a first guess (default: rest at ``p0``); its invariants
+        (total mass, density-pressure relations) select the orbit.
+    route : {"auto", "march", "shooting"}
+        ``"auto"`` (default): march, then shoot where needed; ``"march"``:
+        marching alone; ``"shooting"``: Newton from the first period.
+    shooting : ShootingOptions, optional
+        Tolerance and iterations of the shooting.
+    invariants_of : array, optional
+        A state whose invariants select the orbit (default ``x0``): with a warm
+        start ``x0`` from a nearby orbit, the rest state.
 
     Returns
     -------
     DeviceResponse
         The last period (``options.samples_per_period`` samples, the end
-        point excluded), ``status = "steady"``, ``residual`` the estimated
-        remaining relative change, ``cycles`` the cycles marched (common
-        periods for a two-frequency stroke).
+        point excluded, time from 0), ``status = "steady"``; ``residual``
+        the march's estimated remaining relative change of the force or the
+        shooting's periodicity residual (state scales); ``cycles`` the cycles
+        marched plus the shooting's one-period runs; ``message`` and
+        ``solver_stats["route"]`` (``"march"`` or ``"shooting"``) say which
+        route arrived (``solver_stats`` also holds ``march_cycles``,
+        ``shooting_runs``, ``newton_iterations``).
 
     Raises
     ------
     ConvergenceError
-        If ``options.max_cycles`` pass without convergence.
+        If neither route arrives (the march's cycles and last change, the
+        shooting's iterations and residual).
     PressureError, ParameterError
         As for :func:`simulate`.
 
@@ -379,26 +402,30 @@ def steady_state(model, params: DeviceParams, stroke: HarmonicStroke, *,
     --------
     >>> from liquidamp.device import preset
     >>> r = steady_state("full", preset("reference"), HarmonicStroke(0.003, 3.0))
-    >>> r.status, r.residual < 1e-6, r.mass_error < 1e-9
-    ('steady', True, True)
+    >>> r.status, r.residual < 1e-6, r.mass_error < 1e-9, r.solver_stats["route"]
+    ('steady', True, True, 'march')
     """
     model, options = prepare_run(model, params, stroke, options)
-    if not isinstance(stroke, (HarmonicStroke, TwoFrequencyStroke)):
-        raise ParameterError("steady_state needs a HarmonicStroke or a TwoFrequencyStroke; use "
-                             "simulate() for a record")
+    if not isinstance(stroke, (HarmonicStroke, TwoFrequencyStroke, FourierStroke)):
+        raise ParameterError("steady_state needs a HarmonicStroke, a TwoFrequencyStroke or a "
+                             "FourierStroke; use simulate() for a record")
+    check_choice("periodic-state route", route, ROUTES)
     T = stroke.period  # a two-frequency stroke without a common period raises here
     N = options.samples_per_period
     x = model.initial_state(params, float(stroke(0.0)[0])) if x0 is None else np.asarray(
         x0, float)
+    if x.shape != (model.n_states,):
+        raise ParameterError(f"x0 must hold the {model.n_states} states of model "
+                             f"{model.name!r}, got shape {x.shape}")
     grid = np.arange(N + 1) * (T / N)
     if model.n_states == 0:
         return build_response(model, params, stroke, grid[:N], np.zeros((0, N)), options,
-                         status="steady", message="algebraic model: steady at once", cycles=1)
+                         status="steady", message="algebraic model: steady at once", cycles=1,
+                         stats={"route": "algebraic"})
     rig = TestRig(model, params, stroke)
     engine = engine_for(rig, options)
-    stats = {}
-    Xp, cycles, residual = engine.steady(rig, x, options, stats)
-    msg = (f"periodic steady state after {cycles} cycles; estimated remaining change "
-           f"{residual:.2e} of peak force ({engine.name} engine)")
-    return build_response(model, params, stroke, grid[:N], Xp, options, status="steady",
-                     message=msg, residual=residual, cycles=cycles, stats=stats)
+    sol = periodic_state(rig, engine, x, options, route=route, shooting=shooting,
+                         invariants_of=invariants_of)
+    return build_response(model, params, stroke, grid[:N], sol.states, options,
+                          status="steady", message=sol.message, residual=sol.residual,
+                          cycles=sol.cycles + sol.runs, stats=sol.stats)

@@ -177,11 +177,26 @@ def build(base_params: DeviceParams, effects: tuple[Effect, ...], spec: FitSpec,
 
 
 def predict(model, params: DeviceParams, effects, records, *, options=None,
-            preroll: int = 1) -> list[np.ndarray]:
-    """Model force [N] for each record (driven by its stroke)."""
+            preroll: int | None = None, warm: dict | None = None) -> list[np.ndarray]:
+    """Model force [N] for each record (driven by its stroke).
+
+    ``warm`` (optional dict, updated in place): the orbit state at each periodic record's
+    first sample from the previous call, by record index, as the first guess of the next
+    periodic orbit (:func:`~liquidamp.analysis.measured.record_model.simulate_record`,
+    ``x0``); ``preroll`` is ignored (kept for existing calls).
+    """
     m = with_effects(get_model(model), *effects)
     opts = resolve_options(options, "fit")
-    return [simulate_record(m, params, r, options=opts, preroll=preroll).force for r in records]
+    out = []
+    for i, r in enumerate(records):
+        x0 = None if warm is None else warm.get(i)
+        if x0 is not None and x0.shape != (m.n_states,):
+            x0 = None
+        resp = simulate_record(m, params, r, options=opts, x0=x0)
+        if warm is not None and r.periodic and m.n_states:
+            warm[i] = np.array(resp.states[:, 0])
+        out.append(resp.force)
+    return out
 
 
 # ---------------------------------------------------------------------------
@@ -304,6 +319,7 @@ class _Objective:
         self.nfev = 0
         self.failures = 0
         self.last_error = ""
+        self.warm: dict = {}  # the last periodic orbits, first guesses of the next
 
     def values(self, x) -> dict:
         v = dict(self.fixed)
@@ -314,7 +330,7 @@ class _Objective:
     def forces(self, values):
         params, effects = build(self.base, self.effects, self.spec, values)
         return params, effects, predict(self.model, params, effects, self.records,
-                                        options=self.options, preroll=self.preroll)
+                                        options=self.options, warm=self.warm)
 
     def __call__(self, x):
         self.nfev += 1

@@ -232,6 +232,21 @@ class Conditioning:
         stroke at 8 points per fitted sample over one period, both ends included."""
         return self._stroke
 
+    def fourier_stroke(self):
+        """For an averaged record: its stroke's periodic fit as a
+        :class:`~liquidamp.structure.testmachine.FourierStroke` about the mean, time origin
+        the averaged cycle's start (exact derivatives); None otherwise."""
+        if self._average is None:
+            return None
+        from liquidamp.structure.testmachine import FourierStroke
+
+        series = self._average["series"]
+        K = max(k for k, _, _ in series)
+        sine, cosine = np.zeros(K), np.zeros(K)
+        for k, a_k, b_k in series:
+            sine[k - 1], cosine[k - 1] = a_k, b_k
+        return FourierStroke(self.stroke_frequency, sine, cosine, 0.0, self._average["t_start"])
+
     def model_force(self, force) -> np.ndarray:
         """Condition a model force given at :meth:`model_times` as the record's was [N].
 
@@ -617,6 +632,7 @@ def _average(dec: Record, cond: Conditioning, cycles: int, meta: dict, t_orig):
     cond = replace(cond, cycles_averaged=cycles, noise=noise, removed_by_stage=stages,
                    _stroke=stroke, samples=M,
                    _average={"t_start": ts, "period": T, "grid": grid, "inputs": inputs,
+                             "series": tuple(series),
                              "points": M, "sample_index": np.searchsorted(grid, psi),
                              "record_index": np.searchsorted(grid, phases),
                              "i": i, "a": a})

@@ -94,7 +94,7 @@ import numpy as np
 
 from liquidamp.analysis.response import _torus
 from liquidamp.analysis.response._dual_time import time_route
-from liquidamp.analysis.response.periodic import state_swing
+from liquidamp.coupled.periodic import state_swing
 from liquidamp.device import kernels as K
 from liquidamp.device.fluid import bulk_modulus_gholizadeh
 from liquidamp.device.models import DeviceModel, ViscousParams, get_model

@@ -27,7 +27,8 @@ import numpy as np
 
 from liquidamp.errors import ParameterError, check_positive
 
-__all__ = ["first_harmonic", "DynamicStiffness", "dynamic_stiffness", "check_samples"]
+__all__ = ["first_harmonic", "DynamicStiffness", "dynamic_stiffness", "check_samples",
+           "check_whole_periods", "WHOLE_PERIOD_TOL"]
 
 
 def check_samples(name: str, values, unit: str = "-", *, where: str = "") -> np.ndarray:
@@ -78,6 +79,58 @@ def check_samples(name: str, values, unit: str = "-", *, where: str = "") -> np.
     return arr
 
 
+#: Largest departure of a span from a whole number of periods (relative to the span) and
+#: of a time step from the mean step (relative to that step) [-].
+WHOLE_PERIOD_TOL = 1e-6
+
+
+def check_whole_periods(t, frequency: float, *, where: str = "first_harmonic") -> int:
+    """Raise unless ``t`` is uniform and spans a whole number of periods (end point excluded).
+
+    Parameters
+    ----------
+    t : ndarray
+        Sample times [s], at least 2.
+    frequency : float
+        Fundamental frequency [Hz].
+    where : str
+        Calling function, first in the message.
+
+    Returns
+    -------
+    int
+        The number of whole periods spanned.
+
+    Raises
+    ------
+    ParameterError
+        Naming the span in periods and what is allowed.
+
+    Examples
+    --------
+    >>> check_whole_periods(np.arange(64) / 32.0, 1.0)
+    2
+    >>> check_whole_periods(np.arange(30) / 200.0, 1.0)
+    Traceback (most recent call last):
+    ...
+    liquidamp.errors.ParameterError: first_harmonic needs uniform samples over a whole ... the 30
+    samples span 0.15 period(s) of 1 Hz
+    """
+    t = np.asarray(t, float)
+    n = t.size
+    dt = (t[-1] - t[0]) / (n - 1)
+    periods = n * dt * frequency
+    whole = int(round(periods))
+    uniform = dt > 0 and float(np.max(np.abs(np.diff(t) - dt))) <= WHOLE_PERIOD_TOL * dt
+    if not uniform or whole < 1 or abs(periods - whole) > WHOLE_PERIOD_TOL * whole:
+        what = "are not uniform" if not uniform else f"span {periods:.4g} period(s) of " \
+            f"{frequency:g} Hz"
+        raise ParameterError(
+            f"{where} needs uniform samples over a whole number of periods (end point "
+            f"excluded, e.g. one period of a steady state); the {n} samples {what}")
+    return whole
+
+
 def first_harmonic(t, signal, frequency: float) -> complex:
     """Complex first harmonic a + i b of ``signal`` ~ a sin(wt) + b cos(wt).
 
@@ -100,8 +153,10 @@ def first_harmonic(t, signal, frequency: float) -> complex:
     ------
     ParameterError
         If ``t`` or ``signal`` holds NaN or inf (the argument, the first bad
-        index and the count are named), if the shapes differ, or if
-        ``frequency`` is not finite and > 0.
+        index and the count are named), if the shapes differ, if
+        ``frequency`` is not finite and > 0, or if ``t`` is not uniform over a
+        whole number of periods (:func:`check_whole_periods`): over part of a
+        period the sums are not the Fourier coefficients.
 
     Examples
     --------
@@ -116,6 +171,7 @@ def first_harmonic(t, signal, frequency: float) -> complex:
         raise ParameterError(f"first_harmonic needs matching 1-D arrays of >= 4 samples, got t "
                              f"of shape {t.shape} and signal of shape {s.shape}")
     frequency = check_positive("first_harmonic: frequency", frequency, "Hz")
+    check_whole_periods(t, frequency, where="first_harmonic")
     w = 2.0 * math.pi * frequency
     a = 2.0 * float(np.mean(s * np.sin(w * t)))
     b = 2.0 * float(np.mean(s * np.cos(w * t)))
@@ -191,6 +247,12 @@ def dynamic_stiffness(response) -> DynamicStiffness:
         Output of :func:`liquidamp.coupled.testrig.steady_state` (one period,
         uniform samples, harmonic stroke).
 
+    Raises
+    ------
+    ParameterError
+        For a response that is not a steady state (``status`` other than
+        ``"steady"``), not under a harmonic stroke, or not over whole periods.
+
     Returns
     -------
     DynamicStiffness
@@ -209,6 +271,11 @@ def dynamic_stiffness(response) -> DynamicStiffness:
     f = response.frequency
     if f is None:
         raise ParameterError("dynamic_stiffness needs a response to a harmonic stroke")
+    if response.status != "steady":
+        raise ParameterError(
+            f"dynamic_stiffness needs a periodic steady state (liquidamp.coupled.testrig."
+            f"steady_state), got a response with status {response.status!r} "
+            f"({response.message}): a run from rest holds its start-up transient")
     Y1 = first_harmonic(response.time, response.stroke, f)
     F1 = first_harmonic(response.time, response.force, f)
     return DynamicStiffness(frequency=f, amplitude=abs(Y1), value=F1 / Y1)

@@ -33,9 +33,9 @@ Orbit (:func:`forced_orbit`)
     and :func:`coupled_jacobian` for any host (the reference route; the two
     agree to 1e-7 in the scaled monodromy, tested).  A sealed
     device conserves its fluid mass and, per chamber, the relation between
-    density and pressure (:func:`~liquidamp.analysis.response.periodic.invariants`):
+    density and pressure (:func:`~liquidamp.coupled.periodic.invariants`):
     each invariant puts a multiplier at exactly 1, so the orbits form a
-    family.  As in :func:`~liquidamp.analysis.response.periodic.periodic_orbit`,
+    family.  As in :func:`~liquidamp.coupled.periodic.periodic_state`,
     every iterate is projected onto the level set of the invariants of the
     start (the devices at rest) and the Newton equation
     ``(Phi - I) Z a = -(x(T) - x0)`` is solved on its tangent space ``Z``
@@ -72,10 +72,10 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from liquidamp.analysis.response.periodic import invariants, project_level_set
 from liquidamp.analysis.stability.floquet import FloquetResult, floquet_from_monodromy
 from liquidamp.coupled import _rotor_kernel as RK
 from liquidamp.coupled.assembly import CoupledSystem
+from liquidamp.coupled.periodic import invariants, project_level_set
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, ParameterError, check_positive
 from liquidamp.options import SolverOptions, resolve_options

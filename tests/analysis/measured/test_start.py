@@ -175,7 +175,8 @@ def test_refusal_says_what_was_tried(vehicle):
     msg = str(exc.value)
     assert "no start can be used on 1.5 Hz, 18 mm" in msg
     assert "spec (paper_initial; inv_gamma1 1, inv_gamma2 1, c1 1, c2 1): NRMSE 7.3" in msg
-    assert f"against {peak:.4g} N measured" in msg and "peak force 1637 N" in msg
+    # 1637 N from the biased pre-rolled run before; 1636 N on the periodic orbit (issue #19)
+    assert f"against {peak:.4g} N measured" in msg and re.search(r"peak force 163[67] N", msg)
     # both absorb energy (the sign agrees: not a flip)
     assert re.search(r"loss share \+0\.9\d against \+0\.9\d", msg)
     assert "likely cause: scale" in msg and "sizing='data'" in msg

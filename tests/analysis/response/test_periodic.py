@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from liquidamp.analysis.response import periodic
 from liquidamp.analysis.response.harmonics import dynamic_stiffness
 from liquidamp.analysis.response.periodic import invariants, periodic_orbit
+from liquidamp.coupled import periodic
 from liquidamp.coupled.testrig import steady_state
 from liquidamp.device import preset
 from liquidamp.device.models import get_model
