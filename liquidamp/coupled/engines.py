@@ -269,10 +269,16 @@ def _solve_span(model, params, stroke, x0, t0, t1, t_eval, options, max_step):
     kwargs = {}
     if jac is not None and options.method in ("Radau", "BDF", "LSODA"):
         kwargs["jac"] = lambda t, x: jac(t, x, stroke(t), params)
-    sol = solve_ivp(
-        f, (t0, t1), x0, method=options.method, t_eval=t_eval, rtol=options.rtol, atol=atol,
-        events=_events(model, params, stroke, options), max_step=max_step, **kwargs,
-    )
+    # scipy's Radau step predictor divides by the previous step, which is zero after a
+    # step rejected down to zero width at a contact (freeplay, end stops); scipy guards the
+    # next line with errstate(divide='ignore') and the quotient only enters min(1, .), so
+    # the division by zero is harmless: silence it here, not in the user's filters
+    with np.errstate(divide="ignore"):
+        sol = solve_ivp(
+            f, (t0, t1), x0, method=options.method, t_eval=t_eval, rtol=options.rtol,
+            atol=atol, events=_events(model, params, stroke, options), max_step=max_step,
+            **kwargs,
+        )
     if sol.status == 1:
         tz = float(sol.t_events[0][0])
         raise PressureError(
