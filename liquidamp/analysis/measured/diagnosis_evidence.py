@@ -95,6 +95,8 @@ class Candidate:
         Passed the selection rule (module doc, step 5).
     note : str
         Why not applicable, what happened in the refit, or which test it failed.
+    validation_records : dict
+        Held-out NRMSE of the refit per record (label -> NRMSE [-]).
     """
 
     effect: str
@@ -110,6 +112,7 @@ class Candidate:
     parameters: dict = field(default_factory=dict)
     accepted: bool = False
     note: str = ""
+    validation_records: dict = field(default_factory=dict)
 
     def as_dict(self) -> dict:
         """JSON-ready evidence."""

@@ -106,8 +106,9 @@ def _judge(name, formula, params, predict, calibration, validation) -> Reference
     def per(recs):
         return tuple((r.label, nrmse(predict(r), r.force)) for r in recs)
 
-    pooled = (lambda recs: nrmse([predict(r) for r in recs], [r.force for r in recs])
-              if recs else None)
+    def pooled(recs):
+        return nrmse([predict(r) for r in recs], [r.force for r in recs]) if recs else None
+
     return ReferenceFit(name, formula, params, per(calibration), per(validation),
                         pooled(calibration), pooled(validation))
 
