@@ -44,15 +44,15 @@ class Step:
     def as_dict(self) -> dict:
         """JSON-ready step (``fit``: whether the refit converged; ``confounded``: evidence
         that a fitted device parameter mimics the effect, see ``CONFOUNDED``;
-        ``validation_records``: held-out NRMSE per record)."""
+        ``heldout_records``: held-out NRMSE per record)."""
         fit = ({"converged": self.result.converged, "status": self.result.status,
                 "message": self.result.message, "nfev": self.result.nfev}
                if self.result is not None else {})
         per = heldout_per_record(self.result) if self.result is not None else {}
         return {"effect": self.effect, "parameters": self.parameters,
                 "nrmse": {"calibration": self.nrmse_calibration,
-                          "validation": self.nrmse_validation,
-                          "validation_records": per},
+                          "validation": self.nrmse_validation},
+                "heldout_records": per,
                 "fit": fit, "tie": list(self.tie), "confounded": self.confounded,
                 "evidence": [c.as_dict() for c in self.candidates]}
 
@@ -171,8 +171,8 @@ class Diagnosis:
             d = res.as_dict()
             return {"parameters": res.parameters_dict(),
                     "nrmse": {"calibration": res.nrmse_calibration,
-                              "validation": res.nrmse_validation,
-                              "validation_records": heldout_per_record(res)},
+                              "validation": res.nrmse_validation},
+                    "heldout_records": heldout_per_record(res),
                     "fit": d["fit"], "summary": d["summary"], "start": d["start"],
                     "parameter_flags": d["parameter_flags"], "records": d["records"],
                     "fit_warnings": d["warnings"]}
