@@ -27,7 +27,7 @@ def register(sub) -> None:
         "The line F = c v + k y + F0 and the two-slope force-velocity map are fitted on the "
         "same split. JSON: summary (verdict first), held-out NRMSE per record, reference "
         "models, drift, conditioning, noise floors, baseline, steps, final. Without "
-        "--validate the last record, or the second half of one record of 8+ cycles, is held "
+        "--validate the last record, or the second half of one record of 6+ cycles, is held "
         "out.")
     add_fit_arguments(p)
     p.add_argument("--max-steps", type=count_type("--max-steps", 0, 8, "effects added at most"),

@@ -283,15 +283,15 @@ def _quality_drift(result: CalibrationResult) -> str:
 
 def _holdout(calibration) -> tuple[tuple, tuple, str]:
     """Held-out records where none were given: the last of several records, else the second
-    half of the whole cycles of a periodic record of at least 8 cycles."""
+    half of the whole cycles of a periodic record of at least 6 cycles."""
     if len(calibration) >= 2:
         return (calibration[:-1], calibration[-1:],
                 f"no validation records given: {calibration[-1].label} held out")
     r = calibration[0]
-    if not (r.periodic and r.cycles >= 8.0):
+    if not (r.periodic and r.cycles >= 6.0):
         raise ParameterError(
             "diagnose needs held-out records: give validation records (--validate), two "
-            "calibration records (the last is held out) or one periodic record of at least 8 "
+            "calibration records (the last is held out) or one periodic record of at least 6 "
             f"whole cycles (its second half is held out); got one record of {r.cycles:.3g} "
             "cycles")
     half = int(r.cycles) // 2
@@ -496,7 +496,7 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
     calibration, validation : sequence of Record
         Records to fit and held-out records to judge by.  Without validation records the
         last of several calibration records is held out, or the second half of the whole
-        cycles of one periodic record of at least 8 cycles (``Diagnosis.holdout`` says so).
+        cycles of one periodic record of at least 6 cycles (``Diagnosis.holdout`` says so).
     model, params, effects, spec, options
         As for :func:`~liquidamp.analysis.measured.calibration.calibrate` (default:
         ``full`` from ``paper_initial`` with the paper's four multipliers free);

@@ -92,15 +92,14 @@ class Drift:
                 "non_stationary": self.non_stationary}
 
 
-def _trend(tc, x):
-    """Rise of a straight line through (tc, x) over the span, and its standard error."""
+def _trend(tc, x, span):
+    """Rise of a straight line through (tc, x) over ``span`` [s], and its standard error."""
     A = np.column_stack([np.ones_like(tc), tc - tc.mean()])
     coef, *_ = np.linalg.lstsq(A, x, rcond=None)
     res = x - A @ coef
     dof = max(tc.size - 2, 1)
     s2 = float(res @ res) / dof
     sxx = float(np.sum((tc - tc.mean()) ** 2))
-    span = float(tc[-1] - tc[0])
     se = math.sqrt(s2 / sxx) * span if sxx > 0 else math.inf
     return float(coef[1]) * span, se, math.sqrt(s2)
 
@@ -167,8 +166,9 @@ def cycle_drift(record, *, t_min: float = 5.0, noise_ratio: float = 2.0) -> Drif
         tcs.append(tt.mean())
         counts.append(int(m.sum()))
     tc, amps, means = np.array(tcs), np.array(amps), np.array(means)
-    da, se_a, s_a = _trend(tc, amps)
-    dm, se_m, s_m = _trend(tc, means)
+    span = float(t[-1] - t[0])
+    da, se_a, s_a = _trend(tc, amps, span)
+    dm, se_m, s_m = _trend(tc, means, span)
     n = float(np.mean(counts))
     # an amplitude from n samples: sigma sqrt(2 / n); a mean: sigma / sqrt(n)
     sigma = max(min(s_a * math.sqrt(n / 2.0), s_m * math.sqrt(n)), 1e-300)
