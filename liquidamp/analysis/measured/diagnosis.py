@@ -23,7 +23,8 @@ velocity):
    the cycle-to-cycle scatter of the conditioned force at the same phase, and the
    scatter of the recorded stroke rate times the device's equivalent damping; for
    an averaged record, divided by about the square root of the cycles averaged).
-3. Screen every applicable candidate effect by a score test: the model is
+3. Screen every applicable candidate (by default every catalogue effect with fitted
+   parameters and every composite, :func:`default_candidates`) by a score test: the model is
    run once with the effect at a probe strength scaled to the record; the
    change of force is the effect's signature s.  With J the Jacobian of the
    calibrated fit, the part of s that the fitted parameters cannot mimic is
@@ -52,26 +53,27 @@ velocity):
    refit) is continued once before it is scored or judged; fits that still
    did not converge are listed in ``warnings`` and in the JSON
    (``converged``, ``not_converged``).
-5. Accept a refit when both hold:
+5. Keep a refit only when all hold (:class:`~.diagnosis_options.SelectionRule`):
 
-   * the calibration BIC, counted with the effective number of independent
-     samples, falls by more than ``bic_threshold`` (10, "very strong" evidence
-     on Kass and Raftery's scale):
-     delta BIC = N_eff ln(RSS_new / RSS_now) + (k_new - k_now) ln N_eff < -10,
-     N_eff = sum N_i / tau_i with tau_i the integrated autocorrelation time of
-     the refit's residual on record i
-     (:mod:`liquidamp.analysis.measured.selection`: a densely sampled residual is
-     correlated, so N samples are not N independent observations);
-   * the held-out (validation) NRMSE does not get worse by more than
-     ``validation_tolerance`` (2 %) relative.
+   * held out, record by record: no held-out record's NRMSE rises by more than
+     ``validation_tolerance`` (2 %, relative), and together they fall by more than it
+     (the geometric mean of the per-record ratios at most 0.98): an effect is kept only
+     if it predicts data it was not fitted to better;
+   * the calibration BIC, counted with an honest number of samples, falls by more than
+     ``bic_threshold`` (10, "very strong" evidence on Kass and Raftery's scale):
+     delta BIC = N ln(RSS_new / RSS_now) + (k_new - k_now) ln N < -10, N the independent
+     values the kept band of each record can hold, min(N_i, 2 B_i T_i + 1) summed over
+     records (B_i the force bandwidth the conditioning kept, T_i the span fitted:
+     :func:`~liquidamp.analysis.measured.selection.bandwidth_samples`; an averaged cycle
+     of 30 harmonics counts 61 whatever its sampling rate; ``sample_count="correlation"``
+     uses N_i / tau_i of the residual instead);
+   * no parameter the candidate frees ends at a bound (there its value is the bound's,
+     not the data's).
 
-   Of the accepted refits the one with the lowest validation NRMSE is added;
-   if others lie within ``tie_tolerance`` (10 %) of it, the step records a tie
-   with every set of evidence and adds the tied candidate with the fewest
-   parameters, unless one with more lowers delta BIC by more than
-   ``bic_threshold`` further (parsimony: Coulomb friction over a smooth friction
-   whose fitted pre-sliding stiffness is huge; the extra parameter needs the
-   evidence an effect of its own would need); among equals the lowest delta BIC.
+   Among the refits kept the best held out (lowest geometric mean ratio) is added; the
+   others within ``tie_tolerance`` (10 %) of it are reported as tied with their evidence.
+   Without validation records the last of several calibration records is held out, or the
+   second half of the whole cycles of one periodic record (``Diagnosis.holdout``).
 6. Repeat from 2 with the effect included, at most ``max_steps`` times.
 
 Besides the catalogue effects, :data:`COMPOSITES` lists candidates that change how
@@ -84,6 +86,14 @@ sharp, elastic-plastic slip).  Every candidate is one
 :class:`~liquidamp.analysis.measured.candidates.Change` -- the candidate model at a probe,
 the parameters it frees, the one the score test estimates -- so a composite is screened,
 refitted and judged like an effect, with the parameters it frees counted in delta BIC.
+
+Beside the physics model the line F = c v + k y + F0 and the two-slope force-velocity
+map per direction are fitted on the same split
+(:mod:`~liquidamp.analysis.measured.reference_models`); where the physics model does not
+beat the line on a held-out record, the first line of :meth:`Diagnosis.summary` says so.
+The force of every periodic record as read is tested for a drift from cycle to cycle
+(:func:`~liquidamp.analysis.measured.stationarity.cycle_drift`); a drifting record is
+reported first as non-stationary and its drift is kept out of its noise floor.
 
 When the loop ends with the residual above ``structure_factor`` (2) times
 the noise floor, the diagnosis says that structure remains that no candidate
