@@ -145,3 +145,28 @@ def test_without_validation_the_second_half_is_held_out(drifting):
     d = diagnose([cal], max_steps=0)
     assert "second half" in d.holdout
     assert len(d.final.validation) == 1 and d.final.nrmse_validation < 0.1
+
+
+def test_a_device_outside_the_family_loses_to_the_line_and_says_so_first():
+    """A pure spring (200 N/mm) with seal friction (60 N): the fluid device is a Maxwell
+    element whose spring fades at low frequency, so fitted at 3 Hz it predicts the 1 Hz
+    record far worse than the line F = c v + k y + F0 fitted on the same record."""
+    from liquidamp.analysis.measured.calibration import calibrate
+
+    def rec(f, Y, seed):
+        fs = 200.0
+        t = np.arange(0, 3 / f + 0.2, 1 / fs)
+        y = Y * np.sin(2 * np.pi * f * t)
+        v = Y * 2 * np.pi * f * np.cos(2 * np.pi * f * t)
+        rng = np.random.default_rng(seed)
+        return Record.from_arrays(t, y + rng.normal(0, 2e-6, t.size),
+                                  2e5 * y + 60.0 * np.tanh(v / 0.002)
+                                  + rng.normal(0, 1.5, t.size), source=f"sf_{f:g}Hz.csv")
+    r = calibrate([rec(3.0, 0.003, 1)], validate=[rec(1.0, 0.002, 2)], warn=False,
+                  max_nfev=40)
+    line = r.references["line"]
+    assert line.parameters["k [N/m]"] == pytest.approx(2e5, rel=0.1)
+    assert line.validation_of("sf_1Hz") < 0.5 * r.heldout_records()["sf_1Hz"]
+    assert r.summary().startswith("PHYSICS MODEL LOSES TO THE LINE")
+    assert r.as_dict()["physics_loses_to_line"]
+    assert set(r.as_dict()["reference_models"]) == {"line", "two_slope"}
