@@ -42,8 +42,15 @@ from liquidamp.analysis.measured.record_model import simulate_record
 from liquidamp.device.effects import EFFECTS, Effect, with_effects
 from liquidamp.errors import ParameterError
 
-__all__ = ["Change", "Composite", "COMPOSITES", "probe_effect", "candidate_change",
-           "applicable"]
+__all__ = ["Change", "Composite", "COMPOSITES", "REDUCTIONS", "probe_effect",
+           "candidate_change", "applicable"]
+
+#: Candidates that contain another as a limit (candidate -> the simpler one it reduces to).
+#: A relief valve whose cracking pressure falls towards zero is a laminar bypass of
+#: conductance G: ``leakage``.  When such a candidate is the best held out, its reduction is
+#: refitted too, and added instead where it ties on held-out data (the extra parameter then
+#: sits at the limit the data cannot tell from the simpler model).
+REDUCTIONS = {"relief_valve": "leakage"}
 
 
 @dataclass(frozen=True)

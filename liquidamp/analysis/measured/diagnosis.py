@@ -134,6 +134,7 @@ from liquidamp.analysis.measured.conditioning import condition
 from liquidamp.analysis.measured.diagnosis_evidence import (
     COMPOSITES,
     CONFOUNDED,
+    REDUCTIONS,
     Candidate,
     applicable,
     confounding,
@@ -477,6 +478,39 @@ def _select(ranked, sel: SelectionRule):
     return passed[0], tied
 
 
+def _reduce(chosen, tied, ranked, refits, probes, current, validation, options, bud, sel):
+    """Stage "select", part 3: a chosen candidate that contains a simpler one as a limit
+    (:data:`~.candidates.REDUCTIONS`: a relief valve cracking near zero is a laminar bypass)
+    gives way to it where the simpler one, refitted if it was not, passes the rule and ties
+    on held-out data (within ``tie_tolerance``)."""
+    simpler = REDUCTIONS.get(chosen.effect) if chosen is not None else None
+    if simpler is None:
+        return ranked, chosen, tied
+    cand = next((c for c in ranked if c.effect == simpler), None)
+    if cand is None or cand.note.startswith("not applicable"):
+        return ranked, chosen, tied
+    if simpler not in refits:
+        if simpler not in probes:
+            return ranked, chosen, tied
+        try:
+            refits[simpler] = _refit(cand, probes[simpler], current, validation, options,
+                                     bud.preroll, bud.max_nfev, bud.tol, "auto")
+        except (ConvergenceError, ParameterError) as exc:
+            ranked[ranked.index(cand)] = _with(cand, refitted=True, note=f"refit failed: {exc}")
+            return ranked, chosen, tied
+        ranked = _judge_round(ranked, {simpler: refits[simpler]}, probes, current, sel)
+    cand = next(c for c in ranked if c.effect == simpler)
+    best = 1.0 - chosen.relative_reduction
+    if cand.accepted and 1.0 - cand.relative_reduction <= (1 + sel.tie_tolerance) * best:
+        i = ranked.index(cand)
+        ranked[i] = _with(cand, note=(cand.note + "; " if cand.note else "") + (
+            f"added instead of {chosen.effect}, which reduces to it and ties on held-out "
+            "data"))
+        tied = [ranked[i]] + [c for c in tied if c.effect != simpler]
+        return ranked, ranked[i], tied
+    return ranked, chosen, tied
+
+
 def _no_pass(ranked, scored, probes, n_now, sel: SelectionRule) -> str:
     best = min((c for c in ranked if c.refitted and c.delta_bic is not None),
                key=lambda c: c.delta_bic, default=None)
@@ -596,8 +630,10 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
                             bud, level, start0, sel)
         # stage "select"
         ranked = _judge_round(ranked, refits, probes, current, sel)
-        last_round = tuple(ranked)
         chosen, tied = _select(ranked, sel)
+        ranked, chosen, tied = _reduce(chosen, tied, ranked, refits, probes, current,
+                                       validation, options, bud, sel)
+        last_round = tuple(ranked)
         if chosen is None:
             stop = _no_pass(ranked, scored, probes, n_now, sel)
             break
@@ -609,7 +645,10 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
                     f"{c.effect} (validation NRMSE {c.nrmse_validation:.4g}, dBIC "
                     f"{c.delta_bic:.4g})" for c in tied)
                 + f" explain the residual about equally (held-out NRMSE within "
-                f"{sel.tie_tolerance:.0%}); {chosen.effect}, the best held out, was added")
+                f"{sel.tie_tolerance:.0%}); {chosen.effect} was added ("
+                + ("the best held out" if chosen.effect not in REDUCTIONS.values()
+                   or "added instead" not in chosen.note else
+                   "the simpler model the best one reduces to") + ")")
         res = refits[chosen.effect]
         if not res.converged:
             warnings.append(f"NOT CONVERGED: fit with {chosen.effect} ({res.status}): "
