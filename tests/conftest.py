@@ -6,8 +6,11 @@ import pytest
 
 #: The real test-machine records of a banded rotary friction damper with backlash
 #: (CC BY-SA 4.0, Coble, Huggins, Cao, Ricles, Downey 2022; see the folder's README).
-FRICTION_DAMPER_DIR = (Path(__file__).resolve().parents[1].parent / "shared" / "data"
-                       / "friction-damper-backlash")
+FRICTION_DAMPER_DIR = next(
+    (d for d in (p / "shared" / "data" / "friction-damper-backlash"
+                 for p in Path(__file__).resolve().parents[1:4])
+     if (d / "brfd30_0.5Hz_0.5in_steady.csv").is_file()),
+    Path(__file__).resolve().parents[1].parent / "shared" / "data" / "friction-damper-backlash")
 
 
 @pytest.fixture(scope="session")

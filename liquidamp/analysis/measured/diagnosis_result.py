@@ -165,6 +165,24 @@ class Diagnosis:
             lines.append(f"held out: {self.holdout}")
         return "\n".join(lines)
 
+    def bic_samples(self) -> dict:
+        """How the selection rule counts samples in the BIC, with each calibration record's
+        count (JSON ``"bic_samples"``)."""
+        from liquidamp.analysis.measured.selection import bandwidth_samples
+
+        how = getattr(getattr(self.options, "selection", None), "sample_count", "bandwidth")
+        text = {"bandwidth": "min(N, 2 B T + 1) per record: the independent values a force "
+                "kept to a bandwidth B [Hz] (the conditioning's harmonics kept x the stroke "
+                "frequency) holds over the span T [s] fitted (sampling theorem; an averaged "
+                "cycle counts 2 H + 1)",
+                "correlation": "N / tau per record, tau the integrated autocorrelation time "
+                "of the refit's residual (Geyer's initial monotone sequence)",
+                "samples": "N, every sample"}[how]
+        return {"method": how, "how": text,
+                "records": {r.label: {"samples": int(r.time.size),
+                                      "bandwidth_count": bandwidth_samples(r)}
+                            for r in self.final.calibration}}
+
     def as_dict(self) -> dict:
         """JSON: summary, baseline, steps, final, reference models, drift."""
         def block(res):
@@ -195,6 +213,7 @@ class Diagnosis:
                 "nrmse_raw": dict(self.nrmse_raw),
                 "reference_models": {k: v.as_dict() for k, v in self.references.items()},
                 "physics_loses_to_line": self.loses_to_line,
+                "bic_samples": self.bic_samples(),
                 "drift": [d.as_dict() for d in self.drifts],
                 "non_stationary": self.non_stationary, "holdout": self.holdout,
                 "options": self.options.as_dict() if self.options is not None else None,
