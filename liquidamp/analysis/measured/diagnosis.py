@@ -128,8 +128,8 @@ from liquidamp.analysis.measured.calibration import (
     CalibrationResult,
     FitSpec,
     calibrate,
+    check_records,
 )
-from liquidamp.analysis.measured.calibration import check_records as check_records
 from liquidamp.analysis.measured.conditioning import condition
 from liquidamp.analysis.measured.diagnosis_evidence import (
     COMPOSITES,
