@@ -20,6 +20,10 @@ Composites:
 ``friction_transition``  smooth friction's pre-sliding reshaped: its ``transition_exponent``
                          (1, LuGre's exponential approach, when absent) freed; large values make
                          the elastic-plastic (Jenkins) element of a clamped band.
+``inertance``            the channel inertance S_t freed as a multiplier on the preset's (not
+                         among the paper's four fitted parameters): a device whose channel
+                         differs from the preset's (Table 3's Device B) is otherwise fitted with
+                         the preset's fluid inertia, and effects stand in for it.
 =======================  ==========================================================================
 
 References
@@ -72,6 +76,10 @@ class Change:
         The catalogue effect the candidate adds (its parameters are reported by bare key).
     report : tuple of str
         Further effects whose fitted parameters the step reports (``effect.key``).
+    params : DeviceParams or None
+        The device at the probe (None: the calibrated one).
+    multipliers : tuple of str
+        Device multipliers the refit frees (lead ``("device", name)``, base 1).
     """
 
     effects: tuple
@@ -81,6 +89,8 @@ class Change:
     probe: float
     added: str | None = None
     report: tuple = ()
+    params: object = None
+    multipliers: tuple = ()
 
     def estimate(self, beta: float) -> float:
         """Lead value at the linearized strength ``beta`` of the probe step [SI]."""
@@ -89,6 +99,8 @@ class Change:
     @property
     def signed(self) -> bool:
         """Whether the lead may move either way from ``base`` (inside its bounds)."""
+        if self.lead[0] == "device":
+            return True
         lo, _ = EFFECTS[self.lead[0]].bounds[self.lead[1]]
         return lo < self.base
 
@@ -108,6 +120,9 @@ class Change:
         for name, key in self.free:
             e = next(e for e in result.effects if e.name == name)
             out[key if name == self.added else f"{name}.{key}"] = getattr(e, key)
+        for name in self.multipliers:
+            out[f"{name} multiplier"] = result.values.get(name, 1.0)
+            out[name] = getattr(result.params, name)
         return out
 
 
@@ -236,6 +251,26 @@ def _refinement(key: str, kinds: tuple, probe: Callable[[float], float]):
     return why, change
 
 
+def _multiplier(name: str, what: str):
+    """Composite that frees the device multiplier ``name`` (held at the preset's value by the
+    fit so far), probed at 0.9."""
+
+    def why(result) -> str:
+        if name in result.varying:
+            return f"{name} is fitted already"
+        if name not in {p.name for p in result.spec.parameters if p.kind == "multiplier"} \
+                and getattr(result.params, name, None) in (None, 0.0):
+            return f"the device has no {what}"
+        return ""
+
+    def change(result) -> Change:
+        return Change(tuple(result.effects), free=(), lead=("device", name), base=1.0,
+                      probe=0.9, params=result.params.scaled(**{name: 0.9}),
+                      multipliers=(name,))
+
+    return why, change
+
+
 COMPOSITES = {c.name: c for c in (
     Composite("backlash", "a dead band in series with the friction: freeplay added and the "
               "friction already in the model moved behind it (location 'piston'), as in a "
@@ -249,6 +284,10 @@ COMPOSITES = {c.name: c for c in (
               "transition exponent freed (stiff until near the sliding level, then a sharp "
               "slip: the elastic-plastic element of a clamped band)",
               *_refinement("transition_exponent", ("smooth_friction",), lambda n: n + 1.0)),
+    Composite("inertance", "the channel's inertance S_t = l_t / A_t freed (a multiplier on "
+              "the preset's; the paper's four fitted parameters hold it at the preset's, and "
+              "a device with another channel, e.g. Table 3's Device B, needs it)",
+              *_multiplier("S_t", "channel inertance")),
 )}
 """Candidates that change how effects compose rather than add one (module docstring)."""
 

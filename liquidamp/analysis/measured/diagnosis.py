@@ -150,6 +150,7 @@ from liquidamp.analysis.measured.diagnosis_options import (
     SelectionRule,
 )
 from liquidamp.analysis.measured.diagnosis_result import Diagnosis, Step, heldout_per_record
+from liquidamp.analysis.measured.fit_spec import Parameter
 from liquidamp.analysis.measured.record_model import nrmse, simulate_record
 from liquidamp.analysis.measured.record_quality import noise_floor
 from liquidamp.analysis.measured.reference_models import reference_models
@@ -193,6 +194,17 @@ def _refit(cand, change, current, validation, options, preroll, max_nfev, tol, s
             v = min(max(abs(v), lo * m), hi / m)
         effects[i] = effects[i].replace(**{key: v})
         spec = spec.with_effect(effects[i], keys=(key,))
+    for name in change.multipliers:
+        # a device multiplier freed (its start: the score test's estimate, inside the bounds
+        # of the other multipliers)
+        lo, hi = next(((p.min, p.max) for p in spec.parameters if p.kind == "multiplier"),
+                      (0.05, 20.0))
+        v = min(max(float(cand.estimate.get(name, change.probe)), lo * 1.5), hi / 1.5)
+        if name in spec.names:
+            spec = FitSpec(tuple(p.replace(value=v, vary=True) if p.name == name else p
+                                 for p in spec.parameters))
+        else:
+            spec = FitSpec(spec.parameters + (Parameter(name, v, lo, hi),))
     res = calibrate(current.calibration, model=current.model, params=current.start_params,
                     effects=tuple(effects), spec=spec, validate=validation,
                     options=options, start="spec", max_nfev=max_nfev, preroll=preroll,
@@ -437,7 +449,8 @@ def _fit_round(ranked, probes, queue, extra, current, validation, options, bud, 
 def _freed_at_bound(res: CalibrationResult, change) -> list:
     """The parameters a candidate freed that end at a bound of the refit."""
     at = res.at_bounds()
-    return [f"{n}.{k} ({at[f'{n}.{k}']})" for n, k in change.free if f"{n}.{k}" in at]
+    return ([f"{n}.{k} ({at[f'{n}.{k}']})" for n, k in change.free if f"{n}.{k}" in at]
+            + [f"{n} ({at[n]})" for n in change.multipliers if n in at])
 
 
 def _judge_round(ranked, refits, probes, current, sel: SelectionRule):

@@ -214,7 +214,7 @@ def score(name: str, result: CalibrationResult, options, preroll: int):
     """
     change = candidate_change(name, result)
     try:
-        Fp = predict(result.model, result.params, change.effects,
+        Fp = predict(result.model, change.params or result.params, change.effects,
                      result.calibration, options=options, preroll=preroll)
     except LiquidampError as exc:
         return Candidate(name, 0.0, 0.0, {}, note=f"probe run failed: {exc}"), change
@@ -233,7 +233,8 @@ def score(name: str, result: CalibrationResult, options, preroll: int):
     drop = (float(s_perp @ r) ** 2 / ss) / rss if rss > 0 else 0.0
     ok = beta > 0 or change.signed
     eff, key = change.lead
-    est = {(key if eff == change.added else f"{eff}.{key}"): change.estimate(beta)} if ok else {}
+    label = key if eff in (change.added, "device") else f"{eff}.{key}"
+    est = {label: change.estimate(beta)} if ok else {}
     note = "" if ok else "the residual asks for a negative strength"
     return Candidate(name, drop if ok else 0.0, -_corr(r, s), est, note=note), change
 
