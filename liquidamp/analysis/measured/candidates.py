@@ -20,6 +20,12 @@ Composites:
 ``friction_transition``  smooth friction's pre-sliding reshaped: its ``transition_exponent``
                          (1, LuGre's exponential approach, when absent) freed; large values make
                          the elastic-plastic (Jenkins) element of a clamped band.
+=======================  ==========================================================================
+
+:data:`DEVICE_REFINEMENTS` are changes of the same form that free a device parameter rather
+than add an effect:
+
+=======================  ==========================================================================
 ``inertance``            the channel inertance S_t freed as a multiplier on the preset's (not
                          among the paper's four fitted parameters): a device whose channel
                          differs from the preset's (Table 3's Device B) is otherwise fitted with
@@ -46,7 +52,8 @@ from liquidamp.analysis.measured.record_model import simulate_record
 from liquidamp.device.effects import EFFECTS, Effect, with_effects
 from liquidamp.errors import ParameterError
 
-__all__ = ["Change", "Composite", "COMPOSITES", "REDUCTIONS", "probe_effect",
+__all__ = ["Change", "Composite", "COMPOSITES", "DEVICE_REFINEMENTS", "REDUCTIONS",
+           "probe_effect",
            "candidate_change", "applicable"]
 
 #: Candidates that contain another as a limit (candidate -> the simpler one it reduces to).
@@ -284,12 +291,17 @@ COMPOSITES = {c.name: c for c in (
               "transition exponent freed (stiff until near the sliding level, then a sharp "
               "slip: the elastic-plastic element of a clamped band)",
               *_refinement("transition_exponent", ("smooth_friction",), lambda n: n + 1.0)),
+)}
+"""Candidates that change how effects compose rather than add one (module docstring)."""
+
+DEVICE_REFINEMENTS = {c.name: c for c in (
     Composite("inertance", "the channel's inertance S_t = l_t / A_t freed (a multiplier on "
               "the preset's; the paper's four fitted parameters hold it at the preset's, and "
               "a device with another channel, e.g. Table 3's Device B, needs it)",
               *_multiplier("S_t", "channel inertance")),
 )}
-"""Candidates that change how effects compose rather than add one (module docstring)."""
+"""Device parameters the preset holds fixed that the diagnosis frees before it screens effects
+(where the held-out records ask for it): not effects, the device's own parameters."""
 
 
 def candidate_change(name: str, result: CalibrationResult) -> Change:

@@ -23,6 +23,9 @@ velocity):
    the cycle-to-cycle scatter of the conditioned force at the same phase, and the
    scatter of the recorded stroke rate times the device's equivalent damping; for
    an averaged record, divided by about the square root of the cycles averaged).
+   Then the device parameters the preset holds fixed (:data:`~.candidates.DEVICE_REFINEMENTS`:
+   the channel inertance S_t) are freed one at a time, refitted and kept by the rule of
+   step 5 (``Diagnosis.device_steps``): the device's own parameters, not effects.
 3. Screen every applicable candidate (by default every catalogue effect with fitted
    parameters and every composite, :func:`default_candidates`) by a score test: the model is
    run once with the effect at a probe strength scaled to the record; the
@@ -134,6 +137,7 @@ from liquidamp.analysis.measured.conditioning import condition
 from liquidamp.analysis.measured.diagnosis_evidence import (
     COMPOSITES,
     CONFOUNDED,
+    DEVICE_REFINEMENTS,
     REDUCTIONS,
     Candidate,
     applicable,
@@ -143,6 +147,7 @@ from liquidamp.analysis.measured.diagnosis_evidence import (
     score,
     signatures,
 )
+from liquidamp.analysis.measured.diagnosis_fits import _converge, _refit, _restart
 from liquidamp.analysis.measured.diagnosis_options import (
     Budget,
     ConditioningOptions,
@@ -150,7 +155,6 @@ from liquidamp.analysis.measured.diagnosis_options import (
     SelectionRule,
 )
 from liquidamp.analysis.measured.diagnosis_result import Diagnosis, Step, heldout_per_record
-from liquidamp.analysis.measured.fit_spec import Parameter
 from liquidamp.analysis.measured.record_model import nrmse, simulate_record
 from liquidamp.analysis.measured.record_quality import noise_floor
 from liquidamp.analysis.measured.reference_models import reference_models
@@ -168,95 +172,6 @@ from liquidamp.options import resolve_options
 __all__ = ["Candidate", "Step", "Diagnosis", "diagnose", "CONFOUNDED", "COMPOSITES",
            "DiagnoseOptions", "SelectionRule", "Budget", "ConditioningOptions",
            "default_candidates", "signatures", "demo_loop", "bundled_records"]
-
-
-def _refit(cand, change, current, validation, options, preroll, max_nfev, tol, sizing):
-    """Fit the model the candidate proposes, from the current optimum and its estimate.
-
-    ``change`` is the candidate's :class:`~.candidates.Change`: the effects of the candidate
-    model and the parameters it frees; the lead starts at the score test's estimate, the
-    other freed parameters at their probe values, kept inside their bounds (a decade in
-    from wide catalogue bounds, a tenth of the log-range from narrow ones)."""
-    effects = list(change.effects)
-    spec = FitSpec(current.spec.parameters)
-    for name, key in change.free:
-        i = next(i for i, e in enumerate(effects) if e.name == name)
-        v = getattr(effects[i], key)
-        label = key if name == change.added else f"{name}.{key}"
-        if (name, key) == change.lead and cand.effect != "cavitation":
-            # cavitation's lead is a threshold, not a strength: the linearized value can
-            # fall below the lowest chamber pressure, where the effect is inactive and the
-            # fit has no gradient
-            v = cand.estimate.get(label, v)
-        lo, hi = type(effects[i]).bounds[key]
-        if lo > 0:
-            m = 10.0 if hi / lo >= 1e4 else (hi / lo) ** 0.1
-            v = min(max(abs(v), lo * m), hi / m)
-        effects[i] = effects[i].replace(**{key: v})
-        spec = spec.with_effect(effects[i], keys=(key,))
-    for name in change.multipliers:
-        # a device multiplier freed (its start: the score test's estimate, inside the bounds
-        # of the other multipliers)
-        lo, hi = next(((p.min, p.max) for p in spec.parameters if p.kind == "multiplier"),
-                      (0.05, 20.0))
-        v = min(max(float(cand.estimate.get(name, change.probe)), lo * 1.5), hi / 1.5)
-        if name in spec.names:
-            spec = FitSpec(tuple(p.replace(value=v, vary=True) if p.name == name else p
-                                 for p in spec.parameters))
-        else:
-            spec = FitSpec(spec.parameters + (Parameter(name, v, lo, hi),))
-    res = calibrate(current.calibration, model=current.model, params=current.start_params,
-                    effects=tuple(effects), spec=spec, validate=validation,
-                    options=options, start="spec", max_nfev=max_nfev, preroll=preroll,
-                    tol=tol, warn=False, sizing=sizing)
-    if res.status == "max_nfev":
-        res = _converge(res, validation, options, preroll, max_nfev, tol, sizing)
-    return res
-
-
-def _restart(res, current, validation, options, preroll, max_nfev, tol, start0, sizing,
-             validation_tolerance):
-    """Refit from the physics start of the original multipliers; the better of the two fits.
-
-    The continuation from the previous optimum may sit in a local minimum of the loss
-    coefficients (the c1/c2 trade-off: least squares on the air ratios and loss
-    coefficients has local minima).  The restart is kept where it fits the calibration
-    records better and does not lose on any held-out record by more than
-    ``validation_tolerance`` (relative): two optima of one model that differ there differ in
-    what the calibration record cannot tell apart (on the friction-damper records a
-    restart into strong fluid losses fits the 0.5 Hz loop 3 % better and the 1 and 0.25 Hz
-    loops 40 % worse, the losses standing in for friction at one rate only).
-    """
-    spec2 = res.spec.with_values(start0)
-    try:
-        res2 = calibrate(current.calibration, model=current.model,
-                         params=current.start_params, effects=res.effects,
-                         spec=spec2, validate=validation, options=options, start="physics",
-                         max_nfev=max_nfev, preroll=preroll, tol=tol, warn=False,
-                         sizing=sizing)
-        if res2.status == "max_nfev":
-            res2 = _converge(res2, validation, options, preroll, max_nfev, tol, sizing)
-    except ConvergenceError:
-        return res
-    if res2.cost >= res.cost:
-        return res
-    a, b = heldout_per_record(res), heldout_per_record(res2)
-    if any(b[k] > (1.0 + validation_tolerance) * a[k] for k in a if k in b):
-        return res  # worse on a held-out record: judged record by record
-    return res2
-
-
-def _converge(result, validation, options, preroll, max_nfev, tol, sizing):
-    """Continue a fit that stopped on its evaluation budget from where it stopped.
-
-    The refits (and their continuations) run calibrate's own rule for their start
-    (``sizing="auto"``): from the baseline's device, sized again only where the model with
-    the candidate is far from the records (RMS force more than 4x off, or the stroke past
-    half the chamber); ``sizing`` of :func:`diagnose` chooses the baseline's start."""
-    return calibrate(result.calibration, model=result.model, params=result.start_params,
-                     effects=result.effects, spec=result.spec, validate=validation,
-                     options=options, start="spec", max_nfev=max_nfev, preroll=preroll,
-                     tol=tol, warn=False, sizing=sizing)
 
 
 def default_candidates() -> tuple[str, ...]:
@@ -361,6 +276,38 @@ def _prepare(calibration, validation, model, params, effects, spec, options, con
         baseline = _converge(baseline, validation, options, bud.preroll, bud.max_nfev,
                              bud.tol, "preset" if config.sizing == "preset" else "auto")
     return calibration, validation, conditioning, raw, baseline
+
+
+def _refine_device(current, validation, options, bud, sel, start0, level):
+    """Stage "fit", part 2: device parameters the preset holds fixed
+    (:data:`~.candidates.DEVICE_REFINEMENTS`: the channel inertance S_t) freed one at a time
+    and kept where the selection rule asks for it, before any effect is screened: a device
+    whose channel differs from the preset's is otherwise fitted with the wrong fluid inertia,
+    and effects stand in for it.  Refitted from the current optimum, restarted once from the
+    physics start where that leaves the residual structured (the score test is local, and
+    S_t moves far).  Returns the model, the kept steps and the evidence of each try."""
+    steps, evidence = [], []
+    for name, comp in DEVICE_REFINEMENTS.items():
+        if comp.applicable(current):
+            continue
+        change = comp.change(current)
+        cand = Candidate(name, 0.0, 0.0, {}, note="device parameter freed (refitted always)")
+        try:
+            res = _refit(cand, change, current, validation, options, bud.preroll,
+                         bud.max_nfev, bud.tol, "auto")
+            if res.nrmse_calibration > level:
+                res = _restart(res, current, validation, options, bud.preroll, bud.max_nfev,
+                               bud.tol, start0, "auto", sel.validation_tolerance)
+        except (ConvergenceError, ParameterError) as exc:
+            evidence.append(_with(cand, note=f"refit failed: {exc}"))
+            continue
+        c = _judge_round([cand], {name: res}, {name: change}, current, sel)[0]
+        evidence.append(c)
+        if c.accepted:
+            steps.append(Step(name, c.parameters, res.nrmse_calibration, res.nrmse_validation,
+                              (c,), (), res, {}))
+            current = res
+    return current, tuple(steps), tuple(evidence)
 
 
 def _noise(calibration, conditioning, drifts) -> tuple[tuple, float, float]:
@@ -630,6 +577,11 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
     current, steps, last_round = baseline, [], ()
     stop = f"max_steps = {bud.max_steps} reached"
     level = sel.structure_factor * noise_nrmse
+    device_steps, device_evidence = (), ()
+    if bud.max_steps > 0 and current.nrmse_calibration > sel.noise_factor * noise_nrmse:
+        # stage "fit", part 2: the device's own parameters the preset holds fixed
+        current, device_steps, device_evidence = _refine_device(
+            current, validation, options, bud, sel, start0, level)
     for _ in range(bud.max_steps):
         if current.nrmse_calibration <= sel.noise_factor * noise_nrmse:
             stop = (f"residual is noise: calibration NRMSE {current.nrmse_calibration:.4g} <= "
@@ -697,7 +649,8 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
                      last_candidates=last_round, conditioning=conditioning,
                      noise_floors=floors, nrmse_raw=raw_nrmse, references=refs,
                      drifts=tuple(d for d in drifts if d is not None),
-                     non_stationary=non_stat, options=config, holdout=holdout)
+                     non_stationary=non_stat, options=config, holdout=holdout,
+                     device_steps=device_steps, device_evidence=device_evidence)
 
 
 def _linear_delta_bic(cand: Candidate, change, n_eff: float) -> float:

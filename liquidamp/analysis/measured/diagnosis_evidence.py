@@ -30,6 +30,7 @@ from liquidamp.analysis.measured.calibration import (
 )
 from liquidamp.analysis.measured.candidates import (
     COMPOSITES,
+    DEVICE_REFINEMENTS,
     REDUCTIONS,
     applicable,
     candidate_change,
@@ -39,8 +40,8 @@ from liquidamp.analysis.measured.record_model import simulate_record
 from liquidamp.device.effects import EFFECTS
 from liquidamp.errors import LiquidampError
 
-__all__ = ["Candidate", "CONFOUNDED", "COMPOSITES", "REDUCTIONS", "signatures", "score",
-           "probe_effect",
+__all__ = ["Candidate", "CONFOUNDED", "COMPOSITES", "DEVICE_REFINEMENTS", "REDUCTIONS",
+           "signatures", "score", "probe_effect",
            "candidate_change", "applicable", "confounding", "confounding_warnings",
            "harmonic_structure"]
 

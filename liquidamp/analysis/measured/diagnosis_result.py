@@ -98,6 +98,11 @@ class Diagnosis:
         The options the diagnosis ran with.
     holdout : str
         How the held-out records were obtained ('' when given).
+    device_steps : tuple of Step
+        Device parameters the preset held fixed that the rule freed before the effects
+        (e.g. ``inertance``: the channel inertance S_t); not effects.
+    device_evidence : tuple of Candidate
+        The evidence of every device parameter tried.
     """
 
     baseline: CalibrationResult
@@ -117,6 +122,8 @@ class Diagnosis:
     non_stationary: str = ""
     options: object = None
     holdout: str = ""
+    device_steps: tuple = ()
+    device_evidence: tuple = ()
 
     @property
     def added(self) -> tuple[str, ...]:
@@ -152,6 +159,9 @@ class Diagnosis:
         base = heldout_per_record(self.baseline)
         added = (", ".join(f"{s.effect} ({_short(s.parameters)})" for s in self.steps)
                  or "nothing")
+        if self.device_steps:
+            added += "; device parameters freed: " + ", ".join(
+                f"{s.effect} ({_short(s.parameters)})" for s in self.device_steps)
         first.append(f"added {added}: held-out NRMSE per record {per}"
                      + (f" (pooled {pooled:.3g})" if pooled is not None else "")
                      + "; before: " + ", ".join(f"{k} {v:.3g}" for k, v in base.items()))
@@ -194,13 +204,17 @@ class Diagnosis:
                     "fit": d["fit"], "summary": d["summary"], "start": d["start"],
                     "parameter_flags": d["parameter_flags"], "records": d["records"],
                     "fit_warnings": d["warnings"]}
-        fits = [("baseline", self.baseline)] + [(f"step {i + 1}: + {s.effect}", s.result)
-                                                 for i, s in enumerate(self.steps)
-                                                 if s.result is not None]
+        fits = ([("baseline", self.baseline)]
+                + [(f"device: {s.effect}", s.result) for s in self.device_steps]
+                + [(f"step {i + 1}: + {s.effect}", s.result)
+                   for i, s in enumerate(self.steps) if s.result is not None])
         not_conv = [{"fit": lab, "status": r.status, "message": r.message, "nfev": r.nfev}
                     for lab, r in fits if not r.converged]
         return {"summary": self.summary(), "heldout": self.heldout,
-                "baseline": block(self.baseline), "steps": [s.as_dict() for s in self.steps],
+                "baseline": block(self.baseline),
+                "device_refinement": {"kept": [s.as_dict() for s in self.device_steps],
+                                      "tried": [c.as_dict() for c in self.device_evidence]},
+                "steps": [s.as_dict() for s in self.steps],
                 "final": block(self.final), "converged": not not_conv,
                 "not_converged": not_conv, "noise_floor_nrmse": self.noise_nrmse,
                 "noise_floors": [{"record": c.source, "force_std [N]": f.force_std,

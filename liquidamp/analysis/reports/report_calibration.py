@@ -335,8 +335,11 @@ def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibrat
     out.mkdir(parents=True, exist_ok=True)
     plt = _plt()
     if diagnosis is not None:
-        results = [diagnosis.baseline] + [s.result for s in diagnosis.steps]
-        labels = ["baseline"] + [f"+ {s.effect}" for s in diagnosis.steps]
+        dev = list(getattr(diagnosis, "device_steps", ()))
+        results = ([diagnosis.baseline] + [s.result for s in dev]
+                   + [s.result for s in diagnosis.steps])
+        labels = (["baseline"] + [f"device: {s.effect}" for s in dev]
+                  + [f"+ {s.effect}" for s in diagnosis.steps])
     else:
         results, labels = [result], ["calibrated"]
     first = results[0]
