@@ -23,9 +23,6 @@ velocity):
    the cycle-to-cycle scatter of the conditioned force at the same phase, and the
    scatter of the recorded stroke rate times the device's equivalent damping; for
    an averaged record, divided by about the square root of the cycles averaged).
-   Then the device parameters the preset holds fixed (:data:`~.candidates.DEVICE_REFINEMENTS`:
-   the channel inertance S_t) are freed one at a time, refitted and kept by the rule of
-   step 5 (``Diagnosis.device_steps``): the device's own parameters, not effects.
 3. Screen every applicable candidate (by default every catalogue effect with fitted
    parameters and every composite, :func:`default_candidates`) by a score test: the model is
    run once with the effect at a probe strength scaled to the record; the
@@ -38,7 +35,11 @@ velocity):
    strength scores zero.  Simple signatures (correlation of the residual
    with sign(v), a, a constant, the dead-band indicator and the low-pressure
    phases) are reported too.
-4. Refit the ``top`` candidates with everything free (only those whose linearized
+4. Refit also, in every round and whatever its score, each device parameter the preset
+   holds fixed (:data:`~.candidates.DEVICE_REFINEMENTS`: the channel inertance S_t); it
+   competes with the effects under the same rule, and when chosen it is recorded as the
+   device's own parameter (``Diagnosis.device_steps``), not an effect.
+   Refit the ``top`` candidates with everything free (only those whose linearized
    evidence pays their BIC penalty: N_eff ln(1 - score) + k ln N_eff < 0, N_eff of the
    current residual, k the effect's fitted parameters), starting
    from the linearized strength (cavitation: from the probe's vapour pressure, a
@@ -278,36 +279,26 @@ def _prepare(calibration, validation, model, params, effects, spec, options, con
     return calibration, validation, conditioning, raw, baseline
 
 
-def _refine_device(current, validation, options, bud, sel, start0, level):
-    """Stage "fit", part 2: device parameters the preset holds fixed
-    (:data:`~.candidates.DEVICE_REFINEMENTS`: the channel inertance S_t) freed one at a time
-    and kept where the selection rule asks for it, before any effect is screened: a device
-    whose channel differs from the preset's is otherwise fitted with the wrong fluid inertia,
-    and effects stand in for it.  Refitted from the current optimum, restarted once from the
-    physics start where that leaves the residual structured (the score test is local, and
-    S_t moves far).  Returns the model, the kept steps and the evidence of each try."""
-    steps, evidence = [], []
+def _device_round(current, validation, options, bud):
+    """Stage "fit", device part: every device parameter the preset holds fixed
+    (:data:`~.candidates.DEVICE_REFINEMENTS`: the channel inertance S_t) refitted freed,
+    whatever its score (the score test is local and S_t moves far); it competes with the
+    round's effects under the same rule, and when chosen it is the device's own parameter,
+    not an effect (``Diagnosis.device_steps``).  Returns candidates, changes and refits."""
+    cands, changes, refits = [], {}, {}
     for name, comp in DEVICE_REFINEMENTS.items():
         if comp.applicable(current):
             continue
         change = comp.change(current)
         cand = Candidate(name, 0.0, 0.0, {}, note="device parameter freed (refitted always)")
         try:
-            res = _refit(cand, change, current, validation, options, bud.preroll,
-                         bud.max_nfev, bud.tol, "auto")
-            if res.nrmse_calibration > level:
-                res = _restart(res, current, validation, options, bud.preroll, bud.max_nfev,
-                               bud.tol, start0, "auto", sel.validation_tolerance)
+            refits[name] = _refit(cand, change, current, validation, options, bud.preroll,
+                                  bud.max_nfev, bud.tol, "auto")
         except (ConvergenceError, ParameterError) as exc:
-            evidence.append(_with(cand, note=f"refit failed: {exc}"))
-            continue
-        c = _judge_round([cand], {name: res}, {name: change}, current, sel)[0]
-        evidence.append(c)
-        if c.accepted:
-            steps.append(Step(name, c.parameters, res.nrmse_calibration, res.nrmse_validation,
-                              (c,), (), res, {}))
-            current = res
-    return current, tuple(steps), tuple(evidence)
+            cand = _with(cand, refitted=True, note=f"refit failed: {exc}")
+        cands.append(cand)
+        changes[name] = change
+    return cands, changes, refits
 
 
 def _noise(calibration, conditioning, drifts) -> tuple[tuple, float, float]:
@@ -577,12 +568,8 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
     current, steps, last_round = baseline, [], ()
     stop = f"max_steps = {bud.max_steps} reached"
     level = sel.structure_factor * noise_nrmse
-    device_steps, device_evidence = (), ()
-    if bud.max_steps > 0 and current.nrmse_calibration > sel.noise_factor * noise_nrmse:
-        # stage "fit", part 2: the device's own parameters the preset holds fixed
-        current, device_steps, device_evidence = _refine_device(
-            current, validation, options, bud, sel, start0, level)
-    for _ in range(bud.max_steps):
+    device_steps, device_evidence = [], ()
+    while len(steps) < bud.max_steps:
         if current.nrmse_calibration <= sel.noise_factor * noise_nrmse:
             stop = (f"residual is noise: calibration NRMSE {current.nrmse_calibration:.4g} <= "
                     f"{sel.noise_factor:g} x noise floor {noise_nrmse:.4g}")
@@ -593,12 +580,17 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
         # stage "fit"
         refits = _fit_round(ranked, probes, queue, extra, current, validation, options,
                             bud, level, start0, sel)
+        dev, dev_changes, dev_refits = _device_round(current, validation, options, bud)
+        ranked += dev
+        probes.update(dev_changes)
+        refits.update(dev_refits)
         # stage "select"
         ranked = _judge_round(ranked, refits, probes, current, sel)
         chosen, tied = _select(ranked, sel)
         ranked, chosen, tied = _reduce(chosen, tied, ranked, refits, probes, current,
                                        validation, options, bud, sel)
         last_round = tuple(ranked)
+        device_evidence = tuple(c for c in ranked if c.effect in DEVICE_REFINEMENTS)
         if chosen is None:
             stop = _no_pass(ranked, scored, probes, n_now, sel)
             break
@@ -615,6 +607,12 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
                    or "added instead" not in chosen.note else
                    "the simpler model the best one reduces to") + ")")
         res = refits[chosen.effect]
+        if chosen.effect in DEVICE_REFINEMENTS:
+            # the device's own parameter, not an effect: it does not count as a step
+            device_steps.append(Step(chosen.effect, chosen.parameters, res.nrmse_calibration,
+                                     res.nrmse_validation, tuple(ranked), tie, res, {}))
+            current, last_round = res, ()
+            continue
         if not res.converged:
             warnings.append(f"NOT CONVERGED: fit with {chosen.effect} ({res.status}): "
                             f"{res.message}")
@@ -650,7 +648,7 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
                      noise_floors=floors, nrmse_raw=raw_nrmse, references=refs,
                      drifts=tuple(d for d in drifts if d is not None),
                      non_stationary=non_stat, options=config, holdout=holdout,
-                     device_steps=device_steps, device_evidence=device_evidence)
+                     device_steps=tuple(device_steps), device_evidence=device_evidence)
 
 
 def _linear_delta_bic(cand: Candidate, change, n_eff: float) -> float:

@@ -170,3 +170,17 @@ def test_a_device_outside_the_family_loses_to_the_line_and_says_so_first():
     assert r.summary().startswith("PHYSICS MODEL LOSES TO THE LINE")
     assert r.as_dict()["physics_loses_to_line"]
     assert set(r.as_dict()["reference_models"]) == {"line", "two_slope"}
+
+
+def test_a_channel_unlike_the_presets_is_a_device_parameter_not_an_effect():
+    """A device whose channel inertance is half the preset's (S_t x 0.5): the diagnosis frees
+    S_t (a device parameter the paper's four multipliers hold fixed) and adds no effect."""
+    kw = dict(preset="paper_calibrated", multipliers={"S_t": 0.5}, cycles=3)
+    cal = synthetic_record(frequency=3.0, amplitude=0.003, seed=91, **kw)
+    val = synthetic_record(frequency=4.5, amplitude=0.002, seed=191, **kw)
+    d = diagnose([cal], [val], max_steps=1, top=1, max_nfev=40)
+    assert d.added == ()
+    assert [s.effect for s in d.device_steps] == ["inertance"]
+    assert d.device_steps[0].parameters["S_t multiplier"] == pytest.approx(0.5, rel=0.1)
+    assert d.final.nrmse_validation < 0.5 * d.baseline.nrmse_validation
+    assert d.as_dict()["device_refinement"]["kept"][0]["effect"] == "inertance"
