@@ -41,9 +41,10 @@ def register(sub) -> None:
                    default=2, help="candidates refitted per step, 1-8 (default %(default)s)")
     p.add_argument("--candidate", action="append", default=None, metavar="NAME",
                    help="consider only the named candidates (repeat the flag): catalogue "
-                   "effects and the composites backlash, friction_asymmetry, "
-                   "friction_transition (default: every catalogue effect with fitted "
-                   "parameters and every composite)")
+                   "effects, the composites backlash, friction_asymmetry, "
+                   "friction_transition, and inertance (the channel inertance S_t freed) "
+                   "(default: every catalogue effect with fitted parameters, every "
+                   "composite and inertance)")
     p.set_defaults(func=run)
 
 
@@ -51,12 +52,13 @@ def run(args) -> int:
     """Diagnose and write the JSON (then the report)."""
     options = solver_options(args, "fit")  # flags added by add_fit_arguments
     check_fit_outputs(args, "diagnose")
+    from liquidamp.analysis.measured.candidates import DEVICE_REFINEMENTS
     from liquidamp.analysis.measured.diagnosis import COMPOSITES, diagnose
     from liquidamp.device.effects import EFFECTS
     from liquidamp.errors import check_choice
 
     for name in args.candidate or ():  # before the records are read
-        check_choice("candidate effect", name, {**EFFECTS, **COMPOSITES})
+        check_choice("candidate effect", name, {**EFFECTS, **COMPOSITES, **DEVICE_REFINEMENTS})
 
     cal, val, params, effects, spec = load(args)
     from liquidamp.analysis.measured.diagnosis_options import DiagnoseOptions

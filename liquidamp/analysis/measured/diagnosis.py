@@ -36,7 +36,8 @@ velocity):
    with sign(v), a, a constant, the dead-band indicator and the low-pressure
    phases) are reported too.
 4. Refit also, in every round and whatever its score, each device parameter the preset
-   holds fixed (:data:`~.candidates.DEVICE_REFINEMENTS`: the channel inertance S_t); it
+   holds fixed (:data:`~.candidates.DEVICE_REFINEMENTS`: the channel inertance S_t; by default,
+   or when named among ``candidates``); it
    competes with the effects under the same rule, and when chosen it is recorded as the
    device's own parameter (``Diagnosis.device_steps``), not an effect.
    Refit the ``top`` candidates with everything free (only those whose linearized
@@ -184,7 +185,9 @@ def default_candidates() -> tuple[str, ...]:
 def _candidate_names(candidates) -> tuple:
     names = default_candidates() if candidates is None else tuple(candidates)
     for n in names:
-        check_choice("candidate effect", n, {**EFFECTS, **COMPOSITES})
+        check_choice("candidate effect", n, {**EFFECTS, **COMPOSITES, **DEVICE_REFINEMENTS})
+        if n in DEVICE_REFINEMENTS:
+            continue
         if n not in COMPOSITES and not EFFECTS[n].fit_keys:
             raise ParameterError(
                 f"candidate effect {n!r} has no fitted parameters (an operating condition): "
@@ -279,7 +282,7 @@ def _prepare(calibration, validation, model, params, effects, spec, options, con
     return calibration, validation, conditioning, raw, baseline
 
 
-def _device_round(current, validation, options, bud):
+def _device_round(current, validation, options, bud, names):
     """Stage "fit", device part: every device parameter the preset holds fixed
     (:data:`~.candidates.DEVICE_REFINEMENTS`: the channel inertance S_t) refitted freed,
     whatever its score (the score test is local and S_t moves far); it competes with the
@@ -287,7 +290,7 @@ def _device_round(current, validation, options, bud):
     not an effect (``Diagnosis.device_steps``).  Returns candidates, changes and refits."""
     cands, changes, refits = [], {}, {}
     for name, comp in DEVICE_REFINEMENTS.items():
-        if comp.applicable(current):
+        if name not in names or comp.applicable(current):
             continue
         change = comp.change(current)
         cand = Candidate(name, 0.0, 0.0, {}, note="device parameter freed (refitted always)")
@@ -534,6 +537,10 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
     if not calibration:
         raise ParameterError("diagnose needs at least one calibration record")
     names = _candidate_names(config.candidates)
+    # the device's own parameters are tried by default, or when named among the candidates
+    device_names = (tuple(DEVICE_REFINEMENTS) if config.candidates is None
+                    else tuple(n for n in names if n in DEVICE_REFINEMENTS))
+    names = tuple(n for n in names if n not in DEVICE_REFINEMENTS)
     options = resolve_options(options, "fit")
     if params is None:
         from liquidamp.device import preset
@@ -580,7 +587,8 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
         # stage "fit"
         refits = _fit_round(ranked, probes, queue, extra, current, validation, options,
                             bud, level, start0, sel)
-        dev, dev_changes, dev_refits = _device_round(current, validation, options, bud)
+        dev, dev_changes, dev_refits = _device_round(current, validation, options, bud,
+                                                     device_names)
         ranked += dev
         probes.update(dev_changes)
         refits.update(dev_refits)
