@@ -99,9 +99,10 @@ GOALS = {
                                  ("seconds_cavitation", "<", 3.0)],
     "diagnosis_3khz_20s": [("seconds_coulomb_friction", "<", 10.0),
                            ("seconds_smooth_friction", "<", 10.0)],
-    "diagnosis_200hz_10_cycles": [("seconds_smooth_friction", "<", 3.0),
-                                  ("seconds_freeplay", "<", 3.0),
-                                  ("seconds_series_compliance", "<", 3.0)],
+    "diagnosis_200hz_10_cycles": [(f"seconds_{name}", "<", 3.0) for name in (
+        "smooth_friction", "freeplay", "series_compliance", "coulomb_friction",
+        "force_offset", "moving_mass", "leakage", "relief_valve", "asymmetric_loss",
+        "elastomer", "end_stops", "cavitation")],
     "dual_frequency": [("seconds", "<", 0.05)],
     "stiffness_1um": [("seconds", "<", 3.0), ("points_present", ">=", 56)],
     "first_call": [("cold_cache_seconds", "<", 10.0)],

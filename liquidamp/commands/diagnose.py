@@ -24,11 +24,16 @@ def register(sub) -> None:
     p = sub.add_parser(
         "diagnose", help="calibrate and add the catalogue effects the residual asks for",
         description="Condition the records (--force-filter, --decimate, --average), "
-        "calibrate, rank the catalogue effects by the evidence in the residual, refit the "
-        "best, keep one only if the calibration BIC counted with the effective number of "
-        "independent samples falls by more than 10 and the held-out NRMSE does not rise by "
-        "more than 2%; repeat until the residual is at the noise floor. JSON: conditioning, "
-        "noise floors, baseline, steps, final. Needs --validate.")
+        "calibrate, score every catalogue effect and composite on the residual, refit the "
+        "best, keep one only if it predicts every held-out record no worse than 2% and "
+        "together better by more than 2%, the calibration BIC counted over the samples the "
+        "kept band can hold falls by more than 10, and no parameter it frees ends at a "
+        "bound; the best held-out one wins. Repeat until the residual is at the noise floor. "
+        "The line F = c v + k y + F0 and the two-slope force-velocity map are fitted on the "
+        "same split. JSON: summary (verdict first), held-out NRMSE per record, reference "
+        "models, drift, conditioning, noise floors, baseline, steps, final. Without "
+        "--validate the last record, or the second half of one record of 6+ cycles, is held "
+        "out.")
     add_fit_arguments(p)
     p.add_argument("--max-steps", type=count_type("--max-steps", 0, 8, "effects added at most"),
                    default=3, help="effects added at most, 0-8 (default %(default)s)")
@@ -43,39 +48,38 @@ def register(sub) -> None:
                    type=name_type("--candidate", tuple(EFFECT_UNITS) + COMPOSITE_NAMES,
                                   "candidate effect"),
                    help="consider only the named candidates (repeat the flag): catalogue "
-                   "effects, including those screened only on request (relief_valve, "
-                   "asymmetric_loss, elastomer, end_stops), and the composites backlash, "
-                   "friction_asymmetry, friction_transition (default: every screened effect "
-                   "and every composite)")
+                   "effects, the composites backlash, friction_asymmetry, "
+                   "friction_transition, and inertance (the channel inertance S_t freed) "
+                   "(default: every catalogue effect with fitted parameters, every "
+                   "composite and inertance)")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
     """Diagnose and write the JSON (then the report)."""
-    from liquidamp.errors import ParameterError
-
-    if not args.validate:
-        raise ParameterError("diagnose needs held-out records: --validate FILE [--validate "
-                             "FILE ...]")
     options = solver_options(args, "fit")  # flags added by add_fit_arguments
     check_fit_outputs(args, "diagnose")
+    from liquidamp.analysis.measured.candidates import DEVICE_REFINEMENTS
     from liquidamp.analysis.measured.diagnosis import COMPOSITES, diagnose
     from liquidamp.device.effects import EFFECTS
     from liquidamp.errors import check_choice
 
     for name in args.candidate or ():  # before the records are read
-        check_choice("candidate effect", name, {**EFFECTS, **COMPOSITES})
+        check_choice("candidate effect", name, {**EFFECTS, **COMPOSITES, **DEVICE_REFINEMENTS})
 
     cal, val, params, effects, spec = load(args)
     # the data checks first, as read, naming the command-line options (diagnose repeats
     # them on the same records)
     cal, val = checked(cal, val, args, params, "diagnose")
+    from liquidamp.analysis.measured.diagnosis_options import DiagnoseOptions
+
+    config = DiagnoseOptions.from_keywords(
+        candidates=args.candidate, sizing=args.sizing, max_steps=args.max_steps,
+        top=args.top, max_nfev=args.max_nfev, outliers=args.outliers,
+        **conditioning_options(args))
     with fit_progress(args, "diagnose: model evaluations") as bar:
         d = diagnose(cal, val, model=args.model, params=params, effects=effects, spec=spec,
-                     candidates=args.candidate, max_steps=args.max_steps, top=args.top,
-                     max_nfev=args.max_nfev, outliers=args.outliers, options=options,
-                     sizing=args.sizing,
-                     progress=bar.update, **conditioning_options(args))
+                     options=options, config=config, progress=bar.update)
     nr = d.as_dict()
     if args.save_device:
         save_device(args.save_device, d.final, "liquidamp diagnose")
@@ -86,6 +90,7 @@ def run(args) -> int:
         write_report_folder(args.report, diagnosis=d, title="liquidamp diagnose")
     if d.final.flags:
         warn_once("diagnose", f"final fit: {d.final.flags.short()}")
+    print(f"liquidamp diagnose: {d.summary().splitlines()[0]}", file=sys.stderr)
     added = ", ".join(d.added) or "nothing"
     raw = (f", {d.nrmse_raw['validation']:.4g} on the records as given"
            if d.nrmse_raw else "")

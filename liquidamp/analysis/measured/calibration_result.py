@@ -276,6 +276,30 @@ class CalibrationResult:
     flags: ParameterFlags = field(default_factory=ParameterFlags)
 
     @property
+    def references(self) -> dict:
+        """The reference models fitted on the same split: ``{"line": ReferenceFit,
+        "two_slope": ReferenceFit}`` (:mod:`~liquidamp.analysis.measured.reference_models`:
+        F = c v + k y + F0 and the two-slope force-velocity map per direction)."""
+        from liquidamp.analysis.measured.reference_models import reference_models
+
+        cached = self.__dict__.get("_references")
+        if cached is None:
+            cached = reference_models(self.calibration, self.validation)
+            object.__setattr__(self, "_references", cached)
+        return cached
+
+    def heldout_records(self) -> dict:
+        """Record label -> held-out NRMSE [-] (the validation records)."""
+        return {e.label: e.nrmse for e in self.record_errors if e.role == "validation"}
+
+    def versus_line(self) -> str:
+        """Where the physics model does not beat the line F = c v + k y + F0 held out
+        ('' where it does or nothing is held out)."""
+        from liquidamp.analysis.measured.reference_models import comparison
+
+        return comparison(self.heldout_records(), self.references) if self.validation else ""
+
+    @property
     def device_model(self) -> DeviceModel:
         """The calibrated model with its effects."""
         return with_effects(get_model(self.model), *self.effects)
@@ -303,18 +327,25 @@ class CalibrationResult:
                 f"{self.nrmse_calibration:.4g}{nv}; {vals}{extra}>")
 
     def summary(self) -> str:
-        """One line: status, NRMSE, the start device and scale, the flagged parameters.
+        """One line: status, NRMSE (held out per record, pooled beside), the start device and
+        scale, the flagged parameters; led by ``PHYSICS MODEL LOSES TO THE LINE: ...`` where
+        the line F = c v + k y + F0 fitted on the same split predicts a held-out record at
+        least as well.
 
         Examples of its content: ``converged (41 evaluations): NRMSE calibration
-        0.0123, validation 0.0231; start physics from paper_initial sized (force
-        x0.21, stroke x1.5); flags: at bound: c1 (upper)``.
+        0.0123, held out b 0.0231, c 0.0310 (pooled 0.0262); start physics from
+        paper_initial sized (force x0.21, stroke x1.5); flags: at bound: c1 (upper)``.
         """
+        per = self.heldout_records()
         nv = ("" if self.nrmse_validation is None
-              else f", validation {self.nrmse_validation:.4g}")
+              else ", held out " + ", ".join(f"{k} {v:.4g}" for k, v in per.items())
+              + (f" (pooled {self.nrmse_validation:.4g})" if len(per) > 1 else ""))
+        lose = self.versus_line()
         dev = self.start_params.name or "custom"
         chosen = self.start.get("chosen", "")
         flags = self.flags.short()
-        return (f"{self.status} ({self.nfev} evaluations): NRMSE calibration "
+        return (("PHYSICS MODEL LOSES TO THE LINE: " + lose + "; " if lose else "")
+                + f"{self.status} ({self.nfev} evaluations): NRMSE calibration "
                 f"{self.nrmse_calibration:.4g}{nv}; start {chosen + ' ' if chosen else ''}"
                 f"from {dev}" + (f"; flags: {flags}" if flags else "; no parameter flagged"))
 
@@ -474,6 +505,8 @@ class CalibrationResult:
             "nrmse": {"calibration": self.nrmse_calibration,
                       "validation": self.nrmse_validation},
             "records": [dataclasses.asdict(e) for e in self.record_errors],
+            "reference_models": {k: v.as_dict() for k, v in self.references.items()},
+            "physics_loses_to_line": self.versus_line(),
             "correlation": {"names": list(self.varying),
                             "matrix": np.round(self.correlation, 4).tolist()},
             "fit": {"converged": self.converged, "status": self.status,

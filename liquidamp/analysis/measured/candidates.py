@@ -22,6 +22,16 @@ Composites:
                          the elastic-plastic (Jenkins) element of a clamped band.
 =======================  ==========================================================================
 
+:data:`DEVICE_REFINEMENTS` are changes of the same form that free a device parameter rather
+than add an effect:
+
+=======================  ==========================================================================
+``inertance``            the channel inertance S_t freed as a multiplier on the preset's (not
+                         among the paper's four fitted parameters): a device whose channel
+                         differs from the preset's (Table 3's Device B) is otherwise fitted with
+                         the preset's fluid inertia, and effects stand in for it.
+=======================  ==========================================================================
+
 References
 ----------
 .. [1] B. Titurus, AIAA J. 56(10), 2018, Sec. IV.C.
@@ -42,8 +52,16 @@ from liquidamp.analysis.measured.record_model import simulate_record
 from liquidamp.device.effects import EFFECTS, Effect, with_effects
 from liquidamp.errors import ParameterError
 
-__all__ = ["Change", "Composite", "COMPOSITES", "probe_effect", "candidate_change",
-           "applicable"]
+__all__ = ["Change", "Composite", "COMPOSITES", "DEVICE_REFINEMENTS", "REDUCTIONS",
+           "probe_effect",
+           "candidate_change", "applicable"]
+
+#: Candidates that contain another as a limit (candidate -> the simpler one it reduces to).
+#: A relief valve whose cracking pressure falls towards zero is a laminar bypass of
+#: conductance G: ``leakage``.  When such a candidate is the best held out, its reduction is
+#: refitted too, and added instead where it ties on held-out data (the extra parameter then
+#: sits at the limit the data cannot tell from the simpler model).
+REDUCTIONS = {"relief_valve": "leakage"}
 
 
 @dataclass(frozen=True)
@@ -65,6 +83,10 @@ class Change:
         The catalogue effect the candidate adds (its parameters are reported by bare key).
     report : tuple of str
         Further effects whose fitted parameters the step reports (``effect.key``).
+    params : DeviceParams or None
+        The device at the probe (None: the calibrated one).
+    multipliers : tuple of str
+        Device multipliers the refit frees (lead ``("device", name)``, base 1).
     """
 
     effects: tuple
@@ -74,6 +96,8 @@ class Change:
     probe: float
     added: str | None = None
     report: tuple = ()
+    params: object = None
+    multipliers: tuple = ()
 
     def estimate(self, beta: float) -> float:
         """Lead value at the linearized strength ``beta`` of the probe step [SI]."""
@@ -82,6 +106,8 @@ class Change:
     @property
     def signed(self) -> bool:
         """Whether the lead may move either way from ``base`` (inside its bounds)."""
+        if self.lead[0] == "device":
+            return True
         lo, _ = EFFECTS[self.lead[0]].bounds[self.lead[1]]
         return lo < self.base
 
@@ -101,6 +127,9 @@ class Change:
         for name, key in self.free:
             e = next(e for e in result.effects if e.name == name)
             out[key if name == self.added else f"{name}.{key}"] = getattr(e, key)
+        for name in self.multipliers:
+            out[f"{name} multiplier"] = result.values.get(name, 1.0)
+            out[name] = getattr(result.params, name)
         return out
 
 
@@ -229,6 +258,26 @@ def _refinement(key: str, kinds: tuple, probe: Callable[[float], float]):
     return why, change
 
 
+def _multiplier(name: str, what: str):
+    """Composite that frees the device multiplier ``name`` (held at the preset's value by the
+    fit so far), probed at 0.9."""
+
+    def why(result) -> str:
+        if name in result.varying:
+            return f"{name} is fitted already"
+        if name not in {p.name for p in result.spec.parameters if p.kind == "multiplier"} \
+                and getattr(result.params, name, None) in (None, 0.0):
+            return f"the device has no {what}"
+        return ""
+
+    def change(result) -> Change:
+        return Change(tuple(result.effects), free=(), lead=("device", name), base=1.0,
+                      probe=0.9, params=result.params.scaled(**{name: 0.9}),
+                      multipliers=(name,))
+
+    return why, change
+
+
 COMPOSITES = {c.name: c for c in (
     Composite("backlash", "a dead band in series with the friction: freeplay added and the "
               "friction already in the model moved behind it (location 'piston'), as in a "
@@ -244,6 +293,15 @@ COMPOSITES = {c.name: c for c in (
               *_refinement("transition_exponent", ("smooth_friction",), lambda n: n + 1.0)),
 )}
 """Candidates that change how effects compose rather than add one (module docstring)."""
+
+DEVICE_REFINEMENTS = {c.name: c for c in (
+    Composite("inertance", "the channel's inertance S_t = l_t / A_t freed (a multiplier on "
+              "the preset's; the paper's four fitted parameters hold it at the preset's, and "
+              "a device with another channel, e.g. Table 3's Device B, needs it)",
+              *_multiplier("S_t", "channel inertance")),
+)}
+"""Device parameters the preset holds fixed that the diagnosis frees before it screens effects
+(where the held-out records ask for it): not effects, the device's own parameters."""
 
 
 def candidate_change(name: str, result: CalibrationResult) -> Change:

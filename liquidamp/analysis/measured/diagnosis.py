@@ -23,7 +23,8 @@ velocity):
    the cycle-to-cycle scatter of the conditioned force at the same phase, and the
    scatter of the recorded stroke rate times the device's equivalent damping; for
    an averaged record, divided by about the square root of the cycles averaged).
-3. Screen every applicable candidate effect by a score test: the model is
+3. Screen every applicable candidate (by default every catalogue effect with fitted
+   parameters and every composite, :func:`default_candidates`) by a score test: the model is
    run once with the effect at a probe strength scaled to the record; the
    change of force is the effect's signature s.  With J the Jacobian of the
    calibrated fit, the part of s that the fitted parameters cannot mimic is
@@ -34,7 +35,12 @@ velocity):
    strength scores zero.  Simple signatures (correlation of the residual
    with sign(v), a, a constant, the dead-band indicator and the low-pressure
    phases) are reported too.
-4. Refit the ``top`` candidates with everything free (only those whose linearized
+4. Refit also, in every round and whatever its score, each device parameter the preset
+   holds fixed (:data:`~.candidates.DEVICE_REFINEMENTS`: the channel inertance S_t; by default,
+   or when named among ``candidates``); it
+   competes with the effects under the same rule, and when chosen it is recorded as the
+   device's own parameter (``Diagnosis.device_steps``), not an effect.
+   Refit the ``top`` candidates with everything free (only those whose linearized
    evidence pays their BIC penalty: N_eff ln(1 - score) + k ln N_eff < 0, N_eff of the
    current residual, k the effect's fitted parameters), starting
    from the linearized strength (cavitation: from the probe's vapour pressure, a
@@ -52,26 +58,27 @@ velocity):
    refit) is continued once before it is scored or judged; fits that still
    did not converge are listed in ``warnings`` and in the JSON
    (``converged``, ``not_converged``).
-5. Accept a refit when both hold:
+5. Keep a refit only when all hold (:class:`~.diagnosis_options.SelectionRule`):
 
-   * the calibration BIC, counted with the effective number of independent
-     samples, falls by more than ``bic_threshold`` (10, "very strong" evidence
-     on Kass and Raftery's scale):
-     delta BIC = N_eff ln(RSS_new / RSS_now) + (k_new - k_now) ln N_eff < -10,
-     N_eff = sum N_i / tau_i with tau_i the integrated autocorrelation time of
-     the refit's residual on record i
-     (:mod:`liquidamp.analysis.measured.selection`: a densely sampled residual is
-     correlated, so N samples are not N independent observations);
-   * the held-out (validation) NRMSE does not get worse by more than
-     ``validation_tolerance`` (2 %) relative.
+   * held out, record by record: no held-out record's NRMSE rises by more than
+     ``validation_tolerance`` (2 %, relative), and together they fall by more than it
+     (the geometric mean of the per-record ratios at most 0.98): an effect is kept only
+     if it predicts data it was not fitted to better;
+   * the calibration BIC, counted with an honest number of samples, falls by more than
+     ``bic_threshold`` (10, "very strong" evidence on Kass and Raftery's scale):
+     delta BIC = N ln(RSS_new / RSS_now) + (k_new - k_now) ln N < -10, N the independent
+     values the kept band of each record can hold, min(N_i, 2 B_i T_i + 1) summed over
+     records (B_i the force bandwidth the conditioning kept, T_i the span fitted:
+     :func:`~liquidamp.analysis.measured.selection.bandwidth_samples`; an averaged cycle
+     of 30 harmonics counts 61 whatever its sampling rate; ``sample_count="correlation"``
+     uses N_i / tau_i of the residual instead);
+   * no parameter the candidate frees ends at a bound (there its value is the bound's,
+     not the data's).
 
-   Of the accepted refits the one with the lowest validation NRMSE is added;
-   if others lie within ``tie_tolerance`` (10 %) of it, the step records a tie
-   with every set of evidence and adds the tied candidate with the fewest
-   parameters, unless one with more lowers delta BIC by more than
-   ``bic_threshold`` further (parsimony: Coulomb friction over a smooth friction
-   whose fitted pre-sliding stiffness is huge; the extra parameter needs the
-   evidence an effect of its own would need); among equals the lowest delta BIC.
+   Among the refits kept the best held out (lowest geometric mean ratio) is added; the
+   others within ``tie_tolerance`` (10 %) of it are reported as tied with their evidence.
+   Without validation records the last of several calibration records is held out, or the
+   second half of the whole cycles of one periodic record (``Diagnosis.holdout``).
 6. Repeat from 2 with the effect included, at most ``max_steps`` times.
 
 Besides the catalogue effects, :data:`COMPOSITES` lists candidates that change how
@@ -84,6 +91,14 @@ sharp, elastic-plastic slip).  Every candidate is one
 :class:`~liquidamp.analysis.measured.candidates.Change` -- the candidate model at a probe,
 the parameters it frees, the one the score test estimates -- so a composite is screened,
 refitted and judged like an effect, with the parameters it frees counted in delta BIC.
+
+Beside the physics model the line F = c v + k y + F0 and the two-slope force-velocity
+map per direction are fitted on the same split
+(:mod:`~liquidamp.analysis.measured.reference_models`); where the physics model does not
+beat the line on a held-out record, the first line of :meth:`Diagnosis.summary` says so.
+The force of every periodic record as read is tested for a drift from cycle to cycle
+(:func:`~liquidamp.analysis.measured.stationarity.cycle_drift`); a drifting record is
+reported first as non-stationary and its drift is kept out of its noise floor.
 
 When the loop ends with the residual above ``structure_factor`` (2) times
 the noise floor, the diagnosis says that structure remains that no candidate
@@ -111,7 +126,6 @@ from __future__ import annotations
 
 import math
 import warnings as _warnings
-from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -122,10 +136,12 @@ from liquidamp.analysis.measured.calibration import (
     with_progress,
 )
 from liquidamp.analysis.measured.checks import check_records, drop_outliers, keep_outliers
-from liquidamp.analysis.measured.conditioning import HARMONICS, condition
+from liquidamp.analysis.measured.conditioning import condition
 from liquidamp.analysis.measured.diagnosis_evidence import (
     COMPOSITES,
     CONFOUNDED,
+    DEVICE_REFINEMENTS,
+    REDUCTIONS,
     Candidate,
     applicable,
     confounding,
@@ -134,9 +150,19 @@ from liquidamp.analysis.measured.diagnosis_evidence import (
     score,
     signatures,
 )
+from liquidamp.analysis.measured.diagnosis_fits import _converge, _refit, _restart
+from liquidamp.analysis.measured.diagnosis_options import (
+    Budget,
+    ConditioningOptions,
+    DiagnoseOptions,
+    SelectionRule,
+)
+from liquidamp.analysis.measured.diagnosis_result import Diagnosis, Step, heldout_per_record
 from liquidamp.analysis.measured.record_model import nrmse, simulate_record
 from liquidamp.analysis.measured.record_quality import noise_floor
-from liquidamp.analysis.measured.selection import effective_samples, judge
+from liquidamp.analysis.measured.reference_models import reference_models
+from liquidamp.analysis.measured.selection import judge, sample_count
+from liquidamp.analysis.measured.stationarity import cycle_drift
 from liquidamp.device.effects import EFFECTS
 from liquidamp.errors import (
     ConvergenceError,
@@ -147,270 +173,354 @@ from liquidamp.errors import (
 from liquidamp.options import resolve_options
 
 __all__ = ["Candidate", "Step", "Diagnosis", "diagnose", "CONFOUNDED", "COMPOSITES",
-           "signatures", "demo_loop", "bundled_records"]
-
-@dataclass(frozen=True)
-class Step:
-    """One accepted addition."""
-
-    effect: str
-    parameters: dict
-    nrmse_calibration: float
-    nrmse_validation: float | None
-    candidates: tuple
-    tie: tuple = ()
-    result: CalibrationResult | None = field(default=None, repr=False)
-    confounded: dict = field(default_factory=dict)
-
-    def as_dict(self) -> dict:
-        """JSON-ready step (``fit``: whether the refit converged; ``confounded``: evidence
-        that a fitted device parameter mimics the effect, see :data:`CONFOUNDED`)."""
-        fit = ({"converged": self.result.converged, "status": self.result.status,
-                "message": self.result.message, "nfev": self.result.nfev}
-               if self.result is not None else {})
-        return {"effect": self.effect, "parameters": self.parameters,
-                "nrmse": {"calibration": self.nrmse_calibration,
-                          "validation": self.nrmse_validation},
-                "fit": fit, "tie": list(self.tie), "confounded": self.confounded,
-                "evidence": [c.as_dict() for c in self.candidates]}
+           "DiagnoseOptions", "SelectionRule", "Budget", "ConditioningOptions",
+           "default_candidates", "signatures", "demo_loop", "bundled_records"]
 
 
-@dataclass(frozen=True, eq=False)
-class Diagnosis:
-    """Result of :func:`diagnose`.
-
-    Attributes
-    ----------
-    baseline : CalibrationResult
-        The calibrated model as given.
-    steps : tuple of Step
-        Effects added, in order.
-    final : CalibrationResult
-        The last calibrated model.
-    noise_nrmse : float
-        Noise floor of the (conditioned) calibration records, as an NRMSE [-].
-    signatures : dict
-        Simple residual signatures of the baseline (name -> correlation).
-    stop_reason : str
-        Why the loop stopped.
-    unexplained : str
-        Non-empty when structure remains that no candidate explains.
-    warnings : tuple of str
-        Ties, non-converged fits.
-    last_candidates : tuple of Candidate
-        Evidence of the final, rejected round.
-    conditioning : tuple of Conditioning
-        What was done to each record before fitting (calibration, then validation).
-    noise_floors : tuple of NoiseFloor
-        The noise floor of each conditioned calibration record.
-    nrmse_raw : dict
-        ``{"calibration": ..., "validation": ...}``: the final model against the records
-        as given (empty when the conditioning changed nothing).
-    """
-
-    baseline: CalibrationResult
-    steps: tuple
-    final: CalibrationResult
-    noise_nrmse: float
-    signatures: dict
-    stop_reason: str
-    unexplained: str
-    warnings: tuple
-    last_candidates: tuple
-    conditioning: tuple = ()
-    noise_floors: tuple = ()
-    nrmse_raw: dict = field(default_factory=dict)
-
-    @property
-    def added(self) -> tuple[str, ...]:
-        """Names of the effects added."""
-        return tuple(s.effect for s in self.steps)
-
-    def as_dict(self) -> dict:
-        """JSON: baseline, steps, final (see the diagnose command)."""
-        def block(res):
-            d = res.as_dict()
-            return {"parameters": res.parameters_dict(),
-                    "nrmse": {"calibration": res.nrmse_calibration,
-                              "validation": res.nrmse_validation},
-                    "fit": d["fit"], "summary": d["summary"], "start": d["start"],
-                    "parameter_flags": d["parameter_flags"], "records": d["records"],
-                    "fit_warnings": d["warnings"]}
-        fits = [("baseline", self.baseline)] + [(f"step {i + 1}: + {s.effect}", s.result)
-                                                 for i, s in enumerate(self.steps)
-                                                 if s.result is not None]
-        not_conv = [{"fit": lab, "status": r.status, "message": r.message, "nfev": r.nfev}
-                    for lab, r in fits if not r.converged]
-        return {"baseline": block(self.baseline), "steps": [s.as_dict() for s in self.steps],
-                "final": block(self.final), "converged": not not_conv,
-                "not_converged": not_conv, "noise_floor_nrmse": self.noise_nrmse,
-                "noise_floors": [{"record": c.source, "force_std [N]": f.force_std,
-                                  "rate_force_std [N]": f.rate_force_std,
-                                  "nrmse": f.nrmse, "method": f.method,
-                                  "harmonics": f.harmonics,
-                                  "drift_std [N]": f.drift_std,
-                                  "drift_nrmse": f.drift_nrmse,
-                                  "nonstationary": bool(f.drift is not None
-                                                        and f.drift.nonstationary)}
-                                 for c, f in zip(self.conditioning[:len(self.noise_floors)],
-                                                 self.noise_floors, strict=True)],
-                "conditioning": [c.as_dict() for c in self.conditioning],
-                "data_quality": [q.as_dict() for q in self.baseline.data_quality],
-                "nrmse_raw": dict(self.nrmse_raw),
-                "signatures": self.signatures, "stop_reason": self.stop_reason,
-                "unexplained": self.unexplained, "warnings": list(self.warnings),
-                "last_round": [c.as_dict() for c in self.last_candidates]}
+def default_candidates() -> tuple[str, ...]:
+    """Every catalogue effect with fitted parameters, then every composite (the default
+    screen; operating conditions such as ``rotating_frame`` are given, not diagnosed)."""
+    return tuple(n for n, c in EFFECTS.items() if c.fit_keys) + tuple(COMPOSITES)
 
 
-def _refit(cand, change, current, validation, options, preroll, max_nfev, tol, sizing):
-    """Fit the model the candidate proposes, from the current optimum and its estimate.
-
-    ``change`` is the candidate's :class:`~.candidates.Change`: the effects of the candidate
-    model and the parameters it frees; the lead starts at the score test's estimate, the
-    other freed parameters at their probe values, kept inside their bounds (a decade in
-    from wide catalogue bounds, a tenth of the log-range from narrow ones)."""
-    effects = list(change.effects)
-    spec = FitSpec(current.spec.parameters)
-    for name, key in change.free:
-        i = next(i for i, e in enumerate(effects) if e.name == name)
-        v = getattr(effects[i], key)
-        label = key if name == change.added else f"{name}.{key}"
-        if (name, key) == change.lead and cand.effect != "cavitation":
-            # cavitation's lead is a threshold, not a strength: the linearized value can
-            # fall below the lowest chamber pressure, where the effect is inactive and the
-            # fit has no gradient
-            v = cand.estimate.get(label, v)
-        lo, hi = type(effects[i]).bounds[key]
-        if lo > 0:
-            m = 10.0 if hi / lo >= 1e4 else (hi / lo) ** 0.1
-            v = min(max(abs(v), lo * m), hi / m)
-        effects[i] = effects[i].replace(**{key: v})
-        spec = spec.with_effect(effects[i], keys=(key,))
-    res = calibrate(current.calibration, model=current.model, params=current.start_params,
-                    effects=tuple(effects), spec=spec, validate=validation,
-                    options=options, start="spec", max_nfev=max_nfev, preroll=preroll,
-                    tol=tol, warn=False, sizing=sizing)
-    if res.status == "max_nfev":
-        res = _converge(res, validation, options, preroll, max_nfev, tol, sizing)
-    return res
+def _candidate_names(candidates) -> tuple:
+    names = default_candidates() if candidates is None else tuple(candidates)
+    for n in names:
+        check_choice("candidate effect", n, {**EFFECTS, **COMPOSITES, **DEVICE_REFINEMENTS})
+        if n in DEVICE_REFINEMENTS:
+            continue
+        if n not in COMPOSITES and not EFFECTS[n].fit_keys:
+            raise ParameterError(
+                f"candidate effect {n!r} has no fitted parameters (an operating condition): "
+                "give it with effects=, not as a candidate")
+    return names
 
 
-def _restart(res, current, validation, options, preroll, max_nfev, tol, start0, sizing,
-             validation_tolerance):
-    """Refit from the physics start of the original multipliers; the better of the two fits.
-
-    The continuation from the previous optimum may sit in a local minimum of the loss
-    coefficients (the c1/c2 trade-off: least squares on the air ratios and loss
-    coefficients has local minima).  The restart is kept where it fits the calibration
-    records better and does not lose on the held-out ones by more than
-    ``validation_tolerance`` (relative): two optima of one model that differ there differ in
-    what the calibration record cannot tell apart (on the friction-damper records a
-    restart into strong fluid losses fits the 0.5 Hz loop 3 % better and the 1 and 0.25 Hz
-    loops 40 % worse, the losses standing in for friction at one rate only).
-    """
-    spec2 = res.spec.with_values(start0)
-    try:
-        res2 = calibrate(current.calibration, model=current.model,
-                         params=current.start_params, effects=res.effects,
-                         spec=spec2, validate=validation, options=options, start="physics",
-                         max_nfev=max_nfev, preroll=preroll, tol=tol, warn=False,
-                         sizing=sizing)
-        if res2.status == "max_nfev":
-            res2 = _converge(res2, validation, options, preroll, max_nfev, tol, sizing)
-    except ConvergenceError:
-        return res
-    if res2.cost >= res.cost:
-        return res
-    if (res.nrmse_validation is not None
-            and res2.nrmse_validation > (1.0 + validation_tolerance) * res.nrmse_validation):
-        return res
-    return res2
+def _stationarity(records, sel: SelectionRule) -> tuple[list, str]:
+    """Stage "check": the cycle drift of every record as read, and the sentence that says
+    which drift (empty when none).  A record-quality check that states non-stationarity
+    itself (``non_stationary`` or ``drift`` on its DataQuality) is honoured too."""
+    drifts, said = [], []
+    for r in records:
+        d = cycle_drift(r, noise_ratio=sel.structure_factor)
+        drifts.append(d)
+        if d is not None and d.non_stationary:
+            said.append(d.describe())
+    return drifts, "; ".join(said)
 
 
-def _converge(result, validation, options, preroll, max_nfev, tol, sizing):
-    """Continue a fit that stopped on its evaluation budget from where it stopped.
+def _quality_drift(result: CalibrationResult) -> str:
+    """Non-stationarity stated by the record-quality checks (defensive: their attribute may
+    not exist)."""
+    out = []
+    for q in result.data_quality:
+        flag = getattr(q, "non_stationary", None)
+        if flag is None:
+            drift = getattr(q, "drift", None)
+            flag = getattr(drift, "nonstationary", None) if drift is not None else None
+            if flag and getattr(drift, "reason", ""):
+                flag = drift.reason
+        if flag:
+            out.append(f"{q.source}: " + (flag if isinstance(flag, str)
+                                          else "its cycles drift (record-quality check)"))
+    return "; ".join(out)
 
-    The refits (and their continuations) run calibrate's own rule for their start
-    (``sizing="auto"``): from the baseline's device, sized again only where the model with
-    the candidate is far from the records (RMS force more than 4x off, or the stroke past
-    half the chamber); ``sizing`` of :func:`diagnose` chooses the baseline's start."""
-    return calibrate(result.calibration, model=result.model, params=result.start_params,
-                     effects=result.effects, spec=result.spec, validate=validation,
-                     options=options, start="spec", max_nfev=max_nfev, preroll=preroll,
-                     tol=tol, warn=False, sizing=sizing)
+
+def _holdout(calibration) -> tuple[tuple, tuple, str]:
+    """Held-out records where none were given: the last of several records, else the second
+    half of the whole cycles of a periodic record of at least 6 cycles."""
+    if len(calibration) >= 2:
+        return (calibration[:-1], calibration[-1:],
+                f"no validation records given: {calibration[-1].label} held out")
+    r = calibration[0]
+    if not (r.periodic and r.cycles >= 6.0):
+        raise ParameterError(
+            "diagnose needs held-out records: give validation records (--validate), two "
+            "calibration records (the last is held out) or one periodic record of at least 6 "
+            f"whole cycles (its second half is held out); got one record of {r.cycles:.3g} "
+            "cycles")
+    half = int(r.cycles) // 2
+    i = int(np.searchsorted(r.time, r.time[0] + half * r.period))
+    from liquidamp.analysis.measured.records import Record
+
+    def part(sl, tag, first):
+        return Record.from_arrays(r.time[sl], r.displacement[sl], r.force[sl],
+                                  window=r.window, order=r.order, source=r.source + tag,
+                                  first_line=first)
+
+    return ((part(slice(0, i), "", r.first_line),),
+            (part(slice(i, None), " (second half)", r.line(i)),),
+            f"no validation records given: the second half of {r.label} ({half} cycles "
+            "from its middle on) held out")
+
+
+def _prepare(calibration, validation, model, params, effects, spec, options, config,
+             baseline):
+    """Stages "condition", "start" and "fit": the conditioned records, what was done, the
+    records as given, and the baseline calibration."""
+    bud = config.budget
+    raw = (calibration, validation)
+    if baseline is None:
+        conds = [condition(r, **config.conditioning.keywords())
+                 for r in calibration + validation]
+        nc = len(calibration)
+        calibration = tuple(r for r, _ in conds[:nc])
+        validation = tuple(r for r, _ in conds[nc:])
+        conditioning = tuple(c for _, c in conds)
+        baseline = calibrate(calibration, model=model, params=params, effects=effects,
+                             spec=spec, validate=validation, options=options,
+                             max_nfev=bud.max_nfev, preroll=bud.preroll, tol=bud.tol,
+                             warn=False, sizing=config.sizing, outliers=config.outliers)
+    else:
+        calibration = baseline.calibration
+        conditioning = tuple(r.meta.get("conditioning")
+                             or condition(r, decimate=1, average=False)[1]
+                             for r in calibration + validation)
+        raw = (calibration, validation)
+    if baseline.status == "max_nfev":
+        # score candidates only against a converged model: a fit stopped on its budget
+        # leaves structure that a candidate would "explain" spuriously
+        baseline = _converge(baseline, validation, options, bud.preroll, bud.max_nfev,
+                             bud.tol, "preset" if config.sizing == "preset" else "auto")
+    return calibration, validation, conditioning, raw, baseline
+
+
+def _device_round(current, validation, options, bud, names):
+    """Stage "fit", device part: every device parameter the preset holds fixed
+    (:data:`~.candidates.DEVICE_REFINEMENTS`: the channel inertance S_t) refitted freed,
+    whatever its score (the score test is local and S_t moves far); it competes with the
+    round's effects under the same rule, and when chosen it is the device's own parameter,
+    not an effect (``Diagnosis.device_steps``).  Returns candidates, changes and refits."""
+    cands, changes, refits = [], {}, {}
+    for name, comp in DEVICE_REFINEMENTS.items():
+        if name not in names or comp.applicable(current):
+            continue
+        change = comp.change(current)
+        cand = Candidate(name, 0.0, 0.0, {}, note="device parameter freed (refitted always)")
+        try:
+            refits[name] = _refit(cand, change, current, validation, options, bud.preroll,
+                                  bud.max_nfev, bud.tol, "auto")
+        except (ConvergenceError, ParameterError) as exc:
+            cand = _with(cand, refitted=True, note=f"refit failed: {exc}")
+        cands.append(cand)
+        changes[name] = change
+    return cands, changes, refits
+
+
+def _noise(calibration, conditioning, drifts) -> tuple[tuple, float, float]:
+    """The noise floor of each conditioned calibration record, the pooled force noise [N]
+    and its NRMSE; a record whose cycles drift counts the noise about its trend (the drift
+    is not noise)."""
+    meas = np.concatenate([r.force for r in calibration])
+    den = float(np.sqrt(np.mean((meas - meas.mean()) ** 2)))
+    floors = tuple(c.noise if c.noise is not None else noise_floor(r)
+                   for c, r in zip(conditioning, calibration, strict=False))
+    stds = []
+    for f, c, d in zip(floors, conditioning, drifts, strict=False):
+        s = f.std
+        if d is not None and d.non_stationary:
+            s = min(s, d.noise_std / math.sqrt(max(c.cycles_averaged, 1)))
+        stds.append(s)
+    noise_std = float(np.sqrt(sum(s ** 2 * r.time.size
+                                  for s, r in zip(stds, calibration, strict=True))
+                              / meas.size))
+    return floors, noise_std, noise_std / den
+
+
+def _screen(names, current, options, bud: Budget, sel: SelectionRule):
+    """Stage "screen": the score test of every applicable candidate (one model run each),
+    ranked; the ones to refit (the ``top`` and, if needed, the next within ``score_ratio``)
+    whose linearized evidence pays their BIC penalty."""
+    present = {e.name for e in current.effects}
+    round_, probes = [], {}
+    for n in names:
+        if n in present:
+            continue
+        why = applicable(n, current)
+        if why:
+            round_.append(Candidate(n, 0.0, 0.0, {}, note=f"not applicable: {why}"))
+            continue
+        cand, probe = score(n, current, options, bud.preroll)
+        probes[n] = probe
+        round_.append(cand)
+    ranked = sorted(round_, key=lambda c: -c.score)
+    scored = [c for c in ranked if c.score > 0]
+    # the score test is local: at a calibrated model that sits in another basin of the
+    # c1/c2 trade-off, an effect whose signature overlaps a free parameter's can score
+    # below a rival and still fit far better once the parameters move
+    extra = [c for c in scored[bud.top:bud.top + 1]
+             if c.score * bud.score_ratio >= scored[0].score]
+    queue = scored[:bud.top]
+    n_now = sample_count(current.calibration, current.residuals("calibration"),
+                         sel.sample_count)
+    keep = []
+    for cand in queue + extra:
+        lin = _linear_delta_bic(cand, probes[cand.effect], n_now)
+        if lin > 0:
+            ranked[ranked.index(cand)] = _with(cand, note=(
+                f"not refitted: its score {cand.score:.3g} over {n_now:.4g} samples "
+                f"predicts delta BIC {lin:+.3g}, not even its penalty"))
+        else:
+            keep.append(cand)
+    queue = [c for c in queue if c in keep]
+    extra = [c for c in extra if c in keep]
+    return ranked, probes, scored, queue, extra, n_now
+
+
+def _fit_round(ranked, probes, queue, extra, current, validation, options, bud, level,
+               start0, sel):
+    """Stage "fit": refit the queued candidates (a second wave if the first leaves the
+    residual above ``level``), each restarted once from the physics start where needed."""
+    refits = {}
+    while queue:
+        for cand in queue:
+            try:
+                refits[cand.effect] = _refit(cand, probes[cand.effect], current, validation,
+                                             options, bud.preroll, bud.max_nfev, bud.tol,
+                                             "auto")
+            except (ConvergenceError, ParameterError) as exc:
+                ranked[ranked.index(cand)] = _with(cand, refitted=True,
+                                                   note=f"refit failed: {exc}")
+        for cand in queue:
+            if cand.effect in refits and not _explained(refits, level):
+                refits[cand.effect] = _restart(refits[cand.effect], current, validation,
+                                               options, bud.preroll, bud.max_nfev, bud.tol,
+                                               start0, "auto", sel.validation_tolerance)
+        queue, extra = ([], []) if _explained(refits, level) else (extra, [])
+    return refits
+
+
+def _freed_at_bound(res: CalibrationResult, change) -> list:
+    """The parameters a candidate freed that end at a bound of the refit."""
+    at = res.at_bounds()
+    return ([f"{n}.{k} ({at[f'{n}.{k}']})" for n, k in change.free if f"{n}.{k}" in at]
+            + [f"{n} ({at[n]})" for n in change.multipliers if n in at])
+
+
+def _judge_round(ranked, refits, probes, current, sel: SelectionRule):
+    """Stage "select", part 1: the selection rule on every refit (per held-out record, the
+    honest sample count, no freed parameter at a bound)."""
+    now = heldout_per_record(current)
+    for cand in [c for c in ranked if c.effect in refits]:
+        res = refits[cand.effect]
+        new = heldout_per_record(res)
+        n_eff = sample_count(res.calibration, res.residuals("calibration"), sel.sample_count)
+        v = judge(current.residuals("calibration"), res.residuals("calibration"),
+                  len(res.varying) - len(current.varying), [now[k] for k in now],
+                  [new[k] for k in now], bic_threshold=sel.bic_threshold,
+                  validation_tolerance=sel.validation_tolerance, n_eff=n_eff)
+        why = ([f"refit: {res.message}"] if not res.converged else []) + list(v.reasons)
+        bound = _freed_at_bound(res, probes[cand.effect])
+        if bound and sel.reject_at_bound:
+            why.append("parameter at a bound (its value is the bound's, not the data's): "
+                       + ", ".join(bound))
+        ranked[ranked.index(cand)] = _with(
+            cand, refitted=True, nrmse_calibration=res.nrmse_calibration,
+            nrmse_validation=res.nrmse_validation, relative_reduction=v.relative_reduction,
+            delta_bic=v.delta_bic, n_effective=v.n_effective,
+            accepted=v.accepted and not (bound and sel.reject_at_bound),
+            note="; ".join(why), validation_records=new,
+            parameters=probes[cand.effect].parameters(res))
+    return ranked
+
+
+def _select(ranked, sel: SelectionRule):
+    """Stage "select", part 2: the best held-out candidate that passed, and those tied with
+    it (held-out geometric-mean ratio within ``tie_tolerance``)."""
+    passed = sorted([c for c in ranked if c.accepted], key=lambda c: -c.relative_reduction)
+    if not passed:
+        return None, []
+    best = 1.0 - passed[0].relative_reduction
+    tied = [c for c in passed if 1.0 - c.relative_reduction <= (1 + sel.tie_tolerance) * best]
+    return passed[0], tied
+
+
+def _reduce(chosen, tied, ranked, refits, probes, current, validation, options, bud, sel):
+    """Stage "select", part 3: a chosen candidate that contains a simpler one as a limit
+    (:data:`~.candidates.REDUCTIONS`: a relief valve cracking near zero is a laminar bypass)
+    gives way to it where the simpler one, refitted if it was not, passes the rule and ties
+    on held-out data (within ``tie_tolerance``)."""
+    simpler = REDUCTIONS.get(chosen.effect) if chosen is not None else None
+    if simpler is None:
+        return ranked, chosen, tied
+    cand = next((c for c in ranked if c.effect == simpler), None)
+    if cand is None or cand.note.startswith("not applicable"):
+        return ranked, chosen, tied
+    if simpler not in refits:
+        if simpler not in probes:
+            return ranked, chosen, tied
+        try:
+            refits[simpler] = _refit(cand, probes[simpler], current, validation, options,
+                                     bud.preroll, bud.max_nfev, bud.tol, "auto")
+        except (ConvergenceError, ParameterError) as exc:
+            ranked[ranked.index(cand)] = _with(cand, refitted=True, note=f"refit failed: {exc}")
+            return ranked, chosen, tied
+        ranked = _judge_round(ranked, {simpler: refits[simpler]}, probes, current, sel)
+    cand = next(c for c in ranked if c.effect == simpler)
+    best = 1.0 - chosen.relative_reduction
+    if cand.accepted and 1.0 - cand.relative_reduction <= (1 + sel.tie_tolerance) * best:
+        i = ranked.index(cand)
+        ranked[i] = _with(cand, note=(cand.note + "; " if cand.note else "") + (
+            f"added instead of {chosen.effect}, which reduces to it and ties on held-out "
+            "data"))
+        tied = [ranked[i]] + [c for c in tied if c.effect != simpler]
+        return ranked, ranked[i], tied
+    return ranked, chosen, tied
+
+
+def _no_pass(ranked, scored, probes, n_now, sel: SelectionRule) -> str:
+    best = min((c for c in ranked if c.refitted and c.delta_bic is not None),
+               key=lambda c: c.delta_bic, default=None)
+    return ("no candidate passes the selection rule (held out: no record worse by more than "
+            f"{sel.validation_tolerance:.0%} and better together by more than it; delta BIC "
+            f"over the {sel.sample_count} sample count < -{sel.bic_threshold:g}; no freed "
+            "parameter at a bound)"
+            + (f"; best: {best.effect}, delta BIC {best.delta_bic:.4g} (N {best.n_effective:.4g}"
+               f"), held-out change {-best.relative_reduction:+.1%}"
+               + (f" ({best.note})" if best.note else "") if best else "")
+            + (f"; best score: {scored[0].effect} {scored[0].score:.3g}, linearized "
+               f"delta BIC {_linear_delta_bic(scored[0], probes[scored[0].effect], n_now):+.3g}"
+               ", not refitted" if scored and not best else ""))
 
 
 @with_progress
-def diagnose(calibration, validation, *, model="full", params=None, effects=(),
-             candidates=None, spec: FitSpec | None = None, options=None, max_steps: int = 3,
-             top: int = 2, bic_threshold: float = 10.0, validation_tolerance: float = 0.02,
-             tie_tolerance: float = 0.10, noise_factor: float = 1.5,
-             structure_factor: float = 2.0, score_ratio: float = 3.0, max_nfev: int = 60,
-             preroll: int = 1, tol: float = 1e-5, force_cutoff: float | None = None,
-             decimate="auto", harmonics: float = HARMONICS, average="auto",
-             sizing: str = "auto", outliers: str = "refuse",
-             baseline: CalibrationResult | None = None) -> Diagnosis:
-    """Calibrate, then add catalogue effects the evidence asks for (module doc).
+def diagnose(calibration, validation=(), *, model="full", params=None, effects=(),
+             spec: FitSpec | None = None, options=None, config: DiagnoseOptions | None = None,
+             baseline: CalibrationResult | None = None, **keywords) -> Diagnosis:
+    """Calibrate, then add the catalogue effects the held-out records ask for (module doc).
+
+    The stages: check the records as read (and their cycle drift), condition them, start
+    and fit the baseline, then per step screen every candidate, refit the best, select by
+    the rule, and report (with the reference models fitted on the same split).
 
     Parameters
     ----------
     calibration, validation : sequence of Record
-        Records to fit and held-out records to judge by (at least one each).
-    model, params, effects, spec, options, preroll
+        Records to fit and held-out records to judge by.  Without validation records the
+        last of several calibration records is held out, or the second half of the whole
+        cycles of one periodic record of at least 6 cycles (``Diagnosis.holdout`` says so).
+    model, params, effects, spec, options
         As for :func:`~liquidamp.analysis.measured.calibration.calibrate` (default:
-        ``full`` from ``paper_initial`` with the paper's four multipliers free).
-    candidates : sequence of str, optional
-        Effects to consider (default: the catalogue effects with ``screened`` set
-        and fitted parameters, ``fit_keys``, and the composite candidates of
-        :data:`COMPOSITES`, e.g. ``"backlash"``: freeplay in series with the friction
-        already in the model, ``"friction_asymmetry"``; the others, e.g.
-        ``relief_valve``, only when named here; operating conditions such as
-        ``rotating_frame`` are given, not diagnosed).
-    max_steps : int
-        Largest number of effects added.
-    top : int
-        Candidates refitted per step at least (the best scores).
-    score_ratio : float
-        When the ``top`` refits leave the residual structured, the next candidate is
-        refitted too if its score is at least 1/``score_ratio`` of the best
-        (module doc, step 4).
-    bic_threshold : float
-        Least fall of the effective-sample BIC for an effect to be added [-] (step 5).
-    validation_tolerance : float
-        Largest relative rise of the held-out NRMSE an added effect may cause [-].
-    tie_tolerance, noise_factor, structure_factor : float
-        Decision thresholds (module doc).
+        ``full`` from ``paper_initial`` with the paper's four multipliers free);
+        ``options`` are the solver options.
+    config : DiagnoseOptions, optional
+        Selection rule, budget, conditioning, candidates and start
+        (:mod:`~liquidamp.analysis.measured.diagnosis_options`).  Default: every catalogue
+        effect with fitted parameters and every composite is a candidate
+        (:func:`default_candidates`).
+    baseline : CalibrationResult, optional
+        A calibration already done on the records it holds (``baseline.calibration``);
+        those records and ``validation`` are used as they are (no conditioning).
+    **keywords
+        Flat options mapped onto ``config`` (:meth:`DiagnoseOptions.from_keywords`):
+        ``candidates``, ``sizing``, ``max_steps``, ``top``, ``score_ratio``, ``max_nfev``,
+        ``tol``, ``preroll``, ``bic_threshold``, ``validation_tolerance``,
+        ``tie_tolerance``, ``noise_factor``, ``structure_factor``, ``sample_count``,
+        ``reject_at_bound``, ``force_cutoff``, ``decimate``, ``harmonics``, ``average``,
+        ``outliers``.  Unknown names raise.
     progress : callable, optional
         Called as ``progress(1)`` after every model evaluation of every fit
         (keyword only; :func:`~liquidamp.analysis.measured.calibration.with_progress`).
-    max_nfev : int
-        Evaluation budget of each fit.
-    tol : float
-        Fit tolerance (ftol = xtol of least squares).
-    force_cutoff : float, optional
-        Cut-off of the zero-phase force filter applied to every record [Hz] (default:
-        none); see :func:`~liquidamp.analysis.measured.conditioning.condition`.
-    decimate : 'auto' or int
-        Decimation factor of every record (``'auto'``: keep ``harmonics`` harmonics of
-        each record's stroke frequency; 1: none).
-    harmonics : float
-        Harmonics of the stroke frequency kept by ``decimate='auto'`` [-].
-    average : 'auto', True or False
-        Average the whole cycles of each record into one (``'auto'``: a periodic stroke
-        over at least four whole cycles).
-    sizing : {'auto', 'preset', 'data'}
-        The device the baseline calibration starts from, as for
-        :func:`~liquidamp.analysis.measured.calibration.calibrate`; each refit starts
-        from the baseline's device, sized again only where calibrate's ``'auto'`` rule
-        finds the model with the candidate far from the records.
-    outliers : {'refuse', 'drop', 'keep'}
-        Spikes in the records as read (:func:`~liquidamp.analysis.measured.checks.check_records`):
-        refuse the records (default), drop the force spikes before conditioning
-        (:func:`~liquidamp.analysis.measured.checks.drop_outliers`), or keep them.
-    baseline : CalibrationResult, optional
-        A calibration already done on the records it holds (``baseline.calibration``);
-        those records and ``validation`` are used as they are (no conditioning: condition
-        them before calibrating).
 
     Returns
     -------
@@ -419,194 +529,94 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
     Raises
     ------
     DataFileError
-        Before any model run, as :func:`~liquidamp.analysis.measured.calibration.check_records`:
-        a record with no force response above its noise, a stroke past the
-        chamber end (``params.stroke_limit``), or a spike in the force or the
-        displacement (every record, count and file line named at once; force spikes
-        pass with ``outliers='drop'`` or ``'keep'``, displacement spikes with
-        ``'keep'``).
+        Before any model run, as :func:`~liquidamp.analysis.measured.checks.check_records`
+        (every record, count and file line named at once; force spikes pass with
+        ``outliers='drop'`` or ``'keep'``, displacement spikes with ``'keep'``).
     ParameterError
-        Bad conditioning options (as :func:`~.conditioning.condition`).
+        Unknown or bad options, no held-out records and none can be held out.
 
     Warns
     -----
     LiquidampWarning
         With each of ``Diagnosis.warnings``.
     """
+    config = DiagnoseOptions.from_keywords(config, **keywords)
+    sel, bud = config.selection, config.budget
     calibration, validation = tuple(calibration), tuple(validation)
-    if not validation:
-        raise ParameterError("diagnose needs held-out validation records (--validate)")
-    for name, v, lo in (("bic_threshold", bic_threshold, 0.0),
-                        ("validation_tolerance", validation_tolerance, 0.0)):
-        if not (math.isfinite(v) and v >= lo):
-            raise ParameterError(f"diagnose: {name} must be a finite number >= {lo:g}, "
-                                 f"got {v!r}")
+    if not calibration:
+        raise ParameterError("diagnose needs at least one calibration record")
+    names = _candidate_names(config.candidates)
+    # the device's own parameters are tried by default, or when named among the candidates
+    device_names = (tuple(DEVICE_REFINEMENTS) if config.candidates is None
+                    else tuple(n for n in names if n in DEVICE_REFINEMENTS))
+    names = tuple(n for n in names if n not in DEVICE_REFINEMENTS)
+    options = resolve_options(options, "fit")
     if params is None:
         from liquidamp.device import preset
 
         check_params = preset("paper_initial")
     else:
         check_params = params
-    # before any model run: noise-only records, spikes (a 30 mm displacement spike made
-    # the integration crawl for minutes) and a stroke past the chamber end are refused
+    # stage "check", before any model run: noise-only records, spikes and a stroke past the
+    # chamber end are refused; the cycle drift of every record as read is measured
     quality, _ = check_records(calibration + validation, check_params, what="diagnose",
-                               outliers=outliers)
-    if outliers != "refuse" and baseline is None:  # before any conditioning
+                               outliers=config.outliers)
+    if config.outliers != "refuse" and baseline is None:  # before any conditioning
         nc = len(calibration)
-        how = drop_outliers if outliers == "drop" else keep_outliers
+        how = drop_outliers if config.outliers == "drop" else keep_outliers
         fixed = [how(r, q) for r, q in zip(calibration + validation, quality, strict=True)]
         calibration, validation = tuple(fixed[:nc]), tuple(fixed[nc:])
-    names = (tuple(n for n, c in EFFECTS.items() if c.screened and c.fit_keys)
-             if candidates is None
-             else tuple(candidates))
-    if candidates is None:
-        names += tuple(COMPOSITES)
-    for n in names:
-        check_choice("candidate effect", n, {**EFFECTS, **COMPOSITES})
-        if n not in COMPOSITES and not EFFECTS[n].fit_keys:
-            raise ParameterError(
-                f"candidate effect {n!r} has no fitted parameters (an operating condition): "
-                "give it with effects=, not as a candidate")
-    options = resolve_options(options, "fit")
-    raw = (calibration, validation)
-    if baseline is None:
-        conds = [condition(r, force_cutoff=force_cutoff, decimate=decimate,
-                           harmonics=harmonics, average=average)
-                 for r in calibration + validation]
-        nc = len(calibration)
-        calibration = tuple(r for r, _ in conds[:nc])
-        validation = tuple(r for r, _ in conds[nc:])
-        conditioning = tuple(c for _, c in conds)
-        baseline = calibrate(calibration, model=model, params=params, effects=effects,
-                             spec=spec, validate=validation, options=options,
-                             max_nfev=max_nfev, preroll=preroll, tol=tol, warn=False,
-                             sizing=sizing, outliers=outliers)
-    else:
-        calibration = baseline.calibration
-        conditioning = tuple(r.meta.get("conditioning")
-                             or condition(r, decimate=1, average=False)[1]
-                             for r in calibration + validation)
-        raw = (calibration, validation)
+    holdout = ""
+    if not validation:
+        if baseline is not None:
+            raise ParameterError("diagnose with a baseline needs its validation records")
+        calibration, validation, holdout = _holdout(calibration)
+    drifts, non_stat = _stationarity(calibration + validation, sel)
+    # stages "condition", "start", "fit"
+    calibration, validation, conditioning, raw, baseline = _prepare(
+        calibration, validation, model, params, effects, spec, options, config, baseline)
+    non_stat = "; ".join(x for x in (non_stat, _quality_drift(baseline)) if x)
     warnings = []
-    if baseline.status == "max_nfev":
-        # score candidates only against a converged model: a fit stopped on its budget
-        # leaves structure that a candidate would "explain" spuriously
-        # continued from where it stopped: its device (sized or not) is kept unless far
-        baseline = _converge(baseline, validation, options, preroll, max_nfev, tol,
-                             "preset" if sizing == "preset" else "auto")
     if not baseline.converged:
         warnings.append(f"NOT CONVERGED: baseline calibration ({baseline.status}): "
                         f"{baseline.message}")
-    meas = np.concatenate([r.force for r in calibration])
-    den = float(np.sqrt(np.mean((meas - meas.mean()) ** 2)))
-    # the floor of each record as conditioned (an averaged cycle: the scatter over its cycles)
-    floors = tuple(c.noise if c.noise is not None else noise_floor(r)
-                   for c, r in zip(conditioning, calibration, strict=False))
-    noise_std = float(np.sqrt(sum(f.std ** 2 * r.time.size
-                                  for f, r in zip(floors, calibration, strict=True))
-                              / meas.size))
-    noise_nrmse = noise_std / den
+    floors, noise_std, noise_nrmse = _noise(calibration, conditioning, drifts)
     sig = signatures(baseline)
     spec0 = baseline.spec if spec is None else spec
     start0 = {p.name: (spec0[p.name].value if p.name in spec0.names else 1.0)
               for p in baseline.spec.parameters if p.kind == "multiplier"}
     if spec is None:
         start0 = dict.fromkeys(start0, 1.0)
-    current = baseline
-    steps = []
-    stop = f"max_steps = {max_steps} reached"
-    last_round: tuple = ()
-    for _ in range(max_steps):
-        if current.nrmse_calibration <= noise_factor * noise_nrmse:
+    current, steps, last_round = baseline, [], ()
+    stop = f"max_steps = {bud.max_steps} reached"
+    level = sel.structure_factor * noise_nrmse
+    device_steps, device_evidence = [], ()
+    while len(steps) < bud.max_steps:
+        if current.nrmse_calibration <= sel.noise_factor * noise_nrmse:
             stop = (f"residual is noise: calibration NRMSE {current.nrmse_calibration:.4g} <= "
-                    f"{noise_factor:g} x noise floor {noise_nrmse:.4g}")
+                    f"{sel.noise_factor:g} x noise floor {noise_nrmse:.4g}")
             break
-        present = {e.name for e in current.effects}
-        round_ = []
-        probes = {}
-        for n in names:
-            if n in present:
-                continue
-            why = applicable(n, current)
-            if why:
-                round_.append(Candidate(n, 0.0, 0.0, {}, note=f"not applicable: {why}"))
-                continue
-            cand, probe = score(n, current, options, preroll)
-            probes[n] = probe
-            round_.append(cand)
-        ranked = sorted(round_, key=lambda c: -c.score)
-        refits = {}
-        scored = [c for c in ranked if c.score > 0]
-        # the score test is local: at a calibrated model that sits in another basin of the
-        # c1/c2 trade-off, an effect whose signature overlaps a free parameter's can score
-        # below a rival and still fit far better once the parameters move; so when the
-        # ``top`` refits leave the calibration residual structured (above
-        # ``structure_factor`` x the noise floor), the next candidate is refitted too if
-        # it scores within ``score_ratio`` of the best
-        extra = [c for c in scored[top:top + 1] if c.score * score_ratio >= scored[0].score]
-        queue = scored[:top]
-        # candidate pruning: a candidate whose linearized evidence does not even pay its
-        # BIC penalty is not refitted (its note says so)
-        n_now, _ = effective_samples(current.residuals("calibration"))
-        for cand in queue + extra:
-            lin = _linear_delta_bic(cand, probes[cand.effect], n_now)
-            if lin > 0:
-                i = ranked.index(cand)
-                ranked[i] = _with(cand, note=(
-                    f"not refitted: its score {cand.score:.3g} over N_eff {n_now:.4g} "
-                    f"predicts delta BIC {lin:+.3g}, not even its penalty"))
-        queue = [c for c in queue if _linear_delta_bic(c, probes[c.effect], n_now) <= 0]
-        extra = [c for c in extra if _linear_delta_bic(c, probes[c.effect], n_now) <= 0]
-        level = structure_factor * noise_nrmse
-        while queue:
-            for cand in queue:
-                try:
-                    refits[cand.effect] = _refit(cand, probes[cand.effect], current,
-                                                 validation, options, preroll, max_nfev, tol,
-                                                 "auto")
-                except (ConvergenceError, ParameterError) as exc:
-                    i = ranked.index(cand)
-                    ranked[i] = _with(cand, refitted=True, note=f"refit failed: {exc}")
-            # a refit that leaves the residual structured is tried once more from the
-            # physics start, unless another candidate of the round already explains it
-            for cand in queue:
-                if cand.effect in refits and not _explained(refits, level):
-                    refits[cand.effect] = _restart(refits[cand.effect], current, validation,
-                                                   options, preroll, max_nfev, tol, start0,
-                                                   "auto", validation_tolerance)
-            queue, extra = ([], []) if _explained(refits, level) else (extra, [])
-        for cand in [c for c in ranked if c.effect in refits]:
-            res = refits[cand.effect]
-            v = judge(current.residuals("calibration"), res.residuals("calibration"),
-                      len(res.varying) - len(current.varying), current.nrmse_validation,
-                      res.nrmse_validation, bic_threshold=bic_threshold,
-                      validation_tolerance=validation_tolerance)
-            why = ([f"refit: {res.message}"] if not res.converged else []) + list(v.reasons)
-            ranked[ranked.index(cand)] = _with(
-                cand, refitted=True, nrmse_calibration=res.nrmse_calibration,
-                nrmse_validation=res.nrmse_validation, relative_reduction=v.relative_reduction,
-                delta_bic=v.delta_bic, n_effective=v.n_effective, accepted=v.accepted,
-                note="; ".join(why),
-                parameters=probes[cand.effect].parameters(res))
+        # stage "screen"
+        ranked, probes, scored, queue, extra, n_now = _screen(names, current, options, bud,
+                                                              sel)
+        # stage "fit"
+        refits = _fit_round(ranked, probes, queue, extra, current, validation, options,
+                            bud, level, start0, sel)
+        dev, dev_changes, dev_refits = _device_round(current, validation, options, bud,
+                                                     device_names)
+        ranked += dev
+        probes.update(dev_changes)
+        refits.update(dev_refits)
+        # stage "select"
+        ranked = _judge_round(ranked, refits, probes, current, sel)
+        chosen, tied = _select(ranked, sel)
+        ranked, chosen, tied = _reduce(chosen, tied, ranked, refits, probes, current,
+                                       validation, options, bud, sel)
         last_round = tuple(ranked)
-        passed = sorted([c for c in ranked if c.accepted], key=lambda c: c.nrmse_validation)
-        if not passed:
-            best = min((c for c in ranked if c.refitted and c.delta_bic is not None),
-                       key=lambda c: c.delta_bic, default=None)
-            stop = ("no candidate passes the selection rule (delta BIC with N_eff < "
-                    f"-{bic_threshold:g} and held-out NRMSE not worse by more than "
-                    f"{validation_tolerance:.0%})"
-                    + (f"; best: {best.effect}, delta BIC {best.delta_bic:.4g} (N_eff "
-                       f"{best.n_effective:.4g}), validation NRMSE change "
-                       f"{-best.relative_reduction:+.1%}" if best else "")
-                    + (f"; best score: {scored[0].effect} {scored[0].score:.3g}, linearized "
-                       f"delta BIC "
-                       f"{_linear_delta_bic(scored[0], probes[scored[0].effect], n_now):+.3g}"
-                       ", not refitted" if scored and not best else ""))
+        device_evidence = tuple(c for c in ranked if c.effect in DEVICE_REFINEMENTS)
+        if chosen is None:
+            stop = _no_pass(ranked, scored, probes, n_now, sel)
             break
-        tied = [c for c in passed
-                if c.nrmse_validation <= (1 + tie_tolerance) * passed[0].nrmse_validation]
-        chosen = _parsimonious(tied, refits, bic_threshold)
         tie = ()
         if len(tied) > 1:
             tie = tuple(c.effect for c in tied)
@@ -614,10 +624,18 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
                 "tie: " + " and ".join(
                     f"{c.effect} (validation NRMSE {c.nrmse_validation:.4g}, dBIC "
                     f"{c.delta_bic:.4g})" for c in tied)
-                + f" explain the residual about equally (validation NRMSE within "
-                f"{tie_tolerance:.0%}); {chosen.effect} was added (fewest parameters unless "
-                f"more lower delta BIC by over {bic_threshold:g})")
+                + f" explain the residual about equally (held-out NRMSE within "
+                f"{sel.tie_tolerance:.0%}); {chosen.effect} was added ("
+                + ("the best held out" if chosen.effect not in REDUCTIONS.values()
+                   or "added instead" not in chosen.note else
+                   "the simpler model the best one reduces to") + ")")
         res = refits[chosen.effect]
+        if chosen.effect in DEVICE_REFINEMENTS:
+            # the device's own parameter, not an effect: it does not count as a step
+            device_steps.append(Step(chosen.effect, chosen.parameters, res.nrmse_calibration,
+                                     res.nrmse_validation, tuple(ranked), tie, res, {}))
+            current, last_round = res, ()
+            continue
         if not res.converged:
             warnings.append(f"NOT CONVERGED: fit with {chosen.effect} ({res.status}): "
                             f"{res.message}")
@@ -627,45 +645,33 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
                           confounding(chosen.effect, current, res)))
         current = res
         last_round = ()
+    # stage "report"
     unexplained = ""
-    if current.nrmse_calibration > structure_factor * noise_nrmse:
-        # said whenever the residual stays well above the noise floor, with the
-        # excitation harmonics that stand out when there are any
+    if current.nrmse_calibration > sel.structure_factor * noise_nrmse:
         h = harmonic_structure(current, noise_std)
         unexplained = ("residual keeps structure that no candidate explains "
                        f"(calibration NRMSE {current.nrmse_calibration:.3g} vs noise floor "
-                       f"{noise_nrmse:.3g}, more than {structure_factor:g} x): "
+                       f"{noise_nrmse:.3g}, more than {sel.structure_factor:g} x): "
                        + (h or "no single harmonic of the excitation stands out (broadband "
                           "or non-periodic misfit)"))
     raw_nrmse = {}
     if any(c.changed for c in conditioning):
         m = current.device_model
         raw_nrmse = {role: nrmse([simulate_record(m, current.params, r, options=options,
-                                                  preroll=preroll).force for r in recs],
+                                                  preroll=bud.preroll).force for r in recs],
                                  [r.force for r in recs])
                      for role, recs in zip(("calibration", "validation"), raw, strict=True)}
+    refs = reference_models(calibration, validation)
     for w in warnings:
         _warnings.warn(f"diagnose: {w}", LiquidampWarning, stacklevel=2)
     return Diagnosis(baseline=baseline, steps=tuple(steps), final=current,
                      noise_nrmse=noise_nrmse, signatures=sig, stop_reason=stop,
                      unexplained=unexplained, warnings=tuple(warnings),
                      last_candidates=last_round, conditioning=conditioning,
-                     noise_floors=floors, nrmse_raw=raw_nrmse)
-
-
-def _parsimonious(tied: list, refits: dict, bic_threshold: float) -> Candidate:
-    """The tied candidate to add: the fewest parameters, unless one with more lowers the
-    effective-sample BIC by more than ``bic_threshold`` below it (its extra parameters need
-    the same evidence as an effect of their own); the lowest delta BIC among equals."""
-    def size(c):
-        return len(refits[c.effect].varying)
-
-    order = sorted(tied, key=lambda c: (size(c), c.delta_bic))
-    chosen = order[0]
-    for c in order[1:]:
-        if size(c) > size(chosen) and c.delta_bic < chosen.delta_bic - bic_threshold:
-            chosen = c
-    return chosen
+                     noise_floors=floors, nrmse_raw=raw_nrmse, references=refs,
+                     drifts=tuple(d for d in drifts if d is not None),
+                     non_stationary=non_stat, options=config, holdout=holdout,
+                     device_steps=tuple(device_steps), device_evidence=device_evidence)
 
 
 def _linear_delta_bic(cand: Candidate, change, n_eff: float) -> float:

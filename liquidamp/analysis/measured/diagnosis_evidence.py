@@ -30,6 +30,8 @@ from liquidamp.analysis.measured.calibration import (
 )
 from liquidamp.analysis.measured.candidates import (
     COMPOSITES,
+    DEVICE_REFINEMENTS,
+    REDUCTIONS,
     applicable,
     candidate_change,
     probe_effect,
@@ -38,7 +40,8 @@ from liquidamp.analysis.measured.record_model import simulate_record
 from liquidamp.device.effects import EFFECTS
 from liquidamp.errors import LiquidampError
 
-__all__ = ["Candidate", "CONFOUNDED", "COMPOSITES", "signatures", "score", "probe_effect",
+__all__ = ["Candidate", "CONFOUNDED", "COMPOSITES", "DEVICE_REFINEMENTS", "REDUCTIONS",
+           "signatures", "score", "probe_effect",
            "candidate_change", "applicable", "confounding", "confounding_warnings",
            "harmonic_structure"]
 
@@ -95,6 +98,8 @@ class Candidate:
         Passed the selection rule (module doc, step 5).
     note : str
         Why not applicable, what happened in the refit, or which test it failed.
+    validation_records : dict
+        Held-out NRMSE of the refit per record (label -> NRMSE [-]).
     """
 
     effect: str
@@ -110,6 +115,7 @@ class Candidate:
     parameters: dict = field(default_factory=dict)
     accepted: bool = False
     note: str = ""
+    validation_records: dict = field(default_factory=dict)
 
     def as_dict(self) -> dict:
         """JSON-ready evidence."""
@@ -209,7 +215,7 @@ def score(name: str, result: CalibrationResult, options, preroll: int):
     """
     change = candidate_change(name, result)
     try:
-        Fp = predict(result.model, result.params, change.effects,
+        Fp = predict(result.model, change.params or result.params, change.effects,
                      result.calibration, options=options, preroll=preroll)
     except LiquidampError as exc:
         return Candidate(name, 0.0, 0.0, {}, note=f"probe run failed: {exc}"), change
@@ -228,7 +234,8 @@ def score(name: str, result: CalibrationResult, options, preroll: int):
     drop = (float(s_perp @ r) ** 2 / ss) / rss if rss > 0 else 0.0
     ok = beta > 0 or change.signed
     eff, key = change.lead
-    est = {(key if eff == change.added else f"{eff}.{key}"): change.estimate(beta)} if ok else {}
+    label = key if eff in (change.added, "device") else f"{eff}.{key}"
+    est = {label: change.estimate(beta)} if ok else {}
     note = "" if ok else "the residual asks for a negative strength"
     return Candidate(name, drop if ok else 0.0, -_corr(r, s), est, note=note), change
 

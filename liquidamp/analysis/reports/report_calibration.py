@@ -291,6 +291,39 @@ def _drift_cell(q) -> str:
     return ("NON-STATIONARY: " if d.nonstationary else "stationary: ") + text
 
 
+def _verdict_section(final, diagnosis) -> list[str]:
+    """The verdict first (the summary's first line), then the held-out NRMSE per record of
+    the physics model beside the reference models fitted on the same split."""
+    out = []
+    if diagnosis is not None:
+        lines = diagnosis.summary().splitlines()
+        bad = bool(diagnosis.non_stationary or diagnosis.unexplained
+                   or diagnosis.loses_to_line)
+        out.append(f"<div class='{'bad' if bad else 'ok'}'><b>{html.escape(lines[0])}</b>"
+                   + "".join(f"<br>{html.escape(x)}" for x in lines[1:]) + "</div>")
+    else:
+        lose = final.versus_line()
+        out.append(f"<div class='{'bad' if lose else 'ok'}'><b>"
+                   f"{html.escape(final.summary())}</b></div>")
+    refs = final.references if final.validation else {}
+    if refs:
+        out.append("<h2>Held-out NRMSE per record: physics model and reference models</h2>")
+        out.append("<p>Reference models fitted on the same calibration records: the line "
+                   "F = c v + k y + F0 and the two-slope force-velocity map per direction "
+                   "with its knee (what a damper dynamometer reports).  The pooled figure is "
+                   "given beside the records.</p>")
+        per = final.heldout_records()
+        rows = [[lab, per[lab]] + [r.validation_of(lab) for r in refs.values()]
+                for lab in per]
+        rows.append(["pooled", final.nrmse_validation]
+                    + [r.nrmse_validation for r in refs.values()])
+        out.append(_table(rows, ["held-out record", "physics model"]
+                          + [f"{k}: {html.escape(r.formula)}" for k, r in refs.items()]))
+        out.append(_table([[k, r.parameters] for k, r in refs.items()],
+                          ["reference model", "parameters (SI)"]))
+    return out
+
+
 def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibration") -> Path:
     """Write ``index.html`` and PNGs for a CalibrationResult or a Diagnosis.
 
@@ -315,13 +348,17 @@ def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibrat
     out.mkdir(parents=True, exist_ok=True)
     plt = _plt()
     if diagnosis is not None:
-        results = [diagnosis.baseline] + [s.result for s in diagnosis.steps]
-        labels = ["baseline"] + [f"+ {s.effect}" for s in diagnosis.steps]
+        dev = list(getattr(diagnosis, "device_steps", ()))
+        results = ([diagnosis.baseline] + [s.result for s in dev]
+                   + [s.result for s in diagnosis.steps])
+        labels = (["baseline"] + [f"device: {s.effect}" for s in dev]
+                  + [f"+ {s.effect}" for s in diagnosis.steps])
     else:
         results, labels = [result], ["calibrated"]
     first = results[0]
     parts = [f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}"
              f"</title><style>{CSS}</style></head><body><h1>{html.escape(title)}</h1>"]
+    parts += _verdict_section(results[-1], diagnosis)
     warns = list(dict.fromkeys(w for res in results for w in res.warnings))
     if diagnosis is not None:
         warns += [w for w in diagnosis.warnings if w not in warns]

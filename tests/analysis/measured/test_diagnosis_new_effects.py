@@ -1,8 +1,9 @@
 """Issue #12's effects are diagnosis candidates (the catalogue is the effects registry).
 
-They are screened only when named (``Effect.screened`` False: the default screen stays
-the original catalogue, which the leakage case of test_diagnosis.py guards: a relief
-valve at a low cracking pressure is a laminar bypass).  Each states its own probe
+Since issue 19 they are default candidates like every catalogue effect (a relief valve at a
+low cracking pressure is a laminar bypass: where it ties with ``leakage`` on held-out data
+the simpler leakage is added, which the leakage case of test_diagnosis.py guards).  Each
+states its own probe
 (:meth:`liquidamp.device.effects.Effect.probe`); a record made with a hidden relief
 valve on the paper's calibrated device must be traced to it among the new candidates,
 with its cracking pressure and conductance recovered.

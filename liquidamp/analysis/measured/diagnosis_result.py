@@ -1,0 +1,246 @@
+"""What :func:`~liquidamp.analysis.measured.diagnosis.diagnose` returns: steps and the verdict.
+
+:class:`Diagnosis` holds the baseline, the steps, the final fit, the evidence of the last
+round, the reference models fitted on the same split
+(:mod:`~liquidamp.analysis.measured.reference_models`) and the cycle drift of every record
+(:mod:`~liquidamp.analysis.measured.stationarity`).  Its :meth:`Diagnosis.summary` leads
+with what a user must know first: a non-stationary record, a residual that no candidate
+explains, a physics model that does not beat the line F = c v + k y + F0 on held-out
+records; then the held-out NRMSE record by record, the pooled figure beside it.
+
+References
+----------
+.. [1] B. Titurus, AIAA J. 56(10), 2018, Sec. IV.C.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from liquidamp.analysis.measured.calibration_result import CalibrationResult
+from liquidamp.analysis.measured.reference_models import comparison
+
+__all__ = ["Step", "Diagnosis", "heldout_per_record"]
+
+
+def heldout_per_record(result: CalibrationResult) -> dict:
+    """Record label -> held-out NRMSE of a calibrated model [-] (its validation records)."""
+    return {e.label: e.nrmse for e in result.record_errors if e.role == "validation"}
+
+
+@dataclass(frozen=True)
+class Step:
+    """One accepted addition."""
+
+    effect: str
+    parameters: dict
+    nrmse_calibration: float
+    nrmse_validation: float | None
+    candidates: tuple
+    tie: tuple = ()
+    result: CalibrationResult | None = field(default=None, repr=False)
+    confounded: dict = field(default_factory=dict)
+
+    def as_dict(self) -> dict:
+        """JSON-ready step (``fit``: whether the refit converged; ``confounded``: evidence
+        that a fitted device parameter mimics the effect, see ``CONFOUNDED``;
+        ``heldout_records``: held-out NRMSE per record)."""
+        fit = ({"converged": self.result.converged, "status": self.result.status,
+                "message": self.result.message, "nfev": self.result.nfev}
+               if self.result is not None else {})
+        per = heldout_per_record(self.result) if self.result is not None else {}
+        return {"effect": self.effect, "parameters": self.parameters,
+                "nrmse": {"calibration": self.nrmse_calibration,
+                          "validation": self.nrmse_validation},
+                "heldout_records": per,
+                "fit": fit, "tie": list(self.tie), "confounded": self.confounded,
+                "evidence": [c.as_dict() for c in self.candidates]}
+
+
+@dataclass(frozen=True, eq=False)
+class Diagnosis:
+    """Result of :func:`~liquidamp.analysis.measured.diagnosis.diagnose`.
+
+    Attributes
+    ----------
+    baseline : CalibrationResult
+        The calibrated model as given.
+    steps : tuple of Step
+        Effects added, in order.
+    final : CalibrationResult
+        The last calibrated model.
+    noise_nrmse : float
+        Noise floor of the (conditioned) calibration records, as an NRMSE [-].
+    signatures : dict
+        Simple residual signatures of the baseline (name -> correlation).
+    stop_reason : str
+        Why the loop stopped.
+    unexplained : str
+        Non-empty when structure remains that no candidate explains.
+    warnings : tuple of str
+        Ties, non-converged fits.
+    last_candidates : tuple of Candidate
+        Evidence of the final, rejected round.
+    conditioning : tuple of Conditioning
+        What was done to each record before fitting (calibration, then validation).
+    noise_floors : tuple of NoiseFloor
+        The noise floor of each conditioned calibration record.
+    nrmse_raw : dict
+        ``{"calibration": ..., "validation": ...}``: the final model against the records
+        as given (empty when the conditioning changed nothing).
+    references : dict
+        ``{"line": ReferenceFit, "two_slope": ReferenceFit}`` fitted on the same split.
+    drifts : tuple of Drift
+        Cycle-to-cycle drift of each periodic record as read.
+    non_stationary : str
+        Non-empty when a record's force drifts (what and how much).
+    options : DiagnoseOptions or None
+        The options the diagnosis ran with.
+    holdout : str
+        How the held-out records were obtained ('' when given).
+    device_steps : tuple of Step
+        Device parameters the preset held fixed that the rule freed before the effects
+        (e.g. ``inertance``: the channel inertance S_t); not effects.
+    device_evidence : tuple of Candidate
+        The evidence of every device parameter tried.
+    """
+
+    baseline: CalibrationResult
+    steps: tuple
+    final: CalibrationResult
+    noise_nrmse: float
+    signatures: dict
+    stop_reason: str
+    unexplained: str
+    warnings: tuple
+    last_candidates: tuple
+    conditioning: tuple = ()
+    noise_floors: tuple = ()
+    nrmse_raw: dict = field(default_factory=dict)
+    references: dict = field(default_factory=dict)
+    drifts: tuple = ()
+    non_stationary: str = ""
+    options: object = None
+    holdout: str = ""
+    device_steps: tuple = ()
+    device_evidence: tuple = ()
+
+    @property
+    def added(self) -> tuple[str, ...]:
+        """Names of the effects added."""
+        return tuple(s.effect for s in self.steps)
+
+    @property
+    def heldout(self) -> dict:
+        """Record label -> held-out NRMSE of the final model [-]."""
+        return heldout_per_record(self.final)
+
+    @property
+    def loses_to_line(self) -> str:
+        """Where the final physics model does not beat the line held out ('' otherwise)."""
+        return comparison(self.heldout, self.references)
+
+    def summary(self) -> str:
+        """Lines: the verdict first (non-stationary, unexplained, loses to the line; then the
+        effects added and the held-out NRMSE per record, pooled beside), then the
+        reference models held out, then why the loop stopped."""
+        first = []
+        if self.non_stationary:
+            first.append("NON-STATIONARY: the residual is non-stationary (" +
+                         self.non_stationary + "); no stationary effect explains a drift, "
+                         "and no effect with a parameter at a bound is kept")
+        if self.unexplained:
+            first.append("UNEXPLAINED: " + self.unexplained.split(": ", 1)[0])
+        lose = self.loses_to_line
+        if lose:
+            first.append("LOSES TO THE LINE: " + lose)
+        per = ", ".join(f"{k} {v:.3g}" for k, v in self.heldout.items())
+        pooled = self.final.nrmse_validation
+        base = heldout_per_record(self.baseline)
+        added = (", ".join(f"{s.effect} ({_short(s.parameters)})" for s in self.steps)
+                 or "nothing")
+        if self.device_steps:
+            added += "; device parameters freed: " + ", ".join(
+                f"{s.effect} ({_short(s.parameters)})" for s in self.device_steps)
+        first.append(f"added {added}: held-out NRMSE per record {per}"
+                     + (f" (pooled {pooled:.3g})" if pooled is not None else "")
+                     + "; before: " + ", ".join(f"{k} {v:.3g}" for k, v in base.items()))
+        lines = ["; ".join(first)]
+        if self.references:
+            lines.append("reference models held out: " + "; ".join(
+                f"{name} " + ", ".join(f"{lab} {v:.3g}" for lab, v in ref.validation)
+                for name, ref in self.references.items()))
+        lines.append(f"stopped: {self.stop_reason}; noise floor NRMSE {self.noise_nrmse:.3g}")
+        if self.holdout:
+            lines.append(f"held out: {self.holdout}")
+        return "\n".join(lines)
+
+    def bic_samples(self) -> dict:
+        """How the selection rule counts samples in the BIC, with each calibration record's
+        count (JSON ``"bic_samples"``)."""
+        from liquidamp.analysis.measured.selection import bandwidth_samples
+
+        how = getattr(getattr(self.options, "selection", None), "sample_count", "bandwidth")
+        text = {"bandwidth": "min(N, 2 B T + 1) per record: the independent values a force "
+                "kept to a bandwidth B [Hz] (the conditioning's harmonics kept x the stroke "
+                "frequency) holds over the span T [s] fitted (sampling theorem; an averaged "
+                "cycle counts 2 H + 1)",
+                "correlation": "N / tau per record, tau the integrated autocorrelation time "
+                "of the refit's residual (Geyer's initial monotone sequence)",
+                "samples": "N, every sample"}[how]
+        return {"method": how, "how": text,
+                "records": {r.label: {"samples": int(r.time.size),
+                                      "bandwidth_count": bandwidth_samples(r)}
+                            for r in self.final.calibration}}
+
+    def as_dict(self) -> dict:
+        """JSON: summary, baseline, steps, final, reference models, drift."""
+        def block(res):
+            d = res.as_dict()
+            return {"parameters": res.parameters_dict(),
+                    "nrmse": {"calibration": res.nrmse_calibration,
+                              "validation": res.nrmse_validation},
+                    "heldout_records": heldout_per_record(res),
+                    "fit": d["fit"], "summary": d["summary"], "start": d["start"],
+                    "parameter_flags": d["parameter_flags"], "records": d["records"],
+                    "fit_warnings": d["warnings"]}
+        fits = ([("baseline", self.baseline)]
+                + [(f"device: {s.effect}", s.result) for s in self.device_steps]
+                + [(f"step {i + 1}: + {s.effect}", s.result)
+                   for i, s in enumerate(self.steps) if s.result is not None])
+        not_conv = [{"fit": lab, "status": r.status, "message": r.message, "nfev": r.nfev}
+                    for lab, r in fits if not r.converged]
+        return {"summary": self.summary(), "heldout": self.heldout,
+                "baseline": block(self.baseline),
+                "device_refinement": {"kept": [s.as_dict() for s in self.device_steps],
+                                      "tried": [c.as_dict() for c in self.device_evidence]},
+                "steps": [s.as_dict() for s in self.steps],
+                "final": block(self.final), "converged": not not_conv,
+                "not_converged": not_conv, "noise_floor_nrmse": self.noise_nrmse,
+                "noise_floors": [{"record": c.source, "force_std [N]": f.force_std,
+                                  "rate_force_std [N]": f.rate_force_std,
+                                  "nrmse": f.nrmse, "method": f.method,
+                                  "harmonics": f.harmonics,
+                                  "drift_std [N]": getattr(f, "drift_std", 0.0),
+                                  "drift_nrmse": getattr(f, "drift_nrmse", 0.0),
+                                  "nonstationary": bool(getattr(f, "drift", None) is not None
+                                                        and f.drift.nonstationary)}
+                                 for c, f in zip(self.conditioning[:len(self.noise_floors)],
+                                                 self.noise_floors, strict=True)],
+                "conditioning": [c.as_dict() for c in self.conditioning],
+                "data_quality": [q.as_dict() for q in self.baseline.data_quality],
+                "nrmse_raw": dict(self.nrmse_raw),
+                "reference_models": {k: v.as_dict() for k, v in self.references.items()},
+                "physics_loses_to_line": self.loses_to_line,
+                "bic_samples": self.bic_samples(),
+                "drift": [d.as_dict() for d in self.drifts],
+                "non_stationary": self.non_stationary, "holdout": self.holdout,
+                "options": self.options.as_dict() if self.options is not None else None,
+                "signatures": self.signatures, "stop_reason": self.stop_reason,
+                "unexplained": self.unexplained, "warnings": list(self.warnings),
+                "last_round": [c.as_dict() for c in self.last_candidates]}
+
+
+def _short(parameters: dict) -> str:
+    return ", ".join(f"{k} {v:.3g}" for k, v in list(parameters.items())[:3]
+                     if isinstance(v, (int, float)))
