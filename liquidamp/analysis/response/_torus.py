@@ -460,7 +460,9 @@ class TorusProblem:
     ``wa`` [rad/s]) and the secondary phase (axis b, ``wb``); states are
     held as ``X[i, ja * Nb + jb]``.  Unknowns are ``z = x / s`` (``s`` a
     swing per state) and the multipliers ``lambda``; residual rows are
-    scaled by ``1 / (s w_ref)``, ``w_ref = max(wa, wb)``.
+    scaled by ``1 / (s w_ref)``, ``w_ref = max(wa, wb)``; the invariant rows
+    by :func:`invariant_scales` (their natural variation, not their rest value,
+    which may be zero up to rounding).
 
     Parameters
     ----------
