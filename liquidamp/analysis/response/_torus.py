@@ -412,6 +412,47 @@ def gmres_step(Da, Db, Js, Bm, Cm, M0, piv0, Mc, pivc, cosb, sinb, n, rhs, rtol,
     return total, rel
 
 
+def invariant_scales(target, G, scale) -> np.ndarray:
+    """Scale of each invariant's constraint row [invariant units].
+
+    The larger of the rest value ``|target|`` and the invariant's natural
+    variation: the RMS over the grid of ``sum_i |dI/dx_i| s_i``, how far the
+    invariant moves when every state moves by its swing ``s_i``.  A target
+    that is zero only up to rounding (a piston balance ``k (y - y_p) -
+    F_fluid`` at rest, whose fluid force ``A_p p1 - A_p p2`` a BLAS dot
+    product with fused multiply-adds leaves at ~1e-15 N) must not set the
+    scale: the constraint row would be weighted by 1e15 and Newton would
+    chase rounding noise.  1 where both are zero.
+
+    Parameters
+    ----------
+    target : array_like, shape (m,)
+        The invariants' rest values [invariant units].
+    G : ndarray, shape (m, n, N)
+        Their gradients at the grid points [invariant units / state units].
+    scale : ndarray, shape (n,)
+        The state swings [state units].
+
+    Returns
+    -------
+    ndarray, shape (m,)
+        Positive scales [invariant units].
+
+    Examples
+    --------
+    >>> G = np.zeros((2, 2, 3)); G[0, 0] = 2.0; G[1, 1] = -1e3; G[1, 0] = 1e3
+    >>> invariant_scales([1e-15, 0.0], G, np.array([0.5, 1e-3])).tolist()
+    [1.0, 501.0]
+    >>> invariant_scales([4.0, 0.0], np.zeros((2, 2, 3)), np.ones(2)).tolist()
+    [4.0, 1.0]
+    """
+    t = np.abs(np.asarray(target, float))
+    natural = np.sqrt(np.mean(np.einsum("cik,i->ck", np.abs(G), np.asarray(scale, float))
+                              ** 2, axis=1))
+    out = np.maximum(t, natural)
+    return np.where(out > 0.0, out, 1.0)
+
+
 class TorusProblem:
     """Collocation equations of the torus on a grid, in scaled variables.
 
@@ -419,7 +460,9 @@ class TorusProblem:
     ``wa`` [rad/s]) and the secondary phase (axis b, ``wb``); states are
     held as ``X[i, ja * Nb + jb]``.  Unknowns are ``z = x / s`` (``s`` a
     swing per state) and the multipliers ``lambda``; residual rows are
-    scaled by ``1 / (s w_ref)``, ``w_ref = max(wa, wb)``.
+    scaled by ``1 / (s w_ref)``, ``w_ref = max(wa, wb)``; the invariant rows
+    by :func:`invariant_scales` (their natural variation, not their rest value,
+    which may be zero up to rounding).
 
     Parameters
     ----------
@@ -454,9 +497,8 @@ class TorusProblem:
         self.F = np.empty((self.n, self.N))
         self.J = np.empty((self.N, self.n, self.n))
         if self.m:
-            t = np.asarray(invariants.target, float)
-            self.inv_scale = np.abs(t) + (t == 0.0)
             _, G = invariants.evaluate(X0, self.Y)
+            self.inv_scale = invariant_scales(invariants.target, G, self.s)
             # fixed bordering directions: the scaled invariant gradients at the start
             self.Bm = np.ascontiguousarray(
                 G * self.s[None, :, None] / self.inv_scale[:, None, None])  # (m, n, N)

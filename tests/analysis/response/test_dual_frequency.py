@@ -305,3 +305,37 @@ def test_result_dict_has_units():
     assert d["single_frequency_equivalent_damping [N s/m]"] == pytest.approx(
         d["single_frequency_loss [N/m]"] / w)
     assert d["method"] == "harmonic_balance" and len(d["grid"]) == 2
+
+
+def test_invariant_rounding_does_not_scale_the_constraint(monkeypatch):
+    """The piston balance of series compliance is 0 at rest, but a BLAS dot product with
+    fused multiply-adds leaves A_p p0 - A_p p0 at ~1e-15 N (OpenBLAS 0.3.31, numpy 2.4):
+    the constraint row must be scaled by the invariant's natural variation, not by |target|
+    (a 1e-15 N scale weighted it by 1e15 and the Newton iteration stalled on rounding noise).
+    A target of exactly 0 and one of -1.3e-15 N (as here) give the same torus, in a few
+    iterations."""
+    from types import SimpleNamespace
+
+    from liquidamp.analysis.response import _torus
+
+    m = with_effects(get_model("full"), make_effect("series_compliance",
+                                                    stiffness_N_per_m=5e5))
+    p = preset("reference")
+    names = torus_invariants(m, p).names
+    assert names[-1] == "piston balance [N]"
+    init = _torus.TorusProblem.__init__
+    out = {}
+    for rounding in (0.0, -1.3e-15):
+        def patched(self, packed, wa, wb, Y, V, scale, invariants, X0, rounding=rounding):
+            t = np.array(invariants.target, float)
+            t[-1] = rounding  # [N]
+            init(self, packed, wa, wb, Y, V, scale,
+                 SimpleNamespace(evaluate=invariants.evaluate, target=t), X0)
+            # the piston balance moves by kN over the torus: its row scale says so
+            assert 1e2 < self.inv_scale[-1] < 1e6
+
+        monkeypatch.setattr(_torus.TorusProblem, "__init__", patched)
+        out[rounding] = r = dfs(m, p, F1, F2, 1e-3, A2)
+        assert r.method == "harmonic_balance" and r.converged and r.iterations <= 12
+    assert out[-1.3e-15].K_lag == pytest.approx(out[0.0].K_lag, rel=1e-7)
+    assert out[-1.3e-15].grid == out[0.0].grid
