@@ -67,7 +67,7 @@ from liquidamp.errors import ParameterError, check_in_range
 __all__ = ["FitUncertainty", "Interval", "Band", "StabilityMargin", "MarginOptions",
            "confidence_z", "ground_resonance_margin", "flutter_margin",
            "degradation_comparison", "DegradationComparison", "host_viscous_device",
-           "scaled_lti", "METHOD"]
+           "scaled_lti", "changed_device", "METHOD"]
 
 #: What the intervals are, stated in every JSON.
 METHOD = ("linearized (delta method): secant sensitivities at +-1 standard deviation along "
@@ -139,7 +139,8 @@ class FitUncertainty:
                                  "(an undetermined parameter): no interval can be stated")
         s = np.where(log, v, 1.0)
         if np.any(s <= 0):
-            raise ParameterError(f"a log-fitted parameter must be > 0, got {dict(zip(names, v))}")
+            raise ParameterError("a log-fitted parameter must be > 0, got "
+                                 f"{dict(zip(names, v.tolist(), strict=True))}")
         return cls(names, v, log, cov / np.outer(s, s), source or str(fit.get("source", "")))
 
     def axes(self) -> np.ndarray:
@@ -356,6 +357,38 @@ def host_viscous_device(rotor) -> Device:
                              "device")
     arm = rotor.blade.damper_arm
     return viscous(c.pop() / arm ** 2, label="viscous")
+
+
+def changed_device(device: Device, name: str, value: float) -> Device:
+    """``device`` with one parameter changed: a multiplier or an effect parameter [SI].
+
+    ``name`` is a device parameter that :meth:`DeviceParams.scaled` takes (``c1``,
+    ``inv_gamma1``, ...; ``value`` multiplies it) or ``effect.key`` (``value`` replaces it).
+
+    Examples
+    --------
+    >>> from liquidamp.device import preset
+    >>> d = Device("full", preset("reference"))
+    >>> round(changed_device(d, "c1", 0.5).params.c1 / d.params.c1, 12)
+    0.5
+    """
+    if not math.isfinite(value) or ("." not in name and value <= 0):
+        raise ParameterError(f"changed parameter {name} = {value!r}: a multiplier must be a "
+                             "finite number > 0")
+    u = FitUncertainty((name,), np.array([1.0 if "." not in name else 0.0]),
+                       ("." not in name,), np.zeros((1, 1)))
+    if "." in name:
+        e, k = name.split(".", 1)
+        effects = {x.name: x for x in device.model.effects}
+        if e not in effects:
+            raise ParameterError(f"changed parameter {name!r}: the device has no effect {e!r} "
+                                 f"(it has: {', '.join(effects) or 'none'})")
+        model = with_effects(BASES[device.model.base],
+                             *[x.replace(**{k: value}) if x.name == e else x
+                               for x in device.model.effects])
+        return Device(model, device.params, f"{device.label} ({name}={value:g})")
+    out = u.apply(device, [math.log(value)])
+    return Device(out.model, out.params, f"{device.label} ({name} x{value:g})")
 
 
 class _Problem:
