@@ -6,7 +6,11 @@ gives, for a rotor on its landing gear (ground resonance) or a typical section (
 with that device as measured, each answer with an interval at a stated confidence:
 
 * the edges of every unstable speed band (roots of the largest real part g(s) = 0);
-* the minimum damping ratio zeta = -Re(lambda)/|lambda| over all modes and the speed range;
+* the minimum damping ratio zeta = -Re(lambda)/|lambda| over all modes and the speed range
+  (Floquet exponents with the frequency resolved against the revolution-averaged
+  multiblade system, as :func:`~liquidamp.analysis.stability.damped_stability.rotor_device_floquet`
+  gives them; where that resolution changes branch the ratio jumps, so a perturbed
+  answer keeps the nominal branch);
 * the flutter speed (the first band's lower edge, section only).
 
 Method (``linearized``, the only one here): the delta method with secant sensitivities.
@@ -411,7 +415,15 @@ class _Problem:
         return float(np.max(self.eig(s, delta).real)) - self.threshold
 
     def zeta(self, s, delta=None) -> float:
-        return _damping_ratio(self.eig(s, delta))
+        lam = self.eig(s, delta)
+        W = self.branch(s)
+        if W and delta is not None and np.any(delta):
+            lam = _same_branch(lam, self.eig(s, None), W)
+        return _damping_ratio(lam)
+
+    def branch(self, s) -> float:
+        """Spacing of a Floquet exponent's frequency branches [1/s] (0: no ambiguity)."""
+        return 0.0
 
 
 class _RotorProblem(_Problem):
@@ -434,6 +446,9 @@ class _RotorProblem(_Problem):
             ltis[k - 1] = device_lti(dev)
         return rotor_device_floquet(self.rotor, float(W), self.device, blade_ltis=ltis)[0]
 
+    def branch(self, W) -> float:
+        return 0.0 if self.symmetric else float(W)
+
 
 class _SectionProblem(_Problem):
     threshold = 1e-9
@@ -447,6 +462,20 @@ class _SectionProblem(_Problem):
                                          {self.port: self.device}, aero=self.aero,
                                          ltis=[self.lti(delta)])
         return lam / self.section.omega_theta
+
+
+def _same_branch(lam, ref, W: float):
+    """Floquet exponents ``lam`` with each frequency moved by a multiple of ``W`` onto the
+    branch of the nearest nominal exponent in ``ref`` (a perturbed answer keeps the
+    nominal frequency resolution: a damping ratio must not jump by a change of branch)."""
+    lam = np.array(lam, complex)
+    for i, x in enumerate(lam):
+        dim = ref.imag - x.imag
+        wrap = dim - W * np.round(dim / W)
+        j = int(np.argmin(np.abs(ref.real - x.real) + np.abs(wrap)))
+        k = np.round((ref[j].imag - x.imag) / W)
+        lam[i] = complex(x.real, x.imag + k * W)
+    return lam
 
 
 def _damping_ratio(lam) -> float:
