@@ -35,9 +35,10 @@ def _options(args):
 
 def _summary(label: str, m) -> str:
     u = m.speed_unit
+    d = 1 if u == "rpm" else 4
     bands = "; ".join(
-        f"{s.value:.1f} [{s.low:.1f}, {s.high:.1f}] to {e.value:.1f} [{e.low:.1f}, {e.high:.1f}]"
-        for s, e in m.band_edges()) or "none"
+        f"{s.value:.{d}f} [{s.low:.{d}f}, {s.high:.{d}f}] to {e.value:.{d}f} "
+        f"[{e.low:.{d}f}, {e.high:.{d}f}]" for s, e in m.band_edges()) or "none"
     z = m.min_damping_ratio
     out = (f"{label}: unstable ranges [{u}] (edge [interval]): {bands}; min damping ratio "
            f"{z.value:.4g} [{z.low:.4g}, {z.high:.4g}]")
