@@ -37,7 +37,7 @@ NAMES = {"--preset", "--model", "--effect", "--engine", "--compiled-method", "--
          "--average", "--vary", "--cases", "--decimate"}
 FILES = {"--json", "--plot", "--out", "--report", "--save-device", "--device", "--validate"}
 COUNTS = {"--window", "--order", "--max-nfev", "--max-steps", "--top", "--repeats",
-          "--inoperative"}
+          "--inoperative", "--samples"}
 
 
 def parsers() -> dict:

@@ -33,6 +33,21 @@ def _options(args):
     return MarginOptions(confidence=args.confidence if args.confidence is not None else 0.95)
 
 
+def _sampling(args, analysis, device, unc, margin, data: dict) -> None:
+    """With ``--samples N``: percentile intervals over N draws, in ``data["sampling"]``."""
+    if getattr(args, "samples", None) is None:
+        return
+    if unc is None:
+        raise ParameterError("--samples needs --confidence and --device FILE with a [fit] "
+                             "table")
+    from liquidamp.analysis.stability.margin_sampling import sampled_margin
+
+    with working(f"sampling: {args.samples} analyses", args.quiet):
+        s = sampled_margin(analysis, device, unc, samples=args.samples,
+                           confidence=margin.confidence)
+    data["sampling"] = s.as_dict(margin.to_unit)
+
+
 def _summary(label: str, m) -> str:
     u = m.speed_unit
     d = 1 if u == "rpm" else 4
@@ -83,7 +98,7 @@ def ground_resonance_margin_command(args, rotor, rpm, blades) -> int:
     opts = _options(args)
     W = rpm_to_rad_s(np.asarray(rpm, float))
     data = {"rpm": [float(v) for v in rpm]}
-    comp = None
+    comp = changed = None
     with working(f"sweep ground-resonance: margins over {len(rpm)} rotor speeds", args.quiet):
         if args.degrade is not None:
             k, f = args.degrade
@@ -91,7 +106,6 @@ def ground_resonance_margin_command(args, rotor, rpm, blades) -> int:
                                           options=opts)
             margin = comp.floquet
         else:
-            changed = None
             if args.change is not None:
                 k, name, value = args.change
                 changed = (k, changed_device(device, name, value))
@@ -102,6 +116,12 @@ def ground_resonance_margin_command(args, rotor, rpm, blades) -> int:
     data["margin"] = margin.to_dict()
     if comp is not None:
         data["degradation"] = comp.to_dict()
+    if comp is None:
+        _sampling(args, lambda d: ground_resonance_margin(
+            rotor, W, d, inoperative=blades, changed=changed, options=opts), device, unc,
+            margin, data)
+    elif args.samples is not None:
+        raise ParameterError("--samples is not taken with --degrade (three analyses per draw)")
     data["inoperative_blades"] = [int(k) for k in blades]
     data["change"] = (None if args.change is None else
                       {"blade": args.change[0], "name": args.change[1], "value": args.change[2]})
@@ -152,6 +172,8 @@ def flutter_margin_command(args, speeds) -> int:
             "min_damping_ratio_per_speed": margin.damping_ratio.tolist(),
             "margin": margin.to_dict(), "port": args.port, "aero": aero,
             "damper": args.device, **measured_entries(dev)}
+    _sampling(args, lambda d: flutter_margin(section, speeds, d, port=args.port, aero=aero,
+                                             options=_options(args)), device, unc, margin, data)
     emit(args, args.command_name, data,
          _summary(f"{section.name} + {device.label} on {args.port}", margin), "plot")
     if args.plot:

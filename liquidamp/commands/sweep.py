@@ -203,7 +203,10 @@ def register(subparsers) -> None:
 def _add_margin_arguments(parser) -> None:
     parser.add_argument("--confidence", default=None, metavar="C", type=_confidence,
                         help="intervals at this two-sided confidence, in (0, 1) or percent "
-                        "(0.95, 95%%), from the --device file's fit covariance")
+                        "(0.95, 95%%), from the --device file's fit covariance (delta method)")
+    parser.add_argument("--samples", default=None, metavar="N", type=_samples,
+                        help="with --confidence, also percentile intervals over N draws of the "
+                        "device's parameters (whole analyses: N times the cost; 20-100000)")
 
 
 def _confidence(text: str) -> float:
@@ -219,6 +222,20 @@ def _confidence(text: str) -> float:
         raise argparse.ArgumentTypeError(f"confidence must be in (0, 1) or (0 %, 100 %), got "
                                          f"{text!r}")
     return c
+
+
+def _samples(text: str) -> int:
+    """argparse type of --samples: an integer in [20, 100000]."""
+    import argparse
+
+    try:
+        n = int(text)
+    except ValueError:
+        n = 0
+    if not 20 <= n <= 100000:
+        raise argparse.ArgumentTypeError(f"must be a number of draws in [20, 100000], got "
+                                         f"{text!r}")
+    return n
 
 
 def _degrade(text: str) -> tuple[int, float]:

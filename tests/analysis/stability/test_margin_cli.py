@@ -83,10 +83,16 @@ def test_record_to_flutter_margin(fitted, capsys):
     sec.write_text(SECTION)
     out = d / "fl.json"
     assert main(["sweep", "flutter", "--section", str(sec), "--device", str(dev),
-                 "--speeds", "2.0:2.6:7", "--confidence", "0.9", "--json", str(out),
+                 "--speeds", "2.0:2.6:7", "--confidence", "0.9", "--samples", "40",
+                 "--json", str(out),
                  "--plot", str(d / "fl.png"), "--quiet"]) == 0
-    m = json.loads(out.read_text())["margin"]
+    j = json.loads(out.read_text())
+    m = j["margin"]
     f = m["flutter_speed"]
+    s = j["sampling"]
+    assert "sampling" in s["method"] and s["flutter_share_of_draws"] == 1.0
+    lo, hi = s["flutter_speed"]["interval"]
+    assert lo <= f["value"] <= hi
     assert f["interval"][0] < f["value"] < f["interval"][1]
     assert f["value"] == pytest.approx(2.3274, abs=5e-3)  # the true device: 2.32736
     assert m["confidence"] == 0.9
