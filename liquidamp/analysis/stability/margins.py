@@ -30,6 +30,8 @@ whose peak interval reaches below zero ``may_vanish`` (its edges' intervals are 
 not reliable), and a stable hump whose peak interval reaches above zero is reported in
 ``possible_bands``: a band appearing or disappearing inside the interval is told, not
 hidden.  All dampers are taken as copies of the measured one (fully correlated).
+Parameter sampling (whole analyses per draw, percentile intervals) is the robust check:
+:mod:`liquidamp.analysis.stability.margin_sampling`.
 
 Partial degradation (:func:`degradation_comparison`): one damper keeps a fraction
 (1 - f) of its force (f = 0 intact, f = 1 failed; for a viscous damper exactly a
