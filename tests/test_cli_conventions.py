@@ -29,14 +29,15 @@ PHYSICAL = {  # option -> (a value with a unit, its value in the option's base u
     "--t-end": ("1min", 60.0),
     "--force-filter": ("0.03kHz", 30.0),
     "--zeta": ("5%", 0.05),
+    "--confidence": ("95%", 0.95),
 }
-DIMENSIONLESS = {"--speeds", "--k", "--harmonics", "--rtol"}
+DIMENSIONLESS = {"--speeds", "--k", "--harmonics", "--rtol", "--degrade", "--change"}
 NAMES = {"--preset", "--model", "--effect", "--engine", "--compiled-method", "--method",
          "--rotor", "--damper", "--section", "--aero", "--port", "--candidate", "--sizing",
          "--average", "--vary", "--cases", "--decimate", "--outliers"}
 FILES = {"--json", "--plot", "--out", "--report", "--save-device", "--device", "--validate"}
 COUNTS = {"--window", "--order", "--max-nfev", "--max-steps", "--top", "--repeats",
-          "--inoperative"}
+          "--inoperative", "--samples"}
 
 
 def parsers() -> dict:

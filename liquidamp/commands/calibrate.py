@@ -208,7 +208,11 @@ def fit_table(res, source: str) -> dict:
     """The ``[fit]`` table of a device file for a CalibrationResult ``res``.
 
     Covariance of the varied parameters (multipliers [-], effect parameters
-    [SI]) from their standard errors and correlation: C_ij = s_i s_j r_ij.
+    [SI]) from their standard errors and correlation: C_ij = s_i s_j r_ij;
+    ``log`` says which were fitted in log space (their correlation is that of
+    the logarithms, and s_i = v_i sd(log v_i)), so that a reader can carry the
+    covariance back to the fit's space
+    (:class:`liquidamp.analysis.stability.margins.FitUncertainty`).
     """
     import math
 
@@ -222,7 +226,8 @@ def fit_table(res, source: str) -> dict:
             "nrmse_validation": (float(res.nrmse_validation)
                                  if res.nrmse_validation is not None else math.nan),
             "varied": names, "values": [float(res.values[n]) for n in names],
-            "stderr": se, "covariance": cov}
+            "stderr": se, "covariance": cov,
+            "log": [bool(res.spec[n].log) for n in names]}
 
 
 def save_device(path, res, source: str) -> None:

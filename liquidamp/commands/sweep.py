@@ -15,6 +15,18 @@ default ``viscous``, the rotor's own dampers) the liquid device, sized by
 small-signal closed loop is analysed (Coleman, or Floquet with
 ``--inoperative``).
 
+Stability with confidence (:mod:`liquidamp.analysis.stability.margins`):
+``--confidence 0.95`` with ``--device FILE`` (a device file with the fit's
+``[fit]`` covariance, written by ``calibrate --save-device``) gives every
+band edge, the minimum damping ratio and (flutter) the flutter speed with an
+interval at that confidence, in the JSON's ``margin`` table (method stated).
+``--degrade K:F`` (ground resonance) takes a fraction F in [0, 1] of blade
+K's damper force away: the Floquet answer beside the smeared one (every
+damper at 1 - F/N) and the ratio of their damping losses (``degradation``);
+``--change K:NAME=VALUE`` gives blade K the device with one parameter
+changed (a multiplier on a device parameter, e.g. ``c1=0.5``, or an effect
+parameter ``effect.key=VALUE`` [SI]).
+
 ``liquidamp sweep flutter --section hodges-pierce --aero theodorsen
 --method pk --json FILE [--plot FILE]`` writes the flutter speed
 U_F/(b omega_theta), the flutter frequency omega_F/omega_theta, the
@@ -26,6 +38,7 @@ model given by ``--aero``) is used with the linearized device in the loop.
 
 from __future__ import annotations
 
+import math
 import sys
 
 from liquidamp.commands._args import (
@@ -131,6 +144,14 @@ def register(subparsers) -> None:
                    "rotor's")
     g.add_argument("--model", default="full", type=name_type("--model", MODEL_NAMES, "model"),
                    help="device model (default full): {models}")
+    _add_margin_arguments(g)
+    g.add_argument("--degrade", default=None, metavar="K:F", type=_degrade,
+                   help="blade K's damper loses the fraction F in [0, 1] of its force: Floquet "
+                   "beside smeared answers (e.g. 1:0.5)")
+    g.add_argument("--change", default=None, metavar="K:NAME=VALUE", type=_change,
+                   help="blade K's device with one parameter changed: a multiplier on a device "
+                   "parameter (1:c1=0.5) or an effect parameter [SI] (1:coulomb_friction."
+                   "force_N=60)")
     add_json_argument(g, "sweep")
     add_plot_argument(g, "Coleman diagram")
     add_quiet_argument(g)
@@ -172,10 +193,82 @@ def register(subparsers) -> None:
                    type=grid_type("--k", "reduced", "reduced_frequency"),
                    help="reduced frequencies for the k method: comma list or START:STOP:COUNT "
                    "(COUNT points linearly spaced; default 80 log-spaced, 3 to 0.03)")
+    _add_margin_arguments(f)
     add_json_argument(f, "sweep")
     add_plot_argument(f, "V-g and V-f figure")
     add_quiet_argument(f)
     f.set_defaults(func=_flutter, command_name="sweep flutter")
+
+
+def _add_margin_arguments(parser) -> None:
+    parser.add_argument("--confidence", default=None, metavar="C", type=_confidence,
+                        help="intervals at this two-sided confidence, in (0, 1) or percent "
+                        "(0.95, 95%%), from the --device file's fit covariance (delta method)")
+    parser.add_argument("--samples", default=None, metavar="N", type=_samples,
+                        help="with --confidence, also percentile intervals over N draws of the "
+                        "device's parameters (whole analyses: N times the cost; 20-100000)")
+
+
+def _confidence(text: str) -> float:
+    """argparse type of --confidence: a number in (0, 1), or a percentage."""
+    import argparse
+
+    t = text.strip()
+    try:
+        c = float(t[:-1]) / 100.0 if t.endswith("%") else float(t)
+    except ValueError:
+        c = math.nan
+    if not 0.0 < c < 1.0:
+        raise argparse.ArgumentTypeError(f"confidence must be in (0, 1) or (0 %, 100 %), got "
+                                         f"{text!r}")
+    return c
+
+
+def _samples(text: str) -> int:
+    """argparse type of --samples: an integer in [20, 100000]."""
+    import argparse
+
+    try:
+        n = int(text)
+    except ValueError:
+        n = 0
+    if not 20 <= n <= 100000:
+        raise argparse.ArgumentTypeError(f"must be a number of draws in [20, 100000], got "
+                                         f"{text!r}")
+    return n
+
+
+def _degrade(text: str) -> tuple[int, float]:
+    """argparse type of --degrade: ``K:F``, blade K >= 1, fraction F in [0, 1]."""
+    import argparse
+
+    k, _, f = text.partition(":")
+    try:
+        out = (_blade(k), float(f))
+    except (argparse.ArgumentTypeError, ValueError):
+        out = (0, math.nan)
+    if out[0] < 1 or not 0.0 <= out[1] <= 1.0:
+        raise argparse.ArgumentTypeError(f"must be K:F with a blade number K >= 1 and the "
+                                         f"fraction of its damper force lost F in [0, 1], got "
+                                         f"{text!r}")
+    return out
+
+
+def _change(text: str) -> tuple[int, str, float]:
+    """argparse type of --change: ``K:NAME=VALUE``."""
+    import argparse
+
+    k, _, rest = text.partition(":")
+    name, _, value = rest.partition("=")
+    try:
+        out = (_blade(k), name.strip(), float(value))
+    except (argparse.ArgumentTypeError, ValueError):
+        out = None
+    if out is None or not out[1] or not math.isfinite(out[2]):
+        raise argparse.ArgumentTypeError(f"must be K:NAME=VALUE (blade K >= 1, a device "
+                                         f"parameter multiplier or effect.key value), got "
+                                         f"{text!r}")
+    return out
 
 
 def _blade(text: str) -> int:
@@ -227,6 +320,10 @@ def _ground_resonance(args) -> int:
     blades = [rotor.check_blade(k) for k in args.inoperative]
     damper = getattr(args, "damper", "viscous")
     arm = getattr(args, "arm", None)
+    if args.confidence is not None or args.degrade is not None or args.change is not None:
+        from liquidamp.commands._margin import ground_resonance_margin_command
+
+        return ground_resonance_margin_command(args, rotor, rpm, blades)
     if damper != "viscous" or arm is not None or args.device:
         return _ground_resonance_device(args, rotor, rpm, blades, method)
     for k in blades:
@@ -289,6 +386,10 @@ def _flutter(args) -> int:
     kvals = None
     if args.reduced_frequencies is not None:
         kvals = np.asarray(args.reduced_frequencies, float)
+    if args.confidence is not None:
+        from liquidamp.commands._margin import flutter_margin_command
+
+        return flutter_margin_command(args, speeds)
     if getattr(args, "damper", None) or args.device:
         return _flutter_device(args, speeds)
     from liquidamp.analysis.reports.stability_plots import plot_flutter

@@ -13,7 +13,8 @@ import re
 
 import numpy as np
 
-__all__ = ["plot_ground_resonance", "plot_flutter", "plot_limit_cycle"]
+__all__ = ["plot_ground_resonance", "plot_flutter", "plot_limit_cycle", "plot_margin",
+           "plot_degradation"]
 
 
 def _figure(nrows: int):
@@ -256,4 +257,121 @@ def plot_limit_cycle(response, *, predicted_amplitude: float | None = None, titl
                          fontsize=9)
     if title:
         fig.suptitle(title, fontsize=10)
+    return fig
+
+
+def _bands_with_intervals(ax, margin, k):
+    """Shade each band (red) and its edges' intervals (hatched) on ``ax`` (x scaled by k)."""
+    for b in margin.bands:
+        ax.axvspan(b.start.value * k, b.end.value * k, color="tab:red", alpha=0.15, lw=0)
+        for e, open_ in ((b.start, b.open_start), (b.end, b.open_end)):
+            if not open_ and e.high > e.low:
+                ax.axvspan(e.low * k, e.high * k, facecolor="none", edgecolor="tab:red",
+                           hatch="///", lw=0.0, alpha=0.6)
+            ax.axvline(e.value * k, color="tab:red", lw=0.8)
+
+
+def plot_margin(margin, *, title: str | None = None):
+    """Largest real part and minimum damping ratio against speed, bands with their intervals.
+
+    Parameters
+    ----------
+    margin : StabilityMargin
+        From :func:`liquidamp.analysis.stability.margins.ground_resonance_margin` or
+        :func:`~liquidamp.analysis.stability.margins.flutter_margin`.
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels: max Re(lambda) with the unstable bands shaded and each edge's interval
+        hatched; the minimum damping ratio with its interval at its minimum (error bar).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from liquidamp.structure.hostio import load_rotor
+    >>> from liquidamp.analysis.stability.ground_resonance import rpm_to_rad_s
+    >>> from liquidamp.analysis.stability.margins import ground_resonance_margin
+    >>> r = load_rotor("hammond1974")
+    >>> m = ground_resonance_margin(r, rpm_to_rad_s(np.linspace(150, 350, 9)), inoperative=[1])
+    >>> len(plot_margin(m).axes)
+    2
+    """
+    fig, (ax_g, ax_z) = _figure(2)
+    k = margin.to_unit
+    x = margin.speeds * k
+    ax_g.plot(x, margin.max_real_part, "k.-", lw=1.0)
+    ax_g.axhline(0.0, color="0.5", lw=0.6)
+    _bands_with_intervals(ax_g, margin, k)
+    ax_g.set_ylabel("largest Re(λ)" + (" [1/s]" if margin.speed_unit == "rpm" else " [-]"))
+    ax_z.plot(x, margin.damping_ratio, "b.-", lw=1.0)
+    z = margin.min_damping_ratio
+    ax_z.errorbar([margin.min_damping_at * k], [z.value],
+                  yerr=[[z.value - z.low], [z.high - z.value]], fmt="o", color="tab:red",
+                  capsize=4, label=f"min {z.value:.4g} [{z.low:.4g}, {z.high:.4g}]")
+    if margin.flutter_speed is not None:
+        f = margin.flutter_speed
+        ax_g.errorbar([f.value * k], [0.0], xerr=[[f.value - f.low], [f.high - f.value]],
+                      fmt="s", color="tab:red", capsize=4,
+                      label=f"flutter {f.value:.4f} [{f.low:.4f}, {f.high:.4f}]")
+        ax_g.legend(loc="best", fontsize=8)
+    _bands_with_intervals(ax_z, margin, k)
+    ax_z.axhline(0.0, color="0.5", lw=0.6)
+    ax_z.set_ylabel("min damping ratio [-]")
+    ax_z.set_xlabel(f"{margin.speed_name} [{margin.speed_unit}]")
+    ax_z.legend(loc="best", fontsize=8)
+    ax_g.set_title(title or f"{margin.host}: bands and margins at "
+                   f"{100 * margin.confidence:g} % confidence", fontsize=10)
+    return fig
+
+
+def plot_degradation(comparison, *, title: str | None = None):
+    """Minimum damping ratio against rpm: intact, one damper degraded (Floquet), smeared.
+
+    Parameters
+    ----------
+    comparison : DegradationComparison
+        From :func:`liquidamp.analysis.stability.margins.degradation_comparison`.
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel; each curve's minimum with its interval; the title states the
+        smeared/Floquet ratio of the damping losses.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from liquidamp.structure.hostio import load_rotor
+    >>> from liquidamp.analysis.stability.ground_resonance import rpm_to_rad_s
+    >>> from liquidamp.analysis.stability.margins import degradation_comparison
+    >>> c = degradation_comparison(load_rotor("hammond1974"),
+    ...                            rpm_to_rad_s(np.linspace(200, 300, 5)), fraction=0.5)
+    >>> len(plot_degradation(c).axes[0].lines) >= 3
+    True
+    """
+    fig, (ax,) = _figure(1)
+    fig.set_size_inches(8.0, 4.0)
+    c = comparison
+    for m, lab, col in ((c.intact, "all dampers", "k"),
+                        (c.floquet, f"blade {c.blade} at {1 - c.fraction:g} (Floquet)",
+                         "tab:red"),
+                        (c.smeared, "smeared (the loss averaged over the blades)",
+                         "tab:blue")):
+        k = m.to_unit
+        ax.plot(m.speeds * k, m.damping_ratio, ".-", color=col, lw=1.0, label=lab)
+        z = m.min_damping_ratio
+        ax.errorbar([m.min_damping_at * k], [z.value], yerr=[[z.value - z.low],
+                                                             [z.high - z.value]],
+                    fmt="o", color=col, capsize=4)
+    _bands_with_intervals(ax, c.floquet, c.floquet.to_unit)
+    ax.axhline(0.0, color="0.5", lw=0.6)
+    ax.set_xlabel("rotor speed [rpm]")
+    ax.set_ylabel("min damping ratio [-]")
+    ax.legend(loc="best", fontsize=8)
+    ratio = "n/a" if c.loss_ratio is None else f"{c.loss_ratio:.3f}"
+    ax.set_title(title or f"{c.intact.host}: one damper losing {c.fraction:g} of its force; "
+                 f"smeared/Floquet damping loss {ratio} (published 0.46-0.55)", fontsize=9)
     return fig

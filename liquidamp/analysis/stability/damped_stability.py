@@ -456,23 +456,33 @@ class _RotorLoop:
 
 def rotor_closed_loop(rotor, Omega: float, device: Device, *, inoperative=(),
                       amplitude_m: float | None = None, frequency_hz: float | None = None,
-                      lti: DeviceLTI | None = None) -> _RotorLoop:
+                      lti: DeviceLTI | None = None, blade_ltis=None) -> _RotorLoop:
     """Rotor with a linear device on every blade; failed blades carry a null copy.
 
+    ``blade_ltis`` (one :class:`DeviceLTI` per blade, all with the same
+    states, e.g. one damper degraded) replaces ``lti`` and ``inoperative``.
     Returns an object with ``system`` (the CoupledSystem: the device on every
     blade, placeholders included), ``ltis`` and ``A(t)`` (closed loop).
     """
+    sys_ = rotor_system(rotor, Omega, device)
+    if blade_ltis is not None:
+        ltis = tuple(blade_ltis)
+        if len(ltis) != rotor.n_blades or len({lt.n_states for lt in ltis}) != 1:
+            raise ParameterError(f"blade_ltis must hold {rotor.n_blades} DeviceLTI with the "
+                                 f"same states, got {len(ltis)}")
+        return _RotorLoop(sys_, ltis, False)
     lti = lti or device_lti(device, amplitude_m=amplitude_m, frequency_hz=frequency_hz)
     failed = {rotor.check_blade(k) for k in inoperative}
-    sys_ = rotor_system(rotor, Omega, device)
     ltis = tuple(lti.null() if k in failed else lti for k in range(1, rotor.n_blades + 1))
     return _RotorLoop(sys_, ltis, not failed)
 
 
 def rotor_device_floquet(rotor, Omega: float, device: Device, *, inoperative=(),
                          amplitude_m=None, frequency_hz=None, lti=None,
-                         options: FloquetOptions | None = None):
+                         options: FloquetOptions | None = None, blade_ltis=None):
     """Floquet exponents [1/s] of the rotor with devices (resolved frequencies).
+
+    ``blade_ltis``: one linear device per blade (see :func:`rotor_closed_loop`).
 
     Returns
     -------
@@ -482,7 +492,8 @@ def rotor_device_floquet(rotor, Omega: float, device: Device, *, inoperative=(),
     result : FloquetResult
     """
     loop = rotor_closed_loop(rotor, Omega, device, inoperative=inoperative,
-                             amplitude_m=amplitude_m, frequency_hz=frequency_hz, lti=lti)
+                             amplitude_m=amplitude_m, frequency_hz=frequency_hz, lti=lti,
+                             blade_ltis=blade_ltis)
     T = 2.0 * math.pi / Omega
     n = loop.A(0.0).shape[0]
     res = floquet_analysis(loop.A, T, n, options)
