@@ -98,6 +98,27 @@ N_INFO = 10
 _METHOD_CODES = {"auto": K.METH_AUTO, "rodas4": K.METH_RODAS4, "dopri5": K.METH_DOPRI5}
 
 _DUMMY = np.zeros(2)
+_DUMMY.flags.writeable = False
+
+#: Positions of the integrators' arguments they only read (spec, prm, ep, the stroke arrays,
+#: t_eval): always passed read-only, the others always writable, so that one compiled
+#: signature serves every call (numba types read-only arrays apart and compiles each anew).
+_READ_ONLY_ARGS = frozenset((0, 1, 2, 4, 5, 6, 7, 8, 12))
+
+
+def _one_signature(args: tuple) -> tuple:
+    """``args`` with the read-only flags of :data:`_READ_ONLY_ARGS` (views or copies)."""
+    out = list(args)
+    for i, a in enumerate(out):
+        if isinstance(a, np.ndarray):
+            if i in _READ_ONLY_ARGS:
+                if a.flags.writeable:
+                    a = a.view()
+                    a.flags.writeable = False
+            elif not a.flags.writeable:
+                a = a.copy()
+            out[i] = a
+    return tuple(out)
 
 
 def supports(model) -> str | None:
@@ -176,6 +197,7 @@ def _run(options, args: tuple, out: np.ndarray, info: np.ndarray) -> tuple[np.nd
     Returns the final state and whether the rerun happened.
     """
     meth = _method_code(options)
+    args = _one_signature(args)
     plain = args[0][DK.S_EFFECTS] == 0  # spec: no effects, the base equation alone
     full = K.integrate_plain if plain else K.integrate
     explicit = K.integrate_explicit_plain if plain else K.integrate_explicit
@@ -594,6 +616,8 @@ def _kernel_arrays(structure, W, system, X0, opts):
             fi[j] = names.index("p1"), names.index("p2")
         atol.append(opts.atol_scale * np.asarray(d.model.state_scales(d.params), float))
     atol = np.ascontiguousarray(np.concatenate(atol))
+    for a in (DSPEC, PRM, DEP):  # read-only as packed(): one signature of the device kernels
+        a.flags.writeable = False
     return (HI, HV, PI, PV, UI, UV, DSPEC, doff, PRM, DEP, fi, lim), atol
 
 

@@ -252,8 +252,10 @@ class DeviceModel:
         shape = np.broadcast_shapes(y.shape, v.shape, a.shape, X.shape[1:])
         N = math.prod(shape)
         X2 = X.reshape(n, -1) if X.size else np.zeros((n, 1))
-        X2 = np.ascontiguousarray(np.broadcast_to(X2, (n, N)))
-        Y, V, A = (np.ascontiguousarray(np.broadcast_to(q, shape).reshape(-1)) for q in (y, v, a))
+        # writable contiguous copies where needed: one compiled signature for every call
+        X2 = np.require(np.broadcast_to(X2, (n, N)), float, "CW")
+        Y, V, A = (np.require(np.broadcast_to(q, shape).reshape(-1), float, "CW")
+                   for q in (y, v, a))
         out = np.empty(N)
         if self.effects:
             K.force_series(spec, X2, Y, V, A, prm, ep, with_friction, out)
