@@ -74,8 +74,8 @@ import types
 import numpy as np
 from numba import njit
 
+from liquidamp._numba_cache import drop_stale
 from liquidamp.coupled._linalg import lu5_factor, lu5_solve, lu_factor, lu_solve
-from liquidamp.device import kernels as _physics
 from liquidamp.device.kernels import (
     E_LEAK,
     M_FULL,
@@ -107,34 +107,7 @@ from liquidamp.device.kernels import (
     model_rhs_t,
 )
 
-
-def _drop_stale_cache() -> None:
-    """Delete this module's numba cache files when the physics source has changed.
-
-    Numba keys a cached function on its own source file only: the compiled
-    integrators here link the device physics of :mod:`liquidamp.device.kernels`
-    in, and would keep a stale copy of it after that file changes.  A stamp
-    (hash of the physics source) kept beside the cache files decides.
-    """
-    import hashlib
-    from pathlib import Path
-
-    try:
-        stamp = hashlib.sha256(Path(_physics.__file__).read_bytes()).hexdigest()
-        cache = Path(__file__).parent / "__pycache__"
-        mark = cache / "_kernels.physics-stamp"
-        if mark.is_file() and mark.read_text() == stamp:
-            return
-        for pattern in ("_kernels.*.nb[ic]", "_rotor_kernel.*.nb[ic]", "_linalg.*.nb[ic]"):
-            for f in cache.glob(pattern):
-                f.unlink()
-        cache.mkdir(exist_ok=True)
-        mark.write_text(stamp)
-    except OSError:  # a read-only install: numba's own cache handling applies
-        pass
-
-
-_drop_stale_cache()
+drop_stale(__file__)  # before any kernel of this module loads from the cache
 
 
 #: Compile-time flag of the plain-model kernels (see :data:`integrate_plain`).

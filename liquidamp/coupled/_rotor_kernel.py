@@ -20,6 +20,7 @@ import math
 import numpy as np
 from numba import njit
 
+from liquidamp._numba_cache import drop_stale
 from liquidamp.coupled._kernels import ST_OK, ST_PRESSURE, ST_STEP_TOO_SMALL, ST_TOO_MANY_STEPS
 from liquidamp.coupled._linalg import lu_factor, lu_solve
 from liquidamp.device.kernels import (
@@ -35,6 +36,8 @@ from liquidamp.device.kernels import (
     model_jac,
     model_rhs,
 )
+
+drop_stale(__file__)  # before any kernel of this module loads from the cache
 
 __all__ = ["ST_STROKE_LIMIT", "FD_REL", "rotor_rhs", "device_derivatives", "rotor_variation",
            "rotor_integrate"]
