@@ -4,8 +4,9 @@ Private module: use it through :func:`liquidamp.coupled.fast.simulate_rotor`.  T
 equations come from :mod:`liquidamp.structure` (the harmonic matrices of
 :meth:`~liquidamp.structure.rotor.GroundResonanceRotor.harmonic_second_order` and the
 port maps of its force and output matrices), the devices' from
-:mod:`liquidamp.device.kernels`; the integrator is DOP853 with scipy's coefficients, error
-norm, step control and dense output.
+:mod:`liquidamp.device.kernels`; the integrator is DOP853 with the coefficients of
+:mod:`liquidamp.coupled._dop853` (scipy's to the last bit), error norm, step control and
+dense output.
 
 References
 ----------

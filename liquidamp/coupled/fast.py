@@ -459,13 +459,9 @@ class RotorRun:
 
 
 def _dop853_tables():
-    from scipy.integrate._ivp import dop853_coefficients as dc
+    from liquidamp.coupled._dop853 import tables
 
-    ns = dc.N_STAGES
-    return (np.ascontiguousarray(dc.A[:ns, :ns]), np.ascontiguousarray(dc.B),
-            np.ascontiguousarray(dc.C[:ns]), np.ascontiguousarray(dc.E3),
-            np.ascontiguousarray(dc.E5), np.ascontiguousarray(dc.A[ns + 1:]),
-            np.ascontiguousarray(dc.C[ns + 1:]), np.ascontiguousarray(dc.D))
+    return tables()
 
 
 def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoperative=(),
@@ -507,7 +503,7 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
     -------
     RotorRun
     """
-    from liquidamp.coupled.assembly import rotor_system
+    from liquidamp.coupled.system import rotor_system
 
     system = rotor_system(rotor, Omega, device, inoperative=inoperative, inputs=inputs)
     # the origin's rotor has the blades' own lag dampers removed where a device is attached
@@ -559,7 +555,7 @@ def simulate_blade(blade, Omega: float, device, t_end: float, x0=None, *, inputs
     >>> round(math.hypot(zeta, rate / W) / z, 6)
     1.0
     """
-    from liquidamp.coupled.assembly import blade_system
+    from liquidamp.coupled.system import blade_system
 
     system = blade_system(blade, Omega, device, inputs=inputs)
     return _simulate_second_order(blade, Omega, system, t_end, x0, t_eval, samples_per_second,
@@ -749,10 +745,10 @@ def second_order_flow(system, x0, t_end: float, *, t_eval=None, monodromy: bool 
     """
     import math
 
-    from liquidamp.coupled.assembly import _compiled_origin
+    from liquidamp.coupled.system import _compiled_origin
     from liquidamp.options import resolve_options
 
-    o = _compiled_origin(system)
+    o = _compiled_origin(system, check_compiled)
     opts = resolve_options(options, "decay")
     T_end = float(t_end)
     if not T_end > 0.0:

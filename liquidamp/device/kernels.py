@@ -60,7 +60,6 @@ References
 
 from liquidamp.device.kernels_base import (  # noqa: F401 (the public face)
     BASE_N,
-    _state_force,
     base_force,
     base_force_series,
     base_jac,
@@ -68,6 +67,7 @@ from liquidamp.device.kernels_base import (  # noqa: F401 (the public face)
     base_rhs_inline,
     base_rhs_t,
     full_all,
+    state_force,
 )
 from liquidamp.device.kernels_laws import (  # noqa: F401 (the public face)
     Z_HOLD,

@@ -356,7 +356,7 @@ def base_force(mid, x, y, v, a, prm):
 
 
 @njit(cache=True, error_model="numpy")
-def _state_force(mid, d, prm):
+def state_force(mid, d, prm):
     """The state-linear part of the base force applied to a rate vector ``d`` [N/s]."""
     Ap = prm[P_AP]
     if mid == M_FULL or mid == M_NO_INERTIA:

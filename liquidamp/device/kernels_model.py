@@ -13,12 +13,12 @@ from numba import njit
 
 from liquidamp._numba_cache import drop_stale
 from liquidamp.device.kernels_base import (
-    _state_force,
     base_force,
     base_jac,
     base_rhs,
     base_rhs_inline,
     base_rhs_t,
+    state_force,
 )
 from liquidamp.device.kernels_laws import (
     _fd_step,
@@ -286,8 +286,8 @@ def model_rhs(spec, x, y, v, prm, ep, out):
             _fluid_rhs(spec, x, yp, 1.0, prm, ep, d1)
             _fluid_rhs(spec, x, yp, 0.0, prm, ep, out)
             mid = spec[S_MID]
-            g0 = _state_force(mid, out, prm)
-            g1 = _state_force(mid, d1, prm) - g0
+            g0 = state_force(mid, out, prm)
+            g1 = state_force(mid, d1, prm) - g0
             if spec[S_ROT] > 0:  # the force's centrifugal term A_p dp_c(y_piston)
                 g1 += prm[P_AP] * rotating_slope(prm, ep)
             vp = compliance_rate(vi, k, g0, g1)

@@ -62,7 +62,7 @@ import numpy as np
 from numba import njit
 
 from liquidamp._numba_cache import drop_stale
-from liquidamp.coupled._linalg import lu_factor, lu_solve
+from liquidamp.coupled.kernels import lu_factor, lu_solve
 from liquidamp.device import kernels as K
 from liquidamp.errors import ConvergenceError
 from liquidamp.structure.testmachine import TwoFrequencyStroke

@@ -361,7 +361,7 @@ class TorusInvariants:
             self.k = comp.stiffness_N_per_m
             self.ic = names.index("y_piston")
             # the fluid force is linear in the base states: its gradient, from the kernels
-            self.cF = np.array([K._state_force(spec[K.S_MID], e, prm) for e in np.eye(nb)])
+            self.cF = np.array([K.state_force(spec[K.S_MID], e, prm) for e in np.eye(nb)])
             out += ["piston balance [N]" if math.isfinite(self.k) else "y - y_piston [m]"]
         self.names = tuple(out)
         self._gl = np.polynomial.legendre.leggauss(8)

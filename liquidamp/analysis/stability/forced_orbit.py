@@ -74,7 +74,7 @@ from scipy.integrate import solve_ivp
 
 from liquidamp.analysis.response.periodic import invariants, project_level_set
 from liquidamp.analysis.stability.floquet import FloquetResult, floquet_from_monodromy
-from liquidamp.coupled import _rotor_kernel as RK
+from liquidamp.coupled import kernels as RK
 from liquidamp.coupled.assembly import CoupledSystem
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, ParameterError, check_positive
