@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from liquidamp.coupled._dop853 import A, A_EXTRA, B, C, C_EXTRA, D, E3, E5, N_STAGES
+from liquidamp.coupled._dop853 import A_EXTRA, C_EXTRA, E3, E5, N_STAGES, A, B, C, D
 
 
 def test_row_sums_and_quadrature_conditions_up_to_order_8():
