@@ -27,7 +27,8 @@ import hashlib
 from functools import cache
 from pathlib import Path
 
-__all__ = ["COMPILED_SOURCES", "cache_dir", "drop_stale", "sources_stamp"]
+__all__ = ["COMPILED_SOURCES", "cache_dir", "drop_stale", "sources_stamp", "family",
+           "compile_notices"]
 
 _ROOT = Path(__file__).resolve().parent
 
@@ -93,6 +94,10 @@ def drop_stale(py_file: str | Path) -> None:
     Called at the import of every module of :data:`COMPILED_SOURCES`; a
     read-only or missing cache directory leaves numba's own handling.
     """
+    global _KERNELS_IMPORTED
+    _KERNELS_IMPORTED = True
+    if _state["sink"] is not None:
+        _listen()
     try:
         where = cache_dir(py_file)
         if where is None:
@@ -108,3 +113,82 @@ def drop_stale(py_file: str | Path) -> None:
         mark.write_text(stamp)
     except OSError:  # pragma: no cover - a read-only cache: numba's own handling applies
         pass
+
+
+# ---------------------------------------------------------------------------
+# compile notices: one line per compiled family, while it compiles
+
+#: Family of a compiled top-level function: (module, name predicate, words).
+_FAMILIES = (
+    ("liquidamp.coupled._kernels", lambda n: n.endswith("_plain"),
+     "the time integrators of the base models"),
+    ("liquidamp.coupled._kernels", lambda n: True,
+     "the time integrators with add-on effects"),
+    ("liquidamp.coupled._rotor_kernel", lambda n: True,
+     "the rotor and blade integrator (DOP853)"),
+    ("liquidamp.analysis.response._torus", lambda n: True,
+     "the two-frequency harmonic balance"),
+    ("liquidamp.coupled._linalg", lambda n: True, "the linear algebra kernels"),
+    ("liquidamp.device.", lambda n: True, "the device model functions"),
+)
+
+_state = {"sink": None, "depth": 0, "said": set(), "listener": None}
+
+
+def family(module: str, name: str) -> str | None:
+    """The compiled family a kernel belongs to (the words of its notice), or None.
+
+    Examples
+    --------
+    >>> family("liquidamp.coupled._kernels", "integrate_plain")
+    'the time integrators of the base models'
+    >>> family("liquidamp.device.kernels_model", "model_rhs")
+    'the device model functions'
+    """
+    for mod, pred, words in _FAMILIES:
+        if module.startswith(mod) and pred(name):
+            return words
+    return None
+
+
+def compile_notices(sink) -> None:
+    """Send one line per compiled family to ``sink`` (a callable, None: silent).
+
+    Numba compiles a kernel the first time it is called with new argument
+    types unless its cache holds it; the line says which family compiles
+    while it does (``compiling the rotor and blade integrator (DOP853; once,
+    cached) ...``), once per family and process.  The command line sets it
+    (``--quiet`` does not); the library is silent by default.
+    """
+    _state["sink"] = sink
+    if sink is not None and _KERNELS_IMPORTED:
+        _listen()
+
+
+#: Set by :func:`drop_stale`: a module with kernels (so numba) is imported.
+_KERNELS_IMPORTED = False
+
+
+def _listen() -> None:
+    """Register the compile listener (once; numba is imported by then)."""
+    if _state["listener"] is not None:
+        return
+    from numba.core import event
+
+    class _Notices(event.Listener):
+        def on_start(self, ev):
+            depth = _state["depth"]
+            _state["depth"] = depth + 1
+            if depth or _state["sink"] is None:
+                return
+            f = ev.data["dispatcher"].py_func
+            words = family(f.__module__, f.__name__)
+            if words and words not in _state["said"]:
+                _state["said"].add(words)
+                _state["sink"](f"compiling {words} (once; cached for the next run) ...")
+
+        def on_end(self, ev):
+            _state["depth"] = max(_state["depth"] - 1, 0)
+
+    _state["listener"] = _Notices()
+    event.register("numba:compile", _state["listener"])

@@ -183,6 +183,11 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     name = getattr(args, "command_name", None) or args.command
+    if not getattr(args, "quiet", False):  # say what numba compiles while it does
+        from liquidamp._numba_cache import compile_notices
+
+        compile_notices(lambda msg: print(f"liquidamp {name}: {msg}", file=sys.stderr,
+                                          flush=True))
     try:
         code = args.func(args)
     except KeyboardInterrupt:

@@ -194,6 +194,9 @@ def _run(options, args: tuple, out: np.ndarray, info: np.ndarray) -> tuple[np.nd
     compile time of the first call); if ``"auto"`` meets a stiff stretch
     there, the whole call is rerun with the kernel that holds RODAS4 too,
     which starts identically, so the answer does not depend on the route.
+    Where the full kernel is already loaded in this process and the explicit
+    one is not, ``"auto"`` runs the full kernel at once (the same answer,
+    and no second kernel compiled on a first run).
     Returns the final state and whether the rerun happened.
     """
     meth = _method_code(options)
@@ -201,7 +204,10 @@ def _run(options, args: tuple, out: np.ndarray, info: np.ndarray) -> tuple[np.nd
     plain = args[0][DK.S_EFFECTS] == 0  # spec: no effects, the base equation alone
     full = K.integrate_plain if plain else K.integrate
     explicit = K.integrate_explicit_plain if plain else K.integrate_explicit
-    if meth == K.METH_RODAS4:
+    if meth == K.METH_RODAS4 or (meth == K.METH_AUTO and full.signatures
+                                 and not explicit.signatures):
+        # the full kernel is loaded and the explicit one is not: it gives the same answer
+        # in one go, without compiling a second kernel (the first run's cost)
         return full(*args, meth, out, info), False
     x = explicit(*args, meth, out, info)
     if int(info[0]) != K.ST_STIFF:
