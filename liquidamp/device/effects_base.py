@@ -155,7 +155,7 @@ class Effect:
                                      f"{', '.join(map(repr, allowed))}, got {value!r}")
 
     @classmethod
-    def probe(cls, force_amplitude_N: float, amplitude_m: float, omega: float, params
+    def probe(cls, force_amplitude_N: float, amplitude: float, omega: float, params
               ) -> Effect:
         """The effect at a small probe strength for a record (the diagnosis's score test).
 
@@ -163,7 +163,7 @@ class Effect:
         ----------
         force_amplitude_N : float
             Amplitude of the measured force [N].
-        amplitude_m, omega : float
+        amplitude, omega : float
             Stroke amplitude [m] and angular frequency [rad/s] of the records.
         params : DeviceParams or ViscousParams
             The calibrated parameters.
@@ -210,13 +210,13 @@ class Effect:
                 f"{self.small_signal_reason}; give an amplitude and a frequency for an "
                 "equivalent linearization, or use the time domain")
 
-    def describing_function(self, amplitude_m: float, omega: float, params, model=None
+    def describing_function(self, amplitude: float, omega: float, params, model=None
                             ) -> tuple[float, float, float]:
         """Equivalent parallel element of the effect at y = Y sin(w t) (first harmonic).
 
         Parameters
         ----------
-        amplitude_m : float
+        amplitude : float
             Stroke amplitude Y > 0 [m].
         omega : float
             Angular frequency w > 0 [rad/s].
@@ -274,10 +274,10 @@ def _shaped(value, *inputs):
     return value
 
 
-def _check_harmonic(amplitude_m, omega) -> tuple[float, float]:
-    Y, w = float(amplitude_m), float(omega)
+def _check_harmonic(amplitude, omega) -> tuple[float, float]:
+    Y, w = float(amplitude), float(omega)
     if not (math.isfinite(Y) and Y > 0):
-        raise ParameterError(f"amplitude must be finite and > 0 [m], got {amplitude_m!r}")
+        raise ParameterError(f"amplitude must be finite and > 0 [m], got {amplitude!r}")
     if not (math.isfinite(w) and w > 0):
         raise ParameterError(f"omega must be finite and > 0 [rad/s], got {omega!r}")
     return Y, w

@@ -223,7 +223,7 @@ class ReliefValve(Effect):
         return cls(float(cracking_force_N) / A, A * A * (1.0 / co - 1.0 / c))
 
     @classmethod
-    def probe(cls, force_amplitude_N, amplitude_m, omega, params):
+    def probe(cls, force_amplitude_N, amplitude, omega, params):
         """Cracking at 70 % of the peak pressure difference, a path of 0.3 x the channel's
         conductance at the record's flow (F_a / A_p for the peak; the viscous base: A = 1).
 
@@ -236,7 +236,7 @@ class ReliefValve(Effect):
         """
         if hasattr(params, "A_p"):
             A = params.A_p
-            Q = A * omega * amplitude_m
+            Q = A * omega * amplitude
             c = params.c1 + 8.0 / (3.0 * math.pi) * params.c2 * Q
         else:
             A, c = 1.0, float(params.c)
@@ -257,7 +257,7 @@ class ReliefValve(Effect):
         ep[K.E_PR] = self.cracking_pressure_Pa
         ep[K.E_GR] = self.conductance_m3_per_s_Pa
 
-    def describing_function(self, amplitude_m, omega, params, model=None):
+    def describing_function(self, amplitude, omega, params, model=None):
         """Exact on the dashpot-type bases: (0, c_eq - c, 0) (:func:`saturation_damping`).
 
         Examples
@@ -269,9 +269,9 @@ class ReliefValve(Effect):
         >>> round(1e5 + dc, 3) == round(saturation_damping(1e5, 2e4, 500.0, 0.01), 3)
         True
         """
-        Y, w = _check_harmonic(amplitude_m, omega)
+        Y, w = _check_harmonic(amplitude, omega)
         if model is None or model.base not in _DAMPERS:
-            return super().describing_function(amplitude_m, omega, params, model)
+            return super().describing_function(amplitude, omega, params, model)
         c, area = _damper(params, model)
         if c == 0.0:
             return 0.0, 0.0, 0.0
@@ -365,11 +365,11 @@ class AsymmetricLoss(Effect):
         ep[K.E_RR] = self.rebound_ratio
 
     @classmethod
-    def probe(cls, force_amplitude_N, amplitude_m, omega, params):
+    def probe(cls, force_amplitude_N, amplitude, omega, params):
         """Rebound losses 20 % above compression's."""
         return cls(1.2)
 
-    def describing_function(self, amplitude_m, omega, params, model=None):
+    def describing_function(self, amplitude, omega, params, model=None):
         """Exact on the dashpot-type bases: (0, c (r - 1) / 2, 0) (the average damping).
 
         Examples
@@ -380,9 +380,9 @@ class AsymmetricLoss(Effect):
         >>> m.effects[0].describing_function(1e-3, 10.0, ViscousParams(100.0), m)
         (0.0, 100.0, 0.0)
         """
-        _check_harmonic(amplitude_m, omega)
+        _check_harmonic(amplitude, omega)
         if model is None or model.base not in _DAMPERS:
-            return super().describing_function(amplitude_m, omega, params, model)
+            return super().describing_function(amplitude, omega, params, model)
         c = _damper(params, model)[0]
         return 0.0, 0.5 * c * (self.rebound_ratio - 1.0), 0.0
 

@@ -106,7 +106,7 @@ class CoulombFriction(Effect):
     def pack(self, ep):
         ep[K.E_CF], ep[K.E_CRQ] = self.force_N, self.reverse_ratio
 
-    def describing_function(self, amplitude_m, omega, params, model=None):
+    def describing_function(self, amplitude, omega, params, model=None):
         """Equivalent damping 2 (1 + q) F_c / (pi w Y) [N s/m] (no stiffness, no inertance).
 
         The first harmonic of the square wave +F_c / -q F_c; its mean
@@ -121,7 +121,7 @@ class CoulombFriction(Effect):
         >>> round(c2 / c, 12)   # (1 + q) / 2
         0.75
         """
-        Y, w = _check_harmonic(amplitude_m, omega)
+        Y, w = _check_harmonic(amplitude, omega)
         return 0.0, 2.0 * (1.0 + self.reverse_ratio) * self.force_N / (math.pi * w * Y), 0.0
 
 
@@ -153,9 +153,9 @@ class ForceOffset(Effect):
     def pack(self, ep):
         ep[K.E_OFF] = self.offset_N
 
-    def describing_function(self, amplitude_m, omega, params, model=None):
+    def describing_function(self, amplitude, omega, params, model=None):
         """A constant force has no first harmonic: (0, 0, 0)."""
-        _check_harmonic(amplitude_m, omega)
+        _check_harmonic(amplitude, omega)
         return 0.0, 0.0, 0.0
 
 
@@ -188,9 +188,9 @@ class MovingMass(Effect):
     def pack(self, ep):
         ep[K.E_MASS] = self.mass_kg
 
-    def describing_function(self, amplitude_m, omega, params, model=None):
+    def describing_function(self, amplitude, omega, params, model=None):
         """An inertance m [kg] in parallel (exact: F = m a is linear)."""
-        _check_harmonic(amplitude_m, omega)
+        _check_harmonic(amplitude, omega)
         return 0.0, 0.0, self.mass_kg
 
 
@@ -299,7 +299,7 @@ class SmoothFriction(Effect):
         ep[K.E_VS], ep[K.E_SR] = self.stribeck_velocity_m_per_s, self.static_ratio
         ep[K.E_FRQ], ep[K.E_FEX] = self.reverse_ratio, self.transition_exponent
 
-    def describing_function(self, amplitude_m, omega, params, model=None):
+    def describing_function(self, amplitude, omega, params, model=None):
         """Equivalent (k, c, 0) from the first harmonic of F_c z on its periodic orbit.
 
         The bristle state is driven by the stroke alone, so its describing
@@ -318,7 +318,7 @@ class SmoothFriction(Effect):
         """
         from scipy.integrate import solve_ivp
 
-        Y, w = _check_harmonic(amplitude_m, omega)
+        Y, w = _check_harmonic(amplitude, omega)
         if self.force_N == 0.0:
             return 0.0, 0.0, 0.0
         args = (self.force_N, self.stiffness_N_per_m, self.stribeck_velocity_m_per_s,
@@ -423,16 +423,16 @@ class Elastomer(Effect):
         branch = 0j if k1 == 0.0 else k1 * iwc / (k1 + iwc)
         return self.parallel_stiffness_N_per_m + branch
 
-    def describing_function(self, amplitude_m, omega, params, model=None):
+    def describing_function(self, amplitude, omega, params, model=None):
         """Exact (linear): (Re K, Im K / w, 0)."""
-        _, w = _check_harmonic(amplitude_m, omega)
+        _, w = _check_harmonic(amplitude, omega)
         K_ = self.stiffness(w)
         return float(K_.real), float(K_.imag / w), 0.0
 
     @classmethod
-    def probe(cls, force_amplitude_N, amplitude_m, omega, params):
+    def probe(cls, force_amplitude_N, amplitude, omega, params):
         """A branch of 5 % of the record's force amplitude at w tau = 1, k0 = k1 / 2."""
-        k1 = 0.05 * force_amplitude_N / amplitude_m
+        k1 = 0.05 * force_amplitude_N / amplitude
         return cls(0.5 * k1, k1, k1 / omega)
 
 
@@ -510,14 +510,14 @@ class EndStops(Effect):
         ep[K.E_KS], ep[K.E_CS] = self.stiffness_N_per_m, self.damping_N_s_per_m
         ep[K.E_CLR], ep[K.E_CTR] = self.clearance_m, self.centre_m
 
-    def describing_function(self, amplitude_m, omega, params, model=None):
+    def describing_function(self, amplitude, omega, params, model=None):
         """(k_s N, c_s N, 0), N = n(rho_+) + n(rho_-) (class docstring)."""
-        Y, _ = _check_harmonic(amplitude_m, omega)
+        Y, _ = _check_harmonic(amplitude, omega)
         N = (_contact_fraction((self.clearance_m + self.centre_m) / Y)
              + _contact_fraction((self.clearance_m - self.centre_m) / Y))
         return self.stiffness_N_per_m * N, self.damping_N_s_per_m * N, 0.0
 
     @classmethod
-    def probe(cls, force_amplitude_N, amplitude_m, omega, params):
+    def probe(cls, force_amplitude_N, amplitude, omega, params):
         """Stops at 90 % of the stroke, 5 x the record's force over the stroke."""
-        return cls(5.0 * force_amplitude_N / amplitude_m, 0.9 * amplitude_m)
+        return cls(5.0 * force_amplitude_N / amplitude, 0.9 * amplitude)

@@ -610,12 +610,12 @@ class ViscousParams:
         """No friction [N] (the DeviceModel interface asks for it)."""
         return 0.0
 
-    def describing_damping(self, amplitude_m: float, omega: float) -> float:
+    def describing_damping(self, amplitude: float, omega: float) -> float:
         """Equivalent viscous damping c + 8 c2 w Y / (3 pi) at y = Y sin(w t) [N s/m].
 
         Parameters
         ----------
-        amplitude_m : float
+        amplitude : float
             Stroke amplitude Y >= 0 [m].
         omega : float
             Angular frequency w >= 0 [rad/s].
@@ -625,7 +625,7 @@ class ViscousParams:
         >>> round(ViscousParams(100.0, c2=3 * math.pi / 8).describing_damping(0.01, 100.0), 9)
         101.0
         """
-        return self.c + 8.0 * self.c2 * omega * amplitude_m / (3.0 * math.pi)
+        return self.c + 8.0 * self.c2 * omega * amplitude / (3.0 * math.pi)
 
 
 #: The viscous damper F = c v + c2 v|v| [N] as a stateless device model (parameters:
