@@ -100,10 +100,11 @@ _METHOD_CODES = {"auto": K.METH_AUTO, "rodas4": K.METH_RODAS4, "dopri5": K.METH_
 _DUMMY = np.zeros(2)
 _DUMMY.flags.writeable = False
 
-#: Positions of the integrators' arguments they only read (spec, prm, ep, the stroke arrays,
-#: t_eval): always passed read-only, the others always writable, so that one compiled
-#: signature serves every call (numba types read-only arrays apart and compiles each anew).
-_READ_ONLY_ARGS = frozenset((0, 1, 2, 4, 5, 6, 7, 8, 12))
+#: Positions of the integrators' arguments they only read (spec, ep, the stroke arrays,
+#: t_eval): always passed read-only, the others (prm too: the laws make modified copies of
+#: it, which are writable) always writable, so that one compiled signature serves every call
+#: (numba types read-only arrays apart and compiles each anew).
+_READ_ONLY_ARGS = frozenset((0, 2, 4, 5, 6, 7, 8, 12))
 
 
 def _one_signature(args: tuple) -> tuple:
@@ -618,7 +619,7 @@ def _kernel_arrays(structure, W, system, X0, opts):
             fi[j] = names.index("p1"), names.index("p2")
         atol.append(opts.atol_scale * np.asarray(d.model.state_scales(d.params), float))
     atol = np.ascontiguousarray(np.concatenate(atol))
-    for a in (DSPEC, PRM, DEP):  # read-only as packed(): one signature of the device kernels
+    for a in (DSPEC, DEP):  # read-only as packed()'s: one signature of the device kernels
         a.flags.writeable = False
     return (HI, HV, PI, PV, UI, UV, DSPEC, doff, PRM, DEP, fi, lim), atol
 

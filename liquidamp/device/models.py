@@ -213,9 +213,13 @@ class DeviceModel:
         ``spec`` describes the composition, ``prm`` the parameters
         (:func:`liquidamp.device.kernels.pack_params`), ``ep`` the effect
         parameters and the state scales (see :mod:`liquidamp.device.kernels`).
-        Treat them as read-only (they are shared between calls).
+        ``spec`` and ``ep`` are read-only (shared between calls); ``prm`` is
+        a fresh writable copy, as the compiled laws make their own modified
+        copies of it (direction-dependent losses), so that one compiled
+        signature serves both.
         """
-        return _packed(self, params)
+        spec, prm, ep = _packed(self, params)
+        return spec, prm.copy(), ep
 
     # -------------------------------------------------------- physics
     def rhs(self, t, x, u, params) -> np.ndarray:
