@@ -39,6 +39,7 @@ COMPILED_SOURCES = (
     "device/kernels_base.py",
     "device/kernels_model.py",
     "coupled/_linalg.py",
+    "coupled/_stroke_kernels.py",
     "coupled/_kernels.py",
     "coupled/_rotor_kernel.py",
     "analysis/response/_torus.py",
