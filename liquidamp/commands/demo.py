@@ -27,6 +27,11 @@ def register(sub) -> None:
                    help="only the case study, not the calibrate-and-diagnose loop")
     p.add_argument("--skip-lag-damping", action="store_true",
                    help="leave out the lag damping in forward flight section")
+    p.add_argument("--no-background-compile", dest="background_compile",
+                   action="store_false",
+                   help="on a first run (empty compile cache) with an idle core, the later "
+                        "sections' kernels compile in a second process meanwhile; this "
+                        "compiles them in this process only")
     add_solver_arguments(p, "casestudy")  # the case study; the diagnosis loop uses "fit"
     add_force_argument(p)
     p.set_defaults(func=run)
@@ -44,12 +49,25 @@ def run(args) -> int:
             print(f"[{time.perf_counter() - start:6.1f} s] {msg}", file=sys.stderr)
 
     out = Path(args.out)
-    study = run_case_study(options=solver_options(args, "casestudy"), progress=progress)
-    extra = ""
-    if not args.skip_diagnosis:
-        extra = _diagnosis_section(out, progress)
-    if not args.skip_lag_damping:
-        extra += _lag_section(out, progress)
+    # the later sections' kernels compile in a second process meanwhile (first run only)
+    from liquidamp._warm import FAMILIES, Warmer
+
+    later = [f for f, skip in (("effects", args.skip_diagnosis),
+                               ("lag", args.skip_lag_damping)) if not skip]
+    warmer = Warmer(later if args.background_compile else [])
+    for family in warmer.todo:
+        progress(f"compiling {FAMILIES[family][0]} in a second process (once; cached) ...")
+    try:
+        study = run_case_study(options=solver_options(args, "casestudy"), progress=progress)
+        extra = ""
+        if not args.skip_diagnosis:
+            warmer.wait("effects", progress)
+            extra = _diagnosis_section(out, progress)
+        if not args.skip_lag_damping:
+            warmer.wait("lag", progress)
+            extra += _lag_section(out, progress)
+    finally:
+        warmer.stop()
     index = write_case_study(study, out, extra_html=extra)
     progress(f"wrote {index}")
     print(index)
