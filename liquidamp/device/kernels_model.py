@@ -319,7 +319,7 @@ def model_jac(spec, x, y, v, prm, ep, J):
     if spec[S_ANALYTIC] != 0:
         kL = ep[E_LEAK] if spec[S_LEAK] != 0 else 0.0
         if spec[S_ASYM] != 0:
-            base_jac(spec[S_MID], x, y, v, loss_params(spec, x, v, prm, ep), kL, J)
+            base_jac(spec[S_MID], x, y, v, loss_params(spec, x, v, prm, ep, 0.0), kL, J)
         else:
             base_jac(spec[S_MID], x, y, v, prm, kL, J)
         iz = spec[S_IZ]
@@ -355,7 +355,7 @@ def model_rhs_t(spec, x, y, v, yd, vd, prm, ep, out):
     if spec[S_ANALYTIC] != 0:
         kL = ep[E_LEAK] if spec[S_LEAK] != 0 else 0.0
         if spec[S_ASYM] != 0:
-            base_rhs_t(spec[S_MID], x, y, v, yd, vd, loss_params(spec, x, v, prm, ep), kL, out)
+            base_rhs_t(spec[S_MID], x, y, v, yd, vd, loss_params(spec, x, v, prm, ep, 0.0), kL, out)
         else:
             base_rhs_t(spec[S_MID], x, y, v, yd, vd, prm, kL, out)
         iz = spec[S_IZ]
@@ -427,6 +427,17 @@ def model_force(spec, x, y, v, a, prm, ep, with_friction):
 
 @njit(cache=True, error_model="numpy")
 def force_series(spec, X, Y, V, A, prm, ep, with_friction, out):
-    """:func:`model_force` over samples: X (n, N) states, Y, V, A (N,) strokes; into ``out``."""
+    """:func:`model_force` over samples: X (n, N) states, Y, V, A (N,) strokes; into ``out``.
+
+    Each state goes through a contiguous copy and the friction flag as a
+    constant, as the integrators pass them, so that :func:`model_force` is
+    compiled once for both.
+    """
+    xk = np.empty(X.shape[0])
     for k in range(out.size):
-        out[k] = model_force(spec, X[:, k], Y[k], V[k], A[k], prm, ep, with_friction)
+        for i in range(X.shape[0]):
+            xk[i] = X[i, k]
+        if with_friction:
+            out[k] = model_force(spec, xk, Y[k], V[k], A[k], prm, ep, True)
+        else:
+            out[k] = model_force(spec, xk, Y[k], V[k], A[k], prm, ep, False)
