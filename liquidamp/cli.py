@@ -206,6 +206,11 @@ def main(argv: list[str] | None = None) -> int:
         print(f"liquidamp {name}: internal error (a bug; run again with --traceback and "
               f"report it): {type(exc).__name__}: {_message(exc)}", file=sys.stderr)
         return 3
+    finally:
+        if not getattr(args, "quiet", False):  # the library is silent again (in-process main)
+            from liquidamp._numba_cache import compile_notices
+
+            compile_notices(None)
     return int(code or 0)
 
 

@@ -33,3 +33,30 @@ def test_helper_runs_and_is_waited_for(monkeypatch):
     assert w.process.wait(timeout=60) == 0
     w.stop()
     assert w.marks is None
+
+
+def test_one_compile_notice_per_family_and_none_when_silent():
+    """A compile of a kernel family's function says so once; the library default is silent."""
+    import numba
+
+    import liquidamp.coupled._linalg  # noqa: F401  (a compiled module: numba is set up)
+    from liquidamp import _numba_cache as nc
+
+    words = "the rotor and blade integrator (DOP853)"
+    nc._state["said"].discard(words)
+
+    def f(x):
+        return x + 1
+
+    f.__module__ = "liquidamp.coupled._rotor_kernel"
+    g = numba.njit(f)
+    g(1)  # silent: no sink
+    said = []
+    nc.compile_notices(said.append)
+    try:
+        g(1.5)
+        g(1j)  # a second compile of the same family: no second line
+    finally:
+        nc.compile_notices(None)
+    g(True)
+    assert said == [f"compiling {words} (once; cached for the next run) ..."]
