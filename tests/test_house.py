@@ -4,6 +4,7 @@ lines, no private name or module imported across packages (third-party ones incl
 from __future__ import annotations
 
 import ast
+import re
 from pathlib import Path
 
 import pytest
@@ -146,3 +147,15 @@ def test_the_private_import_check_sees_scipy_private_tables():
     finally:
         TREES.clear()
         TREES.update(saved)
+
+
+def test_every_cached_kernel_module_is_guarded_against_a_stale_cache():
+    """Numba keys a cache on its own file only: each module with cache=True kernels is in
+    liquidamp._numba_cache.COMPILED_SOURCES (the stamp) and calls drop_stale at import."""
+    from liquidamp._numba_cache import COMPILED_SOURCES
+
+    compiled = sorted(str(p.relative_to(ROOT)) for m, p in MODULES.items()
+                      if re.search(r"njit\(\s*cache=True", p.read_text()))
+    assert compiled and set(compiled) <= set(COMPILED_SOURCES)
+    for rel in compiled:
+        assert "drop_stale(__file__)" in (ROOT / rel).read_text(), rel
