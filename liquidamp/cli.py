@@ -209,6 +209,11 @@ def main(argv: list[str] | None = None) -> int:
     except SystemExit as exc:  # argument errors (2), --help and --version (0)
         return exc.code if isinstance(exc.code, int) else 2
     name = getattr(args, "command_name", None) or args.command
+    if not getattr(args, "quiet", False):  # say what numba compiles while it does
+        from liquidamp._numba_cache import compile_notices
+
+        compile_notices(lambda msg: print(f"liquidamp {name}: {msg}", file=sys.stderr,
+                                          flush=True))
     from liquidamp.commands import route_warnings
 
     try:
@@ -230,6 +235,11 @@ def main(argv: list[str] | None = None) -> int:
         print(f"liquidamp {name}: internal error (a bug; run again with --traceback and "
               f"report it): {type(exc).__name__}: {_message(exc)}", file=sys.stderr)
         return 3
+    finally:
+        if not getattr(args, "quiet", False):  # the library is silent again (in-process main)
+            from liquidamp._numba_cache import compile_notices
+
+            compile_notices(None)
     return int(code or 0)
 
 

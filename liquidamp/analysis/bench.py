@@ -70,16 +70,15 @@ Cases (keys of ``"cases"``):
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import platform
-import subprocess
-import sys
 import tempfile
 import time
 
 import numpy as np
+
+from liquidamp.analysis.bench_cold import FIRST_CALL_CODE, cold_start, first_call, fresh_process
 
 __all__ = ["run_bench", "GOALS", "CASES"]
 
@@ -106,6 +105,9 @@ GOALS = {
     "dual_frequency": [("seconds", "<", 0.05)],
     "stiffness_1um": [("seconds", "<", 3.0), ("points_present", ">=", 56)],
     "first_call": [("cold_cache_seconds", "<", 10.0)],
+    # issue #21 item 2: a first result in seconds
+    "cold_start": [("import_seconds", "<", 0.5), ("help_seconds", "<", 0.5),
+                   ("argument_error_seconds", "<", 0.5), ("demo_first_run_seconds", "<", 60.0)],
 }
 
 
@@ -710,75 +712,11 @@ _RUNNERS = {"steady_state_loop": _case_steady, "calibration": _case_calibration,
             "diagnosis_200hz_10_cycles": _real_rates("diagnosis_200hz_10_cycles"),
             "dual_frequency": _case_dual_frequency}
 
-# ------------------------------------------------------------ first calls
-_FIRST_CALL_CODE = {
-    "steady_state_loop": "from liquidamp.analysis.bench import _fast_steady as f; f()",
-    "coupled_rotor": ("from liquidamp.analysis.bench import _coupled_setup; "
-                      "from liquidamp.coupled.fast import simulate_rotor; r, d, _ = "
-                      "_coupled_setup(); simulate_rotor(r, 27.2, d, 0.1, {'zeta_1': 1e-3})"),
-    "dual_frequency": "from liquidamp.analysis.bench import _dual_frequency as f; f()",
-    "calibration": ("import tempfile; from liquidamp.analysis.bench import _records, "
-                    "_as_record_objects; "
-                    "from liquidamp.analysis.measured.calibration import calibrate; "
-                    "from liquidamp.device import preset; d = tempfile.mkdtemp(); "
-                    "calibrate(_as_record_objects(_records(True), d), "
-                    "params=preset('reference'), max_nfev=1)"),
-}
-
-
-def _fresh_process(code: str, env_extra: dict | None = None) -> dict:
-    """Run ``code`` in a fresh interpreter; time the imports and the first call."""
-    script = (
-        "import time, json\n"
-        "t0 = time.perf_counter()\n"
-        "import liquidamp.coupled.testrig, liquidamp.analysis.bench\n"
-        "t1 = time.perf_counter()\n"
-        f"{code}\n"
-        "t2 = time.perf_counter()\n"
-        "print(json.dumps({'import_seconds': t1 - t0, 'first_call_seconds': t2 - t1}))\n"
-    )
-    env = dict(os.environ)
-    env.update(env_extra or {})
-    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
-                         env=env, timeout=600, check=False)
-    if out.returncode != 0:
-        return {"error": out.stderr.strip().splitlines()[-1] if out.stderr else "failed"}
-    return json.loads(out.stdout.strip().splitlines()[-1])
-
-
-def _first_call(cold: bool) -> dict:
-    """Compilation with an empty numba cache, then a second fresh process reusing it."""
-    code = _FIRST_CALL_CODE["steady_state_loop"]
-    if not cold:
-        warm = _fresh_process(code)
-        return {"cold_cache": None, "note": "cold-cache compilation not measured (--quick)",
-                "cached_seconds": warm.get("first_call_seconds"),
-                "cached_import_seconds": warm.get("import_seconds")}
-    with tempfile.TemporaryDirectory(prefix="liquidamp-numba-") as d:
-        env = {"NUMBA_CACHE_DIR": d}
-        cold_run = _fresh_process(code, env)
-        warm = _fresh_process(code, env)
-    with tempfile.TemporaryDirectory(prefix="liquidamp-numba-") as d:
-        both = _fresh_process("from liquidamp.coupled.fast import warm_up; warm_up()",
-                              {"NUMBA_CACHE_DIR": d})
-    return {
-        "description": "steady_state_loop's first call in a fresh process: with an empty "
-                       "numba cache (compilation included), then again in a second fresh "
-                       "process reusing the cache just written; "
-                       "both_kernels_cold_cache_seconds: fast.warm_up() with an empty cache, "
-                       "which compiles the kernel with RODAS4 as well (what a first call on a "
-                       "stiff working point pays)",
-        "cold_cache_seconds": cold_run.get("first_call_seconds"),
-        "cached_seconds": warm.get("first_call_seconds"),
-        "import_seconds": warm.get("import_seconds"),
-        "both_kernels_cold_cache_seconds": both.get("first_call_seconds"),
-    }
-
-
 def _goals(result: dict) -> dict:
     out = {}
     for case, checks in GOALS.items():
-        data = result["first_call"] if case == "first_call" else result["cases"].get(case, {})
+        data = (result[case] if case in ("first_call", "cold_start")
+                else result["cases"].get(case, {}))
         for key, op, target in checks:
             value = data.get(key)
             reached = None
@@ -840,8 +778,8 @@ def run_bench(*, quick: bool = False, repeats: int | None = None, cases=None,
         if progress:
             progress(name)
         data = _RUNNERS[name](quick, repeats)
-        if "skipped" not in data and name in _FIRST_CALL_CODE:
-            fc = _fresh_process(_FIRST_CALL_CODE[name])
+        if "skipped" not in data and name in FIRST_CALL_CODE:
+            fc = fresh_process(FIRST_CALL_CODE[name])
             data["first_call_seconds"] = fc.get("first_call_seconds")
             data["first_call_note"] = ("fresh process, compiled code loaded from the numba "
                                        "cache; imports excluded")
@@ -851,6 +789,7 @@ def run_bench(*, quick: bool = False, repeats: int | None = None, cases=None,
         result["cases"][name] = data
     if progress:
         progress("first call")
-    result["first_call"] = _first_call(cold)
+    result["first_call"] = first_call(cold)
+    result["cold_start"] = cold_start(quick=not cold, progress=progress)
     result["goals"] = _goals(result)
     return result

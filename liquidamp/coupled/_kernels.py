@@ -76,8 +76,14 @@ import types
 import numpy as np
 from numba import njit
 
+from liquidamp._numba_cache import drop_stale
 from liquidamp.coupled._linalg import lu5_factor, lu5_solve, lu_factor, lu_solve
-from liquidamp.device import kernels as _physics
+from liquidamp.coupled._stroke_kernels import (  # noqa: F401 (re-exported)
+    _next_break,
+    _segment,
+    stroke_eval,
+    stroke_rate,
+)
 from liquidamp.device.kernels import (
     E_LEAK,
     M_FULL,
@@ -109,34 +115,7 @@ from liquidamp.device.kernels import (
     model_rhs_t,
 )
 
-
-def _drop_stale_cache() -> None:
-    """Delete this module's numba cache files when the physics source has changed.
-
-    Numba keys a cached function on its own source file only: the compiled
-    integrators here link the device physics of :mod:`liquidamp.device.kernels`
-    in, and would keep a stale copy of it after that file changes.  A stamp
-    (hash of the physics source) kept beside the cache files decides.
-    """
-    import hashlib
-    from pathlib import Path
-
-    try:
-        stamp = hashlib.sha256(Path(_physics.__file__).read_bytes()).hexdigest()
-        cache = Path(__file__).parent / "__pycache__"
-        mark = cache / "_kernels.physics-stamp"
-        if mark.is_file() and mark.read_text() == stamp:
-            return
-        for pattern in ("_kernels.*.nb[ic]", "_rotor_kernel.*.nb[ic]", "_linalg.*.nb[ic]"):
-            for f in cache.glob(pattern):
-                f.unlink()
-        cache.mkdir(exist_ok=True)
-        mark.write_text(stamp)
-    except OSError:  # a read-only install: numba's own cache handling applies
-        pass
-
-
-_drop_stale_cache()
+drop_stale(__file__)  # before any kernel of this module loads from the cache
 
 
 #: Compile-time flag of the plain-model kernels (see :data:`integrate_plain`).
@@ -198,95 +177,6 @@ _RCC = np.array([
 ])
 _RC = np.array([0.0, _C2, _C3, _C4, 1.0, 1.0])
 _RD = np.array([_D1, _D2, _D3, _D4, 0.0, 0.0])
-
-
-# --------------------------------------------------------------------- stroke
-@njit(cache=True, error_model="numpy")
-def _segment(st, t):
-    """Index i of the sample interval [st[i], st[i+1]) holding t, st[0] <= t < st[-1]."""
-    lo, hi = 0, st.size - 1
-    while hi - lo > 1:
-        mid = (lo + hi) >> 1
-        if st[mid] <= t:
-            lo = mid
-        else:
-            hi = mid
-    return lo
-
-
-@njit(cache=True, error_model="numpy")
-def stroke_eval(kind, t, sp, st, sy, sv, sa):
-    """Stroke (y [m], v [m/s], a [m/s^2]) at time t [s]."""
-    if kind == 0:
-        Y, w, off, ph = sp[0], sp[1], sp[2], sp[3]
-        s = math.sin(w * t + ph)
-        c = math.cos(w * t + ph)
-        return off + Y * s, Y * w * c, -Y * w * w * s
-    if kind == 2:
-        y, v, a = sp[0], 0.0, 0.0
-        for j in (1, 4):
-            Y, w, ph = sp[j], sp[j + 1], sp[j + 2]
-            s = math.sin(w * t + ph)
-            c = math.cos(w * t + ph)
-            y += Y * s
-            v += Y * w * c
-            a -= Y * w * w * s
-        return y, v, a
-    if kind == 3:  # Fourier series [offset, w, t0, K, s_1, c_1, ..., s_K, c_K]
-        y, v, a = sp[0], 0.0, 0.0
-        w, tau = sp[1], t - sp[2]
-        for k in range(1, int(sp[3]) + 1):
-            s_k, c_k = sp[2 + 2 * k], sp[3 + 2 * k]
-            kw = k * w
-            s = math.sin(kw * tau)
-            c = math.cos(kw * tau)
-            y += s_k * s + c_k * c
-            v += kw * (s_k * c - c_k * s)
-            a -= kw * kw * (s_k * s + c_k * c)
-        return y, v, a
-    n = st.size
-    if t <= st[0]:
-        return sy[0], sv[0], sa[0]
-    if t >= st[n - 1]:
-        return sy[n - 1], sv[n - 1], sa[n - 1]
-    lo = _segment(st, t)
-    hi = lo + 1
-    w = (t - st[lo]) / (st[hi] - st[lo])
-    return (sy[lo] + w * (sy[hi] - sy[lo]), sv[lo] + w * (sv[hi] - sv[lo]),
-            sa[lo] + w * (sa[hi] - sa[lo]))
-
-
-@njit(cache=True, error_model="numpy")
-def stroke_rate(kind, t, sp, st, sy, sv, sa):
-    """Time derivatives (dy/dt [m/s], dv/dt [m/s^2]) of the stroke as evaluated.
-
-    Harmonic and two-frequency: (v, a) exactly.  Recorded: the slopes of the
-    linear interpolant on the segment that starts at or before ``t`` (the
-    integrator never steps across a sample time, so this is exact there).
-    """
-    if kind != 1:
-        y, v, a = stroke_eval(kind, t, sp, st, sy, sv, sa)
-        return v, a
-    n = st.size
-    if t < st[0] or t >= st[n - 1]:
-        return 0.0, 0.0
-    lo = _segment(st, t)
-    hi = lo + 1
-    d = st[hi] - st[lo]
-    return (sy[hi] - sy[lo]) / d, (sv[hi] - sv[lo]) / d
-
-
-@njit(cache=True, error_model="numpy")
-def _next_break(kind, t, st, tiny):
-    """First sample time of a recorded stroke after t + tiny (inf for analytic strokes)."""
-    if kind != 1:
-        return np.inf
-    n = st.size
-    if t + tiny >= st[n - 1]:
-        return np.inf
-    if t + tiny < st[0]:
-        return st[0]
-    return st[_segment(st, t + tiny) + 1]
 
 
 # ------------------------------------------------------------------ integrator

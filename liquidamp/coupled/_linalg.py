@@ -18,6 +18,10 @@ import math
 
 from numba import njit
 
+from liquidamp._numba_cache import drop_stale
+
+drop_stale(__file__)  # before any kernel of this module loads from the cache
+
 __all__ = ["lu_factor", "lu_solve", "lu5_factor", "lu5_solve"]
 
 #: Fast-math flags (reciprocal and contraction only, as the device kernels).

@@ -4,8 +4,9 @@ Private module: use it through :func:`liquidamp.coupled.fast.simulate_rotor`.  T
 equations come from :mod:`liquidamp.structure` (the harmonic matrices of
 :meth:`~liquidamp.structure.rotor.GroundResonanceRotor.harmonic_second_order` and the
 port maps of its force and output matrices), the devices' from
-:mod:`liquidamp.device.kernels`; the integrator is DOP853 with scipy's coefficients, error
-norm, step control and dense output.
+:mod:`liquidamp.device.kernels`; the integrator is DOP853 with the coefficients of
+:mod:`liquidamp.coupled._dop853` (scipy's to the last bit), error norm, step control and
+dense output.
 
 References
 ----------
@@ -20,6 +21,7 @@ import math
 import numpy as np
 from numba import njit
 
+from liquidamp._numba_cache import drop_stale
 from liquidamp.coupled._kernels import ST_OK, ST_PRESSURE, ST_STEP_TOO_SMALL, ST_TOO_MANY_STEPS
 from liquidamp.coupled._linalg import lu_factor, lu_solve
 from liquidamp.device.kernels import (
@@ -35,6 +37,8 @@ from liquidamp.device.kernels import (
     model_jac,
     model_rhs,
 )
+
+drop_stale(__file__)  # before any kernel of this module loads from the cache
 
 __all__ = ["ST_STROKE_LIMIT", "FD_REL", "rotor_rhs", "device_derivatives", "rotor_variation",
            "rotor_integrate"]

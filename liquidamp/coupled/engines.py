@@ -225,7 +225,7 @@ class CompiledEngine(Engine):
                         f"{type(system.stroke).__name__}; use engine='scipy' for another "
                         "stroke callable")
             return fast.supports(system.model)
-        from liquidamp.coupled.assembly import compiled_support
+        from liquidamp.coupled.compiled_route import compiled_support
 
         return compiled_support(system)
 

@@ -104,6 +104,28 @@ N_INFO = 10
 _METHOD_CODES = {"auto": K.METH_AUTO, "rodas4": K.METH_RODAS4, "dopri5": K.METH_DOPRI5}
 
 _DUMMY = np.zeros(2)
+_DUMMY.flags.writeable = False
+
+#: Positions of the integrators' arguments they only read (spec, ep, the stroke arrays,
+#: t_eval): always passed read-only, the others (prm too: the laws make modified copies of
+#: it, which are writable) always writable, so that one compiled signature serves every call
+#: (numba types read-only arrays apart and compiles each anew).
+_READ_ONLY_ARGS = frozenset((0, 2, 4, 5, 6, 7, 8, 12))
+
+
+def _one_signature(args: tuple) -> tuple:
+    """``args`` with the read-only flags of :data:`_READ_ONLY_ARGS` (views or copies)."""
+    out = list(args)
+    for i, a in enumerate(out):
+        if isinstance(a, np.ndarray):
+            if i in _READ_ONLY_ARGS:
+                if a.flags.writeable:
+                    a = a.view()
+                    a.flags.writeable = False
+            elif not a.flags.writeable:
+                a = a.copy()
+            out[i] = a
+    return tuple(out)
 
 
 def supports(model) -> str | None:
@@ -182,13 +204,20 @@ def _run(options, args: tuple, out: np.ndarray, info: np.ndarray) -> tuple[np.nd
     compile time of the first call); if ``"auto"`` meets a stiff stretch
     there, the whole call is rerun with the kernel that holds RODAS4 too,
     which starts identically, so the answer does not depend on the route.
+    Where the full kernel is already loaded in this process and the explicit
+    one is not, ``"auto"`` runs the full kernel at once (the same answer,
+    and no second kernel compiled on a first run).
     Returns the final state and whether the rerun happened.
     """
     meth = _method_code(options)
+    args = _one_signature(args)
     plain = args[0][DK.S_EFFECTS] == 0  # spec: no effects, the base equation alone
     full = K.integrate_plain if plain else K.integrate
     explicit = K.integrate_explicit_plain if plain else K.integrate_explicit
-    if meth == K.METH_RODAS4:
+    if meth == K.METH_RODAS4 or (meth == K.METH_AUTO and full.signatures
+                                 and not explicit.signatures):
+        # the full kernel is loaded and the explicit one is not: it gives the same answer
+        # in one go, without compiling a second kernel (the first run's cost)
         return full(*args, meth, out, info), False
     x = explicit(*args, meth, out, info)
     if int(info[0]) != K.ST_STIFF:
@@ -464,13 +493,9 @@ class RotorRun:
 
 
 def _dop853_tables():
-    from scipy.integrate._ivp import dop853_coefficients as dc
+    from liquidamp.coupled._dop853 import tables
 
-    ns = dc.N_STAGES
-    return (np.ascontiguousarray(dc.A[:ns, :ns]), np.ascontiguousarray(dc.B),
-            np.ascontiguousarray(dc.C[:ns]), np.ascontiguousarray(dc.E3),
-            np.ascontiguousarray(dc.E5), np.ascontiguousarray(dc.A[ns + 1:]),
-            np.ascontiguousarray(dc.C[ns + 1:]), np.ascontiguousarray(dc.D))
+    return tables()
 
 
 def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoperative=(),
@@ -512,7 +537,7 @@ def simulate_rotor(rotor, Omega: float, device, t_end: float, x0=None, *, inoper
     -------
     RotorRun
     """
-    from liquidamp.coupled.assembly import rotor_system
+    from liquidamp.coupled.system import rotor_system
 
     system = rotor_system(rotor, Omega, device, inoperative=inoperative, inputs=inputs)
     # the origin's rotor has the blades' own lag dampers removed where a device is attached
@@ -564,7 +589,7 @@ def simulate_blade(blade, Omega: float, device, t_end: float, x0=None, *, inputs
     >>> round(math.hypot(zeta, rate / W) / z, 6)
     1.0
     """
-    from liquidamp.coupled.assembly import blade_system
+    from liquidamp.coupled.system import blade_system
 
     system = blade_system(blade, Omega, device, inputs=inputs)
     return _simulate_second_order(blade, Omega, system, t_end, x0, t_eval, samples_per_second,
@@ -621,6 +646,8 @@ def _kernel_arrays(structure, W, system, X0, opts):
             fi[j] = names.index("p1"), names.index("p2")
         atol.append(opts.atol_scale * np.asarray(d.model.state_scales(d.params), float))
     atol = np.ascontiguousarray(np.concatenate(atol))
+    for a in (DSPEC, DEP):  # read-only as packed()'s: one signature of the device kernels
+        a.flags.writeable = False
     return (HI, HV, PI, PV, UI, UV, DSPEC, doff, PRM, DEP, fi, lim), atol
 
 
@@ -752,10 +779,10 @@ def second_order_flow(system, x0, t_end: float, *, t_eval=None, monodromy: bool 
     """
     import math
 
-    from liquidamp.coupled.assembly import _compiled_origin
+    from liquidamp.coupled.system import _compiled_origin
     from liquidamp.options import resolve_options
 
-    o = _compiled_origin(system)
+    o = _compiled_origin(system, check_compiled)
     opts = resolve_options(options, "decay")
     T_end = float(t_end)
     if not T_end > 0.0:

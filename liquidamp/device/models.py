@@ -213,9 +213,13 @@ class DeviceModel:
         ``spec`` describes the composition, ``prm`` the parameters
         (:func:`liquidamp.device.kernels.pack_params`), ``ep`` the effect
         parameters and the state scales (see :mod:`liquidamp.device.kernels`).
-        Treat them as read-only (they are shared between calls).
+        ``spec`` and ``ep`` are read-only (shared between calls); ``prm`` is
+        a fresh writable copy, as the compiled laws make their own modified
+        copies of it (direction-dependent losses), so that one compiled
+        signature serves both.
         """
-        return _packed(self, params)
+        spec, prm, ep = _packed(self, params)
+        return spec, prm.copy(), ep
 
     # -------------------------------------------------------- physics
     def rhs(self, t, x, u, params) -> np.ndarray:
@@ -252,8 +256,10 @@ class DeviceModel:
         shape = np.broadcast_shapes(y.shape, v.shape, a.shape, X.shape[1:])
         N = math.prod(shape)
         X2 = X.reshape(n, -1) if X.size else np.zeros((n, 1))
-        X2 = np.ascontiguousarray(np.broadcast_to(X2, (n, N)))
-        Y, V, A = (np.ascontiguousarray(np.broadcast_to(q, shape).reshape(-1)) for q in (y, v, a))
+        # writable contiguous copies where needed: one compiled signature for every call
+        X2 = np.require(np.broadcast_to(X2, (n, N)), float, "CW")
+        Y, V, A = (np.require(np.broadcast_to(q, shape).reshape(-1), float, "CW")
+                   for q in (y, v, a))
         out = np.empty(N)
         if self.effects:
             K.force_series(spec, X2, Y, V, A, prm, ep, with_friction, out)
@@ -608,12 +614,12 @@ class ViscousParams:
         """No friction [N] (the DeviceModel interface asks for it)."""
         return 0.0
 
-    def describing_damping(self, amplitude_m: float, omega: float) -> float:
+    def describing_damping(self, amplitude: float, omega: float) -> float:
         """Equivalent viscous damping c + 8 c2 w Y / (3 pi) at y = Y sin(w t) [N s/m].
 
         Parameters
         ----------
-        amplitude_m : float
+        amplitude : float
             Stroke amplitude Y >= 0 [m].
         omega : float
             Angular frequency w >= 0 [rad/s].
@@ -623,7 +629,7 @@ class ViscousParams:
         >>> round(ViscousParams(100.0, c2=3 * math.pi / 8).describing_damping(0.01, 100.0), 9)
         101.0
         """
-        return self.c + 8.0 * self.c2 * omega * amplitude_m / (3.0 * math.pi)
+        return self.c + 8.0 * self.c2 * omega * amplitude / (3.0 * math.pi)
 
 
 #: The viscous damper F = c v + c2 v|v| [N] as a stateless device model (parameters:

@@ -283,7 +283,7 @@ def least_pressures(model, x, u, params):
     >>> [round(float(q)) for q in least_pressures(m, x, (0.0, 0.0, 0.0), p)]
     [96252, 101252]
     """
-    from liquidamp.device.effects import _piston_stroke
+    from liquidamp.device.effects_base import _piston_stroke
 
     if model.pressures is None:
         raise ParameterError(f"model {model.name!r} has no chamber pressure states")

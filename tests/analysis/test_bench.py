@@ -25,6 +25,10 @@ def test_quick_bench_writes_the_documented_keys(tmp_path):
     assert s["accuracy"]["fast_K_rel_error"] < 1e-6
     assert s["accuracy"]["baseline_K_rel_error"] < 1e-5
     assert "cached_seconds" in data["first_call"]
+    cold = data["cold_start"]  # fresh processes: import, --help, an argument error
+    assert cold["import_seconds"] > 0 and cold["help_seconds"] > 0
+    assert cold["argument_error_exit_code"] == 2 and "demo_first_run_seconds" not in cold
+    assert "cold_start.import_seconds < 0.5" in data["goals"]
     for name in ("coupled_rotor", "diagnosis"):
         case = data["cases"][name]
         assert "skipped" in case or "seconds" in case

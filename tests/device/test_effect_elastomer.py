@@ -53,14 +53,14 @@ def test_linear_views_hold_it_exactly():
     bare = device_lti(Device("full", P))
     withe = device_lti(Device(m, P))
     for f in (0.5, 4.0, 20.0):
-        assert withe.stiffness(f)[0] - bare.stiffness(f)[0] == pytest.approx(_closed(f),
+        assert withe.stiffness(f) - bare.stiffness(f) == pytest.approx(_closed(f),
                                                                               rel=1e-6)
-        eq0 = device_lti(Device("full", P), amplitude_m=1e-3, frequency_hz=f)
-        eq = device_lti(Device(m, P), amplitude_m=1e-3, frequency_hz=f)
-        assert eq.stiffness(f)[0] - eq0.stiffness(f)[0] == pytest.approx(_closed(f), rel=1e-12)
+        eq0 = device_lti(Device("full", P), amplitude=1e-3, frequency=f)
+        eq = device_lti(Device(m, P), amplitude=1e-3, frequency=f)
+        assert eq.stiffness(f) - eq0.stiffness(f) == pytest.approx(_closed(f), rel=1e-12)
     # a stateless base: the small-signal model is the dashpot plus the solid
     d = device_lti(Device(with_effects(get_model("dashpot"), EL), P))
-    assert d.stiffness(4.0)[0] == pytest.approx(_closed(4.0) + 2j * math.pi * 4.0 * P.c_L,
+    assert d.stiffness(4.0) == pytest.approx(_closed(4.0) + 2j * math.pi * 4.0 * P.c_L,
                                                 rel=1e-6)
     # the time domain of the full model: the elastomer's force adds exactly (linear)
     s = HarmonicStroke(0.001, 4.0)

@@ -72,8 +72,8 @@ def test_describing_function_equals_the_time_domain_first_harmonic(ratio):
     K = dynamic_stiffness(steady_state(m, P, HarmonicStroke(Y, f), options=OPTS)).value
     assert abs(K.real) < 1e-9 * abs(K)
     assert K.imag / w == pytest.approx(c_eq, rel=1e-6)
-    lti = device_lti(Device(m, P), amplitude_m=Y, frequency_hz=f)
-    assert lti.stiffness(f)[0] == pytest.approx(1j * w * c_eq, rel=1e-12)
+    lti = device_lti(Device(m, P), amplitude=Y, frequency=f)
+    assert lti.stiffness(f) == pytest.approx(1j * w * c_eq, rel=1e-12)
     # the viscous damper, given the relief as a force
     cv, F_r, cvo = 6e4, ratio * 6e4 * V, 1.5e4
     mv = with_effects(VISCOUS, ReliefValve.from_force(F_r, cv, cvo))
@@ -82,8 +82,8 @@ def test_describing_function_equals_the_time_domain_first_harmonic(ratio):
     Fv = mv.force(t, np.zeros((0, t.size)), (Y * np.sin(w * t), v, 0 * t), ViscousParams(cv))
     F1 = first_harmonic(t, Fv, f)   # sine convention: V cos = i V sin
     assert (F1 / (1j * V)).real == pytest.approx(saturation_damping(cv, cvo, F_r, V), rel=1e-6)
-    ltiv = device_lti(Device(mv, ViscousParams(cv)), amplitude_m=Y, frequency_hz=f)
-    assert ltiv.stiffness(f)[0] == pytest.approx(1j * w * saturation_damping(cv, cvo, F_r, V),
+    ltiv = device_lti(Device(mv, ViscousParams(cv)), amplitude=Y, frequency=f)
+    assert ltiv.stiffness(f) == pytest.approx(1j * w * saturation_damping(cv, cvo, F_r, V),
                                                  rel=1e-12)
 
 
@@ -119,10 +119,10 @@ def test_relief_errors_and_small_signal():
         ReliefValve.from_force(100.0, 1e3, 2e3)
     m = with_effects(get_model("full"), ReliefValve(1e5, 1e-9))
     with pytest.raises(ParameterError, match="effect 'relief_valve' has no equivalent"):
-        device_lti(Device(m, P), amplitude_m=1e-3, frequency_hz=3.0)
+        device_lti(Device(m, P), amplitude=1e-3, frequency=3.0)
     # closed at rest: the small-signal model is the bare one
-    bare = device_lti(Device("full", P)).stiffness(3.0)[0]
-    assert device_lti(Device(m, P)).stiffness(3.0)[0] == pytest.approx(bare, rel=1e-5)
+    bare = device_lti(Device("full", P)).stiffness(3.0)
+    assert device_lti(Device(m, P)).stiffness(3.0) == pytest.approx(bare, rel=1e-5)
 
 
 def test_quadratic_viscous_with_relief_or_rebound_ratio_is_refused_naming_c2():

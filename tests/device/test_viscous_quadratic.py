@@ -41,9 +41,9 @@ def test_linear_models_of_the_quadratic_damper():
 
     d = viscous(50.0, c2=4.0e3)
     small = device_lti(d)
-    assert small.stiffness(2.0)[0] == pytest.approx(2j * math.pi * 2.0 * 50.0)
+    assert small.stiffness(2.0) == pytest.approx(2j * math.pi * 2.0 * 50.0)
     assert "no slope at rest" in small.kind
-    eq = device_lti(d, amplitude_m=2e-3, frequency_hz=3.0)
+    eq = device_lti(d, amplitude=2e-3, frequency=3.0)
     c_eq = 50.0 + 8 * 4.0e3 * 2 * math.pi * 3.0 * 2e-3 / (3 * math.pi)
     assert eq.D[0, 1] == pytest.approx(c_eq, rel=1e-14)
     assert device_lti(viscous(50.0)).kind == "exact"

@@ -61,10 +61,13 @@ import math
 import numpy as np
 from numba import njit
 
-from liquidamp.coupled._linalg import lu_factor, lu_solve
+from liquidamp._numba_cache import drop_stale
+from liquidamp.coupled.kernels import lu_factor, lu_solve
 from liquidamp.device import kernels as K
 from liquidamp.errors import ConvergenceError
 from liquidamp.structure.testmachine import TwoFrequencyStroke
+
+drop_stale(__file__)  # before any kernel of this module loads from the cache
 
 __all__ = ["spectral_matrix", "resample", "torus_rhs", "torus_rhs_jac", "TorusProblem",
            "Stalled", "grid_strokes", "harmonics_of", "upsample", "force_quadrature"]

@@ -93,6 +93,7 @@ import control
 import numpy as np
 from scipy.optimize import brentq, root
 
+from liquidamp._compat import renamed
 from liquidamp.analysis.response.harmonics import DynamicStiffness
 from liquidamp.device.fluid import bulk_modulus_gholizadeh
 from liquidamp.device.models import get_model
@@ -132,7 +133,8 @@ def quadratic_loss_df(c1: float, c2: float, flow_amplitude: float) -> float:
     return c1 + 8.0 * c2 * abs(flow_amplitude) / (3.0 * math.pi)
 
 
-def friction_df(friction_N: float, frequency_hz: float, amplitude_m: float) -> float:
+@renamed(amplitude_m="amplitude", frequency_hz="frequency")
+def friction_df(friction_N: float, frequency: float, amplitude: float) -> float:
     """Equivalent viscous damping of Coulomb friction 4 |F_f| / (pi w Y) [N s/m].
 
     Examples
@@ -140,7 +142,7 @@ def friction_df(friction_N: float, frequency_hz: float, amplitude_m: float) -> f
     >>> round(friction_df(30.0, 1.0, 1e-3) * 2 * math.pi * 1e-3 * math.pi / 4, 12)
     30.0
     """
-    return 4.0 * friction_N / (math.pi * 2.0 * math.pi * frequency_hz * amplitude_m)
+    return 4.0 * friction_N / (math.pi * 2.0 * math.pi * frequency * amplitude)
 
 
 @dataclass(frozen=True)
@@ -261,7 +263,8 @@ def _bulk_df(strain: float, table, B0: float, p0: float, points: int = 128) -> f
     return float(2.0 * np.mean((np.exp(lnp) - p0) * np.sin(th)) / strain)
 
 
-def equivalent_linearization(params: DeviceParams, frequency_hz: float, amplitude_m: float,
+@renamed(amplitude_m="amplitude", frequency_hz="frequency")
+def equivalent_linearization(params: DeviceParams, frequency: float, amplitude: float,
                              model: str = "inertial_2state", *, bulk: str = "auto",
                              options: SolverOptions | None = None
                              ) -> EquivalentLinearization:
@@ -271,9 +274,9 @@ def equivalent_linearization(params: DeviceParams, frequency_hz: float, amplitud
     ----------
     params : DeviceParams
         Device (friction enters through its describing function).
-    frequency_hz : float
+    frequency : float
         Excitation frequency f > 0 [Hz].
-    amplitude_m : float
+    amplitude : float
         Stroke amplitude 0 < Y < V0/A_p [m].
     model : str
         Registered model whose equivalent linearization is wanted: the
@@ -312,8 +315,8 @@ def equivalent_linearization(params: DeviceParams, frequency_hz: float, amplitud
         raise ParameterError(f"params must be DeviceParams, got {type(p).__name__}")
     m = get_model(model)
     m.check_params(p)
-    f = check_positive("frequency", frequency_hz, "Hz")
-    Y = check_positive("amplitude", amplitude_m, "m")
+    f = check_positive("frequency", frequency, "Hz")
+    Y = check_positive("amplitude", amplitude, "m")
     if Y >= p.stroke_limit:
         raise ParameterError(f"amplitude {Y:g} m reaches the chamber end; allowed: "
                              f"0 < amplitude < {p.stroke_limit:g} m (V0/A_p)")
@@ -467,7 +470,8 @@ def equivalent_linearization(params: DeviceParams, frequency_hz: float, amplitud
         bulk=bulk, iterations=int(iters), valid=valid, warnings=tuple(warns))
 
 
-def equivalent_stiffness(params: DeviceParams, frequency_hz: float, amplitude_m: float,
+@renamed(amplitude_m="amplitude", frequency_hz="frequency")
+def equivalent_stiffness(params: DeviceParams, frequency: float, amplitude: float,
                          model: str = "inertial_2state", *, bulk: str = "auto"
                          ) -> DynamicStiffness:
     """Dynamic stiffness K*_eq(f; Y) of the equivalent linearization [N/m].
@@ -482,12 +486,13 @@ def equivalent_stiffness(params: DeviceParams, frequency_hz: float, amplitude_m:
     >>> 80 < K.phase_deg < 90          # the damper preset: nearly a pure damper
     True
     """
-    return equivalent_linearization(params, frequency_hz, amplitude_m, model,
+    return equivalent_linearization(params, frequency, amplitude, model,
                                     bulk=bulk).stiffness
 
 
-def equivalent_transfer_function(params: DeviceParams, *, amplitude_m: float,
-                                 frequency_hz: float, model: str = "inertial_2state",
+@renamed(amplitude_m="amplitude", frequency_hz="frequency")
+def equivalent_transfer_function(params: DeviceParams, *, amplitude: float,
+                                 frequency: float, model: str = "inertial_2state",
                                  bulk: str = "auto") -> control.TransferFunction:
     """K_eq(s) frozen at (Y, f): input ``'stroke'`` [m], output ``'force'`` [N].
 
@@ -498,16 +503,17 @@ def equivalent_transfer_function(params: DeviceParams, *, amplitude_m: float,
     Examples
     --------
     >>> from liquidamp.device import preset
-    >>> tf = equivalent_transfer_function(preset("reference"), amplitude_m=0.002,
-    ...                                   frequency_hz=3.0)
+    >>> tf = equivalent_transfer_function(preset("reference"), amplitude=0.002,
+    ...                                   frequency=3.0)
     >>> tf.input_labels, tf.output_labels
     (['stroke'], ['force'])
     """
-    return equivalent_linearization(params, frequency_hz, amplitude_m, model,
+    return equivalent_linearization(params, frequency, amplitude, model,
                                     bulk=bulk).transfer_function
 
 
-def linear_range_amplitude(params: DeviceParams, frequency_hz: float, fraction: float = 0.1
+@renamed(frequency_hz="frequency")
+def linear_range_amplitude(params: DeviceParams, frequency: float, fraction: float = 0.1
                            ) -> float:
     """Stroke amplitude at which the quadratic loss adds ``fraction`` to c1 [m].
 
@@ -525,12 +531,12 @@ def linear_range_amplitude(params: DeviceParams, frequency_hz: float, fraction: 
     >>> bool(1.0 < e.c_eq / p.c1 < 1.1)
     True
     """
-    check_positive("frequency", frequency_hz, "Hz")
+    check_positive("frequency", frequency, "Hz")
     check_positive("fraction", fraction, "-")
     if params.c2 == 0.0:
         return math.inf
     if params.c1 == 0.0:
         raise ParameterError("c1 = 0: the small-signal loss vanishes; no linear range")
     L_t = params.L_t
-    _, qy = _k_and_q(params.A_p, params.B_eff, L_t, params.c1, 2j * math.pi * frequency_hz)
+    _, qy = _k_and_q(params.A_p, params.B_eff, L_t, params.c1, 2j * math.pi * frequency)
     return fraction * 3.0 * math.pi * params.c1 / (8.0 * params.c2 * abs(qy))

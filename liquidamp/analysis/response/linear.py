@@ -88,6 +88,7 @@ from dataclasses import dataclass
 import control
 import numpy as np
 
+from liquidamp._compat import renamed
 from liquidamp.device.models import DeviceModel, get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ParameterError, check_finite, check_positive
@@ -440,15 +441,16 @@ class Linearization:
                 out[i] = du
         return out
 
-    def state_phasor(self, frequency_hz: float, amplitude_m: float) -> np.ndarray:
+    @renamed(amplitude_m="amplitude", frequency_hz="frequency")
+    def state_phasor(self, frequency: float, amplitude: float) -> np.ndarray:
         """Complex state amplitudes X under y = Y sin(w t) (sine convention).
 
         The linear periodic state is x(t) = x0 + Im(X e^{i w t}); x(0) = x0 +
         Im X.  Used to warm-start nonlinear steady states.
         """
-        s = 2j * math.pi * frequency_hz
+        s = 2j * math.pi * frequency
         bu = self.B[:, 0] + s * self.B[:, 1] + s * s * self.B[:, 2]
-        return np.linalg.solve(s * np.eye(self.n_states) - self.A, bu) * amplitude_m
+        return np.linalg.solve(s * np.eye(self.n_states) - self.A, bu) * amplitude
 
     def stroke_system(self) -> control.StateSpace:
         """Proper StateSpace from ``'stroke'`` [m] to the outputs, by z = x - b_v y.

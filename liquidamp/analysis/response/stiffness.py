@@ -51,6 +51,7 @@ References
 from __future__ import annotations
 
 import csv
+import functools
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -59,6 +60,7 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq
 
+from liquidamp._compat import renamed
 from liquidamp.analysis.response.harmonics import DynamicStiffness, dynamic_stiffness
 from liquidamp.analysis.response.linear import Linearization, linearize, tf_frequency_response
 from liquidamp.device.fluid import density_constant_bulk, density_gholizadeh
@@ -151,7 +153,6 @@ def _nan_complex(value) -> np.ndarray:
 def _frd(frequency, value, name: str, what: str):
     """control.FrequencyResponseData of K*(f) from stroke [m] to force [N]; NaN points dropped
     with a warning naming them."""
-    import control
 
     f = np.asarray(frequency, float)
     v = np.asarray(value, complex)
@@ -162,8 +163,32 @@ def _frd(frequency, value, name: str, what: str):
         warnings.warn(f"{what}: {int((~ok).sum())} failed point(s) left out of the frequency "
                       f"response (at {', '.join(f'{x:g}' for x in f[~ok])} Hz)",
                       LiquidampWarning, stacklevel=3)
-    return control.frd(v[ok], 2.0 * math.pi * f[ok], name=name, inputs="stroke",
-                       outputs="force")
+    return _frd_class()(v[ok], 2.0 * math.pi * f[ok], name=name, inputs="stroke",
+                        outputs="force")
+
+
+@functools.cache
+def _frd_class():
+    """:class:`control.FrequencyResponseData` whose Bode plot wraps the phase by default."""
+    import control
+
+    class StiffnessFRD(control.FrequencyResponseData):
+        """K*(f) [N/m] from stroke to force; ``plot()`` draws the phase in (-180, 180] deg.
+
+        python-control's own default unwraps the phase and starts it in
+        [-360, 0) deg, which draws a damper (+90 deg) at -270 deg; this
+        response passes ``wrap_phase=True`` unless told otherwise, so its Bode
+        plot shows liquidamp's convention (0 spring, +90 damper, 180 inerter).
+        ``control.bode_plot(frd)`` called directly keeps python-control's
+        default: give it ``wrap_phase=True``.
+        """
+
+        def plot(self, plot_type=None, *args, **kwargs):
+            if (plot_type or self.plot_type) in ("bode", None):
+                kwargs.setdefault("wrap_phase", True)
+            return super().plot(plot_type, *args, **kwargs)
+
+    return StiffnessFRD
 
 
 @dataclass(frozen=True, eq=False)
@@ -220,10 +245,11 @@ class StiffnessCurve(_KMixin):
         """K*(f) as a :class:`control.FrequencyResponseData` (stroke [m] -> force [N]).
 
         Frequencies are given to python-control in rad/s (omega = 2 pi f) and
-        the response is K* [N/m].  python-control unwraps the phase along
-        frequency (``frd.phase`` and ``bode_plot``), where liquidamp wraps it
-        into (-180, 180] deg (:data:`PHASE_CONVENTION`): the magnitudes and
-        complex values agree, a phase may differ by a multiple of 360 deg.
+        the response is K* [N/m].  ``frd.plot()`` draws the Bode phase in
+        liquidamp's convention, wrapped into (-180, 180] deg
+        (:data:`PHASE_CONVENTION`: a damper at +90 deg); python-control's
+        ``bode_plot(frd)`` unwraps it and starts it in [-360, 0) deg unless
+        given ``wrap_phase=True`` (the complex values agree either way).
         Failed points (NaN) are left out with a :class:`LiquidampWarning`.
 
         Examples
@@ -235,6 +261,13 @@ class StiffnessCurve(_KMixin):
         >>> bool(np.allclose(frd.frequency_response(2 * np.pi * c.frequency).complex.ravel(),
         ...                  c.value))
         True
+        >>> import matplotlib; matplotlib.use("Agg")
+        >>> import matplotlib.pyplot as plt
+        >>> _ = frd.plot()
+        >>> phase = plt.gcf().axes[1].get_lines()[0].get_ydata()
+        >>> bool(np.allclose(phase, c.phase_deg))
+        True
+        >>> plt.close("all")
         """
         return _frd(self.frequency, self.value, self.label, f"curve {self.label!r}")
 
@@ -464,7 +497,8 @@ def linear_stiffness(system, frequencies_hz, label: str | None = None) -> Stiffn
     return StiffnessCurve(label or name, f, np.asarray(value, complex))
 
 
-def warm_start_state(model, params: DeviceParams, frequency_hz: float, amplitude_m: float,
+@renamed(amplitude_m="amplitude", frequency_hz="frequency")
+def warm_start_state(model, params: DeviceParams, frequency: float, amplitude: float,
                      lin: Linearization | None = None) -> np.ndarray:
     """Initial state on the linear periodic orbit, projected onto the invariants.
 
@@ -497,7 +531,7 @@ def warm_start_state(model, params: DeviceParams, frequency_hz: float, amplitude
     if m.n_states == 0:
         return np.zeros(0)
     lin = linearize(m, p) if lin is None else lin
-    x = lin.x0 + np.imag(lin.state_phasor(frequency_hz, amplitude_m))
+    x = lin.x0 + np.imag(lin.state_phasor(frequency, amplitude))
     if m.pressures is None:
         return x
     names = m.state_names

@@ -9,7 +9,7 @@ the force F [N] (:class:`DeviceLTI`):
   to its controllable and observable part (the full model's invariant modes
   at zero are removed); the quadratic loss drops out (zero slope at rest)
   and friction has no small-signal linearization;
-* equivalent (``amplitude_m`` and ``frequency_hz`` given): the describing
+* equivalent (``amplitude`` and ``frequency`` given): the describing
   function of :mod:`liquidamp.analysis.response.equivalent` -- the quadratic loss as
   c_eq = c1 + 8 c2 q_hat/(3 pi), Coulomb friction as 4 F_f/(pi omega Y),
   optionally the cycle-averaged bulk modulus -- realized as the linear
@@ -53,6 +53,7 @@ import control
 import numpy as np
 from scipy.optimize import brentq
 
+from liquidamp._compat import renamed
 from liquidamp.analysis.response.equivalent import equivalent_linearization
 from liquidamp.analysis.response.linear import INPUT_NAMES, linearize
 from liquidamp.analysis.stability.floquet import (
@@ -133,9 +134,23 @@ class DeviceLTI:
                           states=[f"{self.label}[{i}]" for i in range(self.n_states)],
                           name=f"{self.label}" if port is None else f"{self.label}@{port.name}")
 
-    def stiffness(self, frequency_hz) -> np.ndarray:
-        """K(i w) = F/Y under y = Y e^{i w t} [N/m]."""
-        f = np.atleast_1d(np.asarray(frequency_hz, float))
+    def stiffness(self, frequency):
+        """K(i w) = F/Y under y = Y e^{i w t} [N/m] at ``frequency`` [Hz].
+
+        Scalar in, scalar out: a complex for a number, an array of the same
+        shape for an array.
+
+        Examples
+        --------
+        >>> from liquidamp.coupled.assembly import viscous
+        >>> lti = device_lti(viscous(1e3))
+        >>> lti.stiffness(1.0) == 2j * math.pi * 1e3
+        True
+        >>> lti.stiffness([1.0, 2.0]).shape
+        (2,)
+        """
+        f_in = np.asarray(frequency, float)
+        f = np.atleast_1d(f_in).ravel()
         out = np.empty(f.size, complex)
         for i, fi in enumerate(f):
             s = 2j * math.pi * fi
@@ -145,7 +160,7 @@ class DeviceLTI:
                 val += self.C[0] @ np.linalg.solve(s * np.eye(self.n_states) - self.A,
                                                    self.B @ u)
             out[i] = val
-        return out
+        return complex(out[0]) if f_in.ndim == 0 else out.reshape(f_in.shape)
 
     def null(self) -> DeviceLTI:
         """Same states, no coupling (B = 0, C = 0, D = 0): a failed blade's placeholder."""
@@ -169,14 +184,15 @@ def _eq18(A_p, B, L_t, c, c_f) -> tuple:
     return A, Bm, C, np.array([[0.0, c_f, 0.0]])
 
 
-def device_lti(device: Device, *, amplitude_m: float | None = None,
-               frequency_hz: float | None = None, bulk: str = "rest") -> DeviceLTI:
+@renamed(amplitude_m="amplitude", frequency_hz="frequency")
+def device_lti(device: Device, *, amplitude: float | None = None,
+               frequency: float | None = None, bulk: str = "rest") -> DeviceLTI:
     """Linear model of a device: small-signal or equivalent at (Y, f).
 
     Parameters
     ----------
     device : Device
-    amplitude_m, frequency_hz : float, optional
+    amplitude, frequency : float, optional
         Stroke amplitude [m] and frequency [Hz] of the equivalent
         linearization (both or neither).
     bulk : {"rest", "averaged", "auto"}
@@ -197,40 +213,40 @@ def device_lti(device: Device, *, amplitude_m: float | None = None,
     >>> lti = device_lti(Device("full", p))
     >>> lti.n_states                      # invariant modes removed
     2
-    >>> k = lti.stiffness(7.0)[0]
+    >>> k = lti.stiffness(7.0)
     >>> from liquidamp.analysis.response.linear import inertial_2state_tf
     >>> round(float(abs(k / complex(inertial_2state_tf(p)(2j * math.pi * 7.0)) - 1)), 9)
     0.0
     """
     m, p = device.model, device.params
-    if (amplitude_m is None) != (frequency_hz is None):
-        raise ParameterError("give both amplitude_m [m] and frequency_hz [Hz], or neither")
+    if (amplitude is None) != (frequency is None):
+        raise ParameterError("give both amplitude [m] and frequency [Hz], or neither")
     if isinstance(p, ViscousParams):
         # F = c v + c2 v|v|: the quadratic part has zero slope at rest (small signal: c
         # alone) and the describing function 8 c2 w Y / (3 pi) at (Y, f)
-        if not m.effects and (amplitude_m is None or p.c2 == 0.0):
+        if not m.effects and (amplitude is None or p.c2 == 0.0):
             kind = "exact" if p.c2 == 0.0 else "small-signal (c2 v|v| has no slope at rest)"
             return DeviceLTI(np.zeros((0, 0)), np.zeros((0, 3)), np.zeros((1, 0)),
                              np.array([[0.0, p.c, 0.0]]), device.label, kind)
-        if amplitude_m is None:  # the effects must be linear to hold at rest
+        if amplitude is None:  # the effects must be linear to hold at rest
             for e in m.effects:
                 e.check_small_signal(p)
             raise ParameterError(
                 f"no small-signal model of the viscous damper with effects "
-                f"({', '.join(e.name for e in m.effects)}); give amplitude_m and frequency_hz "
+                f"({', '.join(e.name for e in m.effects)}); give amplitude and frequency "
                 "for the equivalent linearization")
-        check_positive("amplitude", amplitude_m, "m")
-        check_positive("frequency", frequency_hz, "Hz")
-        w = 2.0 * math.pi * frequency_hz
-        D = np.array([[0.0, p.describing_damping(amplitude_m, w), 0.0]])
+        check_positive("amplitude", amplitude, "m")
+        check_positive("frequency", frequency, "Hz")
+        w = 2.0 * math.pi * frequency
+        D = np.array([[0.0, p.describing_damping(amplitude, w), 0.0]])
         for e in m.effects:
-            D = D + np.asarray(e.describing_function(amplitude_m, w, p, model=m))[None, :]
+            D = D + np.asarray(e.describing_function(amplitude, w, p, model=m))[None, :]
         return DeviceLTI(np.zeros((0, 0)), np.zeros((0, 3)), np.zeros((1, 0)), D,
-                         device.label, f"equivalent (Y = {amplitude_m:.4g} m, f = "
-                         f"{frequency_hz:.4g} Hz)" + (" with " + ", ".join(
+                         device.label, f"equivalent (Y = {amplitude:.4g} m, f = "
+                         f"{frequency:.4g} Hz)" + (" with " + ", ".join(
                              e.name for e in m.effects) if m.effects else ""))
     base = m.base
-    if amplitude_m is None:
+    if amplitude is None:
         # stateless parallel force effects (moving mass, offset) are exact parallel elements:
         # add their (k, c, b) to the feedthrough of the rest of the model
         parallel = [e for e in m.effects if e.kind == "force" and not e.state_names
@@ -261,17 +277,17 @@ def device_lti(device: Device, *, amplitude_m: float | None = None,
         return DeviceLTI(lin.A.copy(), lin.B.copy(), lin.C[k:k + 1].copy(),
                          lin.D[k:k + 1].copy(), device.label,
                          "small-signal (not reduced: model with effects)")
-    check_positive("amplitude", amplitude_m, "m")
-    check_positive("frequency", frequency_hz, "Hz")
+    check_positive("amplitude", amplitude, "m")
+    check_positive("frequency", frequency, "Hz")
     if base not in REGISTRY:
         raise ParameterError(f"no equivalent linearization for model {m.name!r}")
     # each effect states its describing function (a parallel element) or raises naming itself
-    w = 2.0 * math.pi * frequency_hz
+    w = 2.0 * math.pi * frequency
     extra = np.zeros(3)
     for e in m.effects:
-        extra += e.describing_function(amplitude_m, w, p, model=m)
-    eq = equivalent_linearization(p, frequency_hz, amplitude_m, base, bulk=bulk)
-    kind = f"equivalent (Y = {amplitude_m:.4g} m, f = {frequency_hz:.4g} Hz)"
+        extra += e.describing_function(amplitude, w, p, model=m)
+    eq = equivalent_linearization(p, frequency, amplitude, base, bulk=bulk)
+    kind = f"equivalent (Y = {amplitude:.4g} m, f = {frequency:.4g} Hz)"
     if m.effects:
         kind += " with " + ", ".join(e.name for e in m.effects)
     cf = eq.c_friction
@@ -454,8 +470,9 @@ class _RotorLoop:
         return closed_loop_matrix(self.system, self.ltis, t)
 
 
+@renamed(amplitude_m="amplitude", frequency_hz="frequency")
 def rotor_closed_loop(rotor, Omega: float, device: Device, *, inoperative=(),
-                      amplitude_m: float | None = None, frequency_hz: float | None = None,
+                      amplitude: float | None = None, frequency: float | None = None,
                       lti: DeviceLTI | None = None, blade_ltis=None) -> _RotorLoop:
     """Rotor with a linear device on every blade; failed blades carry a null copy.
 
@@ -471,14 +488,15 @@ def rotor_closed_loop(rotor, Omega: float, device: Device, *, inoperative=(),
             raise ParameterError(f"blade_ltis must hold {rotor.n_blades} DeviceLTI with the "
                                  f"same states, got {len(ltis)}")
         return _RotorLoop(sys_, ltis, False)
-    lti = lti or device_lti(device, amplitude_m=amplitude_m, frequency_hz=frequency_hz)
+    lti = lti or device_lti(device, amplitude=amplitude, frequency=frequency)
     failed = {rotor.check_blade(k) for k in inoperative}
     ltis = tuple(lti.null() if k in failed else lti for k in range(1, rotor.n_blades + 1))
     return _RotorLoop(sys_, ltis, not failed)
 
 
+@renamed(amplitude_m="amplitude", frequency_hz="frequency")
 def rotor_device_floquet(rotor, Omega: float, device: Device, *, inoperative=(),
-                         amplitude_m=None, frequency_hz=None, lti=None,
+                         amplitude=None, frequency=None, lti=None,
                          options: FloquetOptions | None = None, blade_ltis=None):
     """Floquet exponents [1/s] of the rotor with devices (resolved frequencies).
 
@@ -492,7 +510,7 @@ def rotor_device_floquet(rotor, Omega: float, device: Device, *, inoperative=(),
     result : FloquetResult
     """
     loop = rotor_closed_loop(rotor, Omega, device, inoperative=inoperative,
-                             amplitude_m=amplitude_m, frequency_hz=frequency_hz, lti=lti,
+                             amplitude=amplitude, frequency=frequency, lti=lti,
                              blade_ltis=blade_ltis)
     T = 2.0 * math.pi / Omega
     n = loop.A(0.0).shape[0]
@@ -509,8 +527,9 @@ def rotor_device_floquet(rotor, Omega: float, device: Device, *, inoperative=(),
     return res.exponents.copy(), res
 
 
+@renamed(amplitude_m="amplitude", frequency_hz="frequency")
 def rotor_device_eigenvalues(rotor, Omega: float, device: Device, *, inoperative=(),
-                             method: str = "auto", amplitude_m=None, frequency_hz=None,
+                             method: str = "auto", amplitude=None, frequency=None,
                              lti=None, options: FloquetOptions | None = None,
                              vectors: bool = False):
     """Eigenvalues (Coleman) or resolved Floquet exponents [1/s] of rotor + devices.
@@ -537,15 +556,15 @@ def rotor_device_eigenvalues(rotor, Omega: float, device: Device, *, inoperative
         if inoperative:
             raise ParameterError("the multiblade (Coleman) closed loop needs a device on every "
                                  "blade; use method='floquet' with inoperative dampers")
-        loop = rotor_closed_loop(rotor, W, device, amplitude_m=amplitude_m,
-                                 frequency_hz=frequency_hz, lti=lti)
+        loop = rotor_closed_loop(rotor, W, device, amplitude=amplitude,
+                                 frequency=frequency, lti=lti)
         P, Pd = closed_loop_mbc_transform(rotor.n_blades, loop.ltis[0].n_states, W, 0.0)
         Am = np.linalg.solve(P, loop.A(0.0) @ P - Pd)
         return np.linalg.eig(Am) if vectors else np.linalg.eigvals(Am)
     if method != "floquet":
         raise ParameterError(f"unknown method {method!r}; valid: auto, coleman, floquet")
     return rotor_device_floquet(rotor, W, device, inoperative=inoperative,
-                                amplitude_m=amplitude_m, frequency_hz=frequency_hz, lti=lti,
+                                amplitude=amplitude, frequency=frequency, lti=lti,
                                 options=options)[0]
 
 
@@ -555,8 +574,9 @@ def _gr_point(args):
                                     method=method, options=options)
 
 
+@renamed(amplitude_m="amplitude", frequency_hz="frequency")
 def device_ground_resonance_sweep(rotor, Omega, device: Device, *, inoperative=(),
-                                  method: str = "auto", amplitude_m=None, frequency_hz=None,
+                                  method: str = "auto", amplitude=None, frequency=None,
                                   options: FloquetOptions | None = None, executor="serial",
                                   progress: bool | None = False, neutral_tol: float = 1e-6
                                   ) -> GroundResonanceSweep:
@@ -570,7 +590,7 @@ def device_ground_resonance_sweep(rotor, Omega, device: Device, *, inoperative=(
     device : Device
         On every blade except ``inoperative`` ones (host dampers removed).
     method : {"auto", "coleman", "floquet"}
-    amplitude_m, frequency_hz : float, optional
+    amplitude, frequency : float, optional
         Equivalent linearization of the device (default small signal).
     executor : "serial", None or executor
         Passed to :func:`liquidamp.analysis.stability.parallel.map_batched`.
@@ -589,7 +609,7 @@ def device_ground_resonance_sweep(rotor, Omega, device: Device, *, inoperative=(
                              f"{W.tolist()}")
     inop = tuple(rotor.check_blade(k) for k in inoperative)
     used = ("floquet" if inop else "coleman") if method == "auto" else method
-    lti = device_lti(device, amplitude_m=amplitude_m, frequency_hz=frequency_hz)
+    lti = device_lti(device, amplitude=amplitude, frequency=frequency)
     items = [(rotor, float(w), device, inop, lti, used, options) for w in W]
     lams = map_batched(_gr_point, items, executor=executor, progress=progress)
     tracked = track_modes(W, lams).eigenvalues

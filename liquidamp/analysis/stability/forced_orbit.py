@@ -73,7 +73,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from liquidamp.analysis.stability.floquet import FloquetResult, floquet_from_monodromy
-from liquidamp.coupled import _rotor_kernel as RK
+from liquidamp.coupled import kernels as RK
 from liquidamp.coupled.assembly import CoupledSystem
 from liquidamp.coupled.periodic import invariants, project_level_set
 from liquidamp.device.params import DeviceParams

@@ -321,7 +321,7 @@ def _g(rotor, W, device, inop, Y, f0, iters=3):
     """Largest real part with the devices linearized at (Y, f), f iterated [1/s, Hz]."""
 
     def mode_at(f):
-        lti = device_lti(device, amplitude_m=Y, frequency_hz=f)
+        lti = device_lti(device, amplitude=Y, frequency=f)
         cm = critical_mode(rotor, W, device, inoperative=inop, lti=lti)
         return cm.eigenvalue.real, cm.blade_frequency / (2 * math.pi)
 
@@ -505,7 +505,7 @@ def _g_section(section, U, device, port, aero, Y, f0, bulk="averaged", iters=4):
     """Largest real part with the device linearized at (Y, f), f iterated [1/s, Hz]."""
 
     def mode_at(f):
-        lti = device_lti(device, amplitude_m=Y, frequency_hz=f, bulk=bulk)
+        lti = device_lti(device, amplitude=Y, frequency=f, bulk=bulk)
         cm = section_critical_mode(section, U, device, port=port, aero=aero, lti=lti)
         return cm.eigenvalue.real, cm.frequency_hz
 

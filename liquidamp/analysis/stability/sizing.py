@@ -66,6 +66,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from liquidamp._compat import renamed
 from liquidamp.analysis.response.equivalent import equivalent_linearization
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ParameterError, check_positive
@@ -239,12 +240,13 @@ def size_lag_damper(params: DeviceParams, rotor, arm: float | None = None,
     return _size(params, C / a**2, f, amplitude, model, a, rule)
 
 
-def maxwell_equivalent(params: DeviceParams, damping: float, frequency_hz: float
+@renamed(frequency_hz="frequency")
+def maxwell_equivalent(params: DeviceParams, damping: float, frequency: float
                        ) -> DeviceParams:
     """Parameters whose Maxwell unit (eq. 16) has stiffness k_D and damping ``damping`` at f.
 
     Keeps k_D [N/m]; sets c1 so that T_D = c1/B gives Im K/omega =
-    ``damping`` [N s/m] at ``frequency_hz`` [Hz] (the smaller root; module
+    ``damping`` [N s/m] at ``frequency`` [Hz] (the smaller root; module
     notes), c2 = 0.  Use with model ``maxwell``.
 
     Examples
@@ -257,12 +259,12 @@ def maxwell_equivalent(params: DeviceParams, damping: float, frequency_hz: float
     1000.0
     """
     c = check_positive("damping", damping, "N s/m")
-    w = 2.0 * math.pi * check_positive("frequency", frequency_hz, "Hz")
+    w = 2.0 * math.pi * check_positive("frequency", frequency, "Hz")
     k = params.k_D
     disc = k * k - 4.0 * c * c * w * w
     if disc < 0.0:
         raise ParameterError(f"a Maxwell unit of stiffness k_D = {k:.6g} N/m gives at most "
-                             f"k_D/(2 omega) = {k / (2 * w):.6g} N s/m at {frequency_hz:g} Hz; "
+                             f"k_D/(2 omega) = {k / (2 * w):.6g} N s/m at {frequency:g} Hz; "
                              f"asked for {c:.6g} N s/m")
     T = (k - math.sqrt(disc)) / (2.0 * c * w * w)
     return params.replace(c1=T * params.B_eff, c2=0.0,

@@ -76,7 +76,7 @@ def test_linear_range_amplitude_sets_the_loss_fraction():
 
 def test_transfer_function_signals_and_friction():
     p = preset("reference").replace(friction_N=30.0)
-    tf = equivalent_transfer_function(p, amplitude_m=1e-3, frequency_hz=2.0)
+    tf = equivalent_transfer_function(p, amplitude=1e-3, frequency=2.0)
     assert tf.input_labels == ["stroke"] and tf.output_labels == ["force"]
     e = equivalent_linearization(p, 2.0, 1e-3, "inertial_2state")
     k = tf_frequency_response(tf, [2.0])[0]

@@ -45,7 +45,7 @@ def test_equivalent_device_in_flutter_loop():
     _, sz = flutter_damper_device("reference", S, zeta=0.2)
     d = Device("full", sz.params)
     small = device_lti(d)
-    big = device_lti(d, amplitude_m=2e-3, frequency_hz=2.5)
+    big = device_lti(d, amplitude=2e-3, frequency=2.5)
     v0 = damped_flutter_analysis(S, {"plunge": d}, ltis=[small]).flutter_speed
     v1 = damped_flutter_analysis(S, {"plunge": d}, ltis=[big]).flutter_speed
     assert v0 != pytest.approx(v1, rel=1e-4)
