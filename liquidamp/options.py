@@ -21,11 +21,11 @@ default    Radau   1e-8   1e-9        compiled  auto     testrig ``simulate``/``
 coupled    Radau   1e-8   1e-9        scipy     auto     ``simulate_coupled`` (any host)
 fit        Radau   1e-6   1e-8        compiled  rodas4   ``calibrate``, ``predict``,
                                                          ``diagnose``
-rotor      DOP853  1e-7   1e-9        compiled  auto     ``fast.simulate_rotor``,
+rotor      DOP853  1e-7   1e-9        compiled  auto     ``fast_rotor.simulate_rotor``,
                                                          ``simulate_lco``
 section    Radau   1e-6   1e-9        scipy     auto     ``simulate_section_lco``
 casestudy  Radau   1e-8   1e-9        compiled  auto     ``run_case_study`` (``liquidamp demo``)
-decay      DOP853  1e-10  1e-12       compiled  auto     ``fast.second_order_flow``, forced
+decay      DOP853  1e-10  1e-12       compiled  auto     ``fast_rotor.second_order_flow``, forced
                                                          orbits and lag decays
                                                          (``analysis.stability.forced_lag``)
 =========  ======  =====  ==========  ========  =======  =====================================

@@ -187,7 +187,7 @@ def _calls():
                       lambda: _fn("analysis.measured.calibration.calibrate")([_record()])),
         "diagnose": ("analysis.measured.diagnosis", "fit",
                      lambda: _fn("analysis.measured.diagnosis.diagnose")([_record()], [_record()])),
-        "simulate_rotor": ("options", "rotor", lambda: _fn("coupled.fast.simulate_rotor")(
+        "simulate_rotor": ("options", "rotor", lambda: _fn("coupled.fast_rotor.simulate_rotor")(
             *_rotor_device()[:1], W, _rotor_device()[1], 1.0)),
         "simulate_lco": ("analysis.stability.lco", "rotor", lambda: _fn(
             "analysis.stability.lco.simulate_lco")(
@@ -197,7 +197,7 @@ def _calls():
         "lag_decay_check": ("analysis.stability.forced_lag", "decay", lambda: _fn(
             "analysis.stability.forced_lag.lag_decay_check")(_Result())),
         "second_order_flow": ("options", "decay", lambda: _fn(
-            "coupled.fast.second_order_flow")(_blade_system(), [0.0, 0.0], 1.0)),
+            "coupled.fast_rotor.second_order_flow")(_blade_system(), [0.0, 0.0], 1.0)),
         "simulate_section_lco": ("analysis.stability.lco", "section", lambda: _fn(
             "analysis.stability.lco.simulate_section_lco")(None, 1.0, None, mode=object())),
     }

@@ -33,7 +33,7 @@ Cases (keys of ``"cases"``):
 ``coupled_rotor``
     Hammond rotor with a full liquid device on each of the four blades,
     260 rpm, 10 s simulated: the compiled kernel
-    :func:`~liquidamp.coupled.fast.simulate_rotor` against the Python coupled
+    :func:`~liquidamp.coupled.fast_rotor.simulate_rotor` against the Python coupled
     route :func:`~liquidamp.coupled.assembly.simulate_coupled` (same DOP853
     algorithm and tolerance); ``real_time_factor`` = simulated / wall time.
 ``diagnosis``
@@ -501,7 +501,7 @@ def _coupled_setup():
 def _case_coupled(quick: bool, repeats: int) -> dict:
     try:
         from liquidamp.coupled.assembly import rotor_system, simulate_coupled
-        from liquidamp.coupled.fast import simulate_rotor
+        from liquidamp.coupled.fast_rotor import simulate_rotor
     except ImportError as exc:  # pragma: no cover - depends on other modules
         return {"skipped": f"coupling module not available: {exc}"}
     from liquidamp.options import SolverOptions
@@ -530,7 +530,8 @@ def _case_coupled(quick: bool, repeats: int) -> dict:
         "description": f"Hammond (1974) rotor, a full liquid device (eq. 10) on each of the 4 "
                        f"blades ({sizing}), 260 rpm, {t_end:g} s simulated from a 1 mrad lag "
                        "of blade 1 and 0.1 mm hub offset: compiled rotor+devices kernel "
-                       "(liquidamp.coupled.fast.simulate_rotor, DOP853) vs the Python coupled "
+                       "(liquidamp.coupled.fast_rotor.simulate_rotor, DOP853) vs the Python "
+                       "coupled "
                        "route (liquidamp.coupled.assembly.simulate_coupled, scipy DOP853), "
                        "both rtol 1e-7",
         "seconds": seconds,

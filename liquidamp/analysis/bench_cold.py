@@ -132,7 +132,7 @@ def cold_start(quick: bool = False, runs: int | None = None, progress=None) -> d
 FIRST_CALL_CODE = {
     "steady_state_loop": "from liquidamp.analysis.bench import _fast_steady as f; f()",
     "coupled_rotor": ("from liquidamp.analysis.bench import _coupled_setup; "
-                      "from liquidamp.coupled.fast import simulate_rotor; r, d, _ = "
+                      "from liquidamp.coupled.fast_rotor import simulate_rotor; r, d, _ = "
                       "_coupled_setup(); simulate_rotor(r, 27.2, d, 0.1, {'zeta_1': 1e-3})"),
     "dual_frequency": "from liquidamp.analysis.bench import _dual_frequency as f; f()",
     "calibration": ("import tempfile; from liquidamp.analysis.bench import _records, "

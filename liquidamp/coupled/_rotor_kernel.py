@@ -1,6 +1,6 @@
 """Compiled integrator of a periodic second-order host with devices on its ports (rotor).
 
-Private module: use it through :func:`liquidamp.coupled.fast.simulate_rotor`.  The host's
+Private module: use it through :func:`liquidamp.coupled.fast_rotor.simulate_rotor`.  The host's
 equations come from :mod:`liquidamp.structure` (the harmonic matrices of
 :meth:`~liquidamp.structure.rotor.GroundResonanceRotor.harmonic_second_order` and the
 port maps of its force and output matrices), the devices' from

@@ -45,8 +45,8 @@ Time domain
     :func:`simulate_coupled` integrates the coupled system with
     :func:`scipy.integrate.solve_ivp` (the Python engine, the reference) or,
     with ``SolverOptions(engine="compiled")``, the compiled second-order
-    kernel (:func:`liquidamp.coupled.fast.simulate_rotor`,
-    :func:`~liquidamp.coupled.fast.simulate_blade`) for a :func:`rotor_system`
+    kernel (:func:`liquidamp.coupled.fast_rotor.simulate_rotor`,
+    :func:`~liquidamp.coupled.fast_rotor.simulate_blade`) for a :func:`rotor_system`
     or :func:`blade_system` with compiled device models (other
     configurations raise ParameterError),
     stops at a chamber end or at the pressure floor (status, not NaN), and
@@ -365,8 +365,8 @@ def _run_python(system, T_end, X0, t_eval, opts, max_step, conds):
 
 def _run_compiled(system, T_end, X0, t_eval, opts, max_step, conds):
     """Compiled route (the runner of the system's origin in :mod:`liquidamp.coupled.fast`,
-    :func:`~liquidamp.coupled.fast.simulate_rotor` or
-    :func:`~liquidamp.coupled.fast.simulate_blade`): as :func:`_run_python`.
+    :func:`~liquidamp.coupled.fast_rotor.simulate_rotor` or
+    :func:`~liquidamp.coupled.fast_rotor.simulate_blade`): as :func:`_run_python`.
 
     The kernel stops at the end of the step in which a stop condition is
     met; the samples after the crossing are dropped and the crossing is
@@ -374,12 +374,12 @@ def _run_compiled(system, T_end, X0, t_eval, opts, max_step, conds):
     the output times) by re-running with output grids that close in on it,
     so the result has the samples, status and message of the Python route.
     """
-    from liquidamp.coupled import fast
+    from liquidamp.coupled import fast, fast_rotor
 
     o = _compiled_origin(system, fast.check_compiled)
 
     def run(times):
-        runner = getattr(fast, o.runner)
+        runner = getattr(fast_rotor, o.runner)
         r = runner(*o.args, T_end, X0, inputs=o.inputs, **o.kwargs, t_eval=times, options=opts,
                    max_step=max_step)
         if r.system.state_names != system.state_names:  # pragma: no cover - guard
@@ -507,7 +507,7 @@ def simulate_coupled(system: CoupledSystem, t_end: float, x0=None, *, t_eval=Non
         ``"coupled"`` preset of :data:`liquidamp.options.PRESETS` (scipy).
         ``engine="scipy"``: :func:`scipy.integrate.solve_ivp`
         with ``method``.  ``engine="compiled"``: the compiled rotor kernel
-        :func:`liquidamp.coupled.fast.simulate_rotor` (DOP853 with scipy's
+        :func:`liquidamp.coupled.fast_rotor.simulate_rotor` (DOP853 with scipy's
         coefficients, step control and dense output, whatever ``method``;
         see Notes).
     strict : bool

@@ -575,7 +575,7 @@ def blade_system(blade, Omega: float, device: Device, *, inputs=()) -> CoupledSy
     -------
     CoupledSystem
         With ``host.mechanics`` set (energy balance) and the compiled route
-        (:func:`liquidamp.coupled.fast.simulate_blade`).
+        (:func:`liquidamp.coupled.fast_rotor.simulate_blade`).
 
     Examples
     --------

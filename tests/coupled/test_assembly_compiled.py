@@ -1,5 +1,5 @@
 """simulate_coupled with SolverOptions(engine="compiled"): dispatch to the compiled rotor
-kernel (liquidamp.coupled.fast.simulate_rotor), the same CoupledResponse as the Python route,
+kernel (liquidamp.coupled.fast_rotor.simulate_rotor), the same CoupledResponse as the Python route,
 and ParameterError (no fall-back) for what the kernel does not integrate."""
 
 import dataclasses
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from liquidamp.analysis.stability.sizing import size_lag_damper
-from liquidamp.coupled import fast
+from liquidamp.coupled import fast_rotor
 from liquidamp.coupled.assembly import (
     CoupledResponse,
     Device,
@@ -51,13 +51,13 @@ def test_compiled_engine_equals_python_route_hammond_four_full_devices(hammond_f
     system = hammond_four_full
     x0 = {"zeta_1": 1e-3, "hub_x": 1e-4}
     calls = []
-    real = fast.simulate_rotor
+    real = fast_rotor.simulate_rotor
 
     def spy(*args, **kwargs):
         calls.append(kwargs)
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(fast, "simulate_rotor", spy)
+    monkeypatch.setattr(fast_rotor, "simulate_rotor", spy)
     ref = simulate_coupled(system, 1.0, x0, options=OPTS)
     assert not calls  # the default engine is the Python one
     run = simulate_coupled(system, 1.0, x0, options=COMPILED)

@@ -264,7 +264,7 @@ def test_compiled_rotor_with_devices_matches_simulate_coupled():
     import math
 
     from liquidamp.coupled.assembly import Device, rotor_system, simulate_coupled
-    from liquidamp.coupled.fast import simulate_rotor
+    from liquidamp.coupled.fast_rotor import simulate_rotor
     from liquidamp.structure.hostio import load_rotor
 
     rotor = load_rotor("hammond1974")

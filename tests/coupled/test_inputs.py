@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from liquidamp.coupled import fast
+from liquidamp.coupled import fast_rotor
 from liquidamp.coupled.assembly import (
     Device,
     blade_system,
@@ -116,7 +116,7 @@ def test_simulate_blade_matches_simulate_coupled():
     d = Device("full", preset("paper_calibrated"))
     M = [HarmonicInput("moment", W, 0.0, 700.0)]
     t = np.linspace(0.0, 1.0, 41)
-    run = fast.simulate_blade(BLADE, W, d, 1.0, {"zeta": 1e-3}, inputs=M, t_eval=t,
+    run = fast_rotor.simulate_blade(BLADE, W, d, 1.0, {"zeta": 1e-3}, inputs=M, t_eval=t,
                               options=COMPILED)
     ref = simulate_coupled(blade_system(BLADE, W, d, inputs=M), 1.0, {"zeta": 1e-3}, t_eval=t,
                            options=COMPILED.replace(engine="scipy"),

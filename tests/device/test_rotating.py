@@ -269,7 +269,7 @@ def test_devices_on_the_hammond_rotor_start_at_rest_and_both_routes_agree():
     the non-rotating state they would push it); with a lag disturbance the compiled rotor
     kernel and simulate_coupled agree."""
     from liquidamp.coupled.assembly import Device, rotor_system, simulate_coupled
-    from liquidamp.coupled.fast import simulate_rotor
+    from liquidamp.coupled.fast_rotor import simulate_rotor
     from liquidamp.structure.hostio import load_rotor
 
     rotor = load_rotor("hammond1974")

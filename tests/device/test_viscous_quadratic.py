@@ -52,7 +52,7 @@ def test_linear_models_of_the_quadratic_damper():
 def test_compiled_rotor_has_the_quadratic_term():
     """The compiled rotor kernel runs the same base force as the scipy coupled route."""
     from liquidamp.coupled.assembly import rotor_system, simulate_coupled
-    from liquidamp.coupled.fast import simulate_rotor
+    from liquidamp.coupled.fast_rotor import simulate_rotor
     from liquidamp.options import SolverOptions
     from liquidamp.structure.hostio import load_rotor
 

@@ -28,7 +28,7 @@ Orbit (:func:`forced_orbit`)
     Shooting: Newton's method on ``x(T; x0) - x0 = 0``, the state and the
     monodromy ``Phi(T)`` integrated together (state and variational
     equations): on the compiled second-order kernel for the blade and the
-    rotor (:func:`liquidamp.coupled.fast.second_order_flow`, DOP853), or by
+    rotor (:func:`liquidamp.coupled.fast_rotor.second_order_flow`, DOP853), or by
     :func:`scipy.integrate.solve_ivp` (DOP853) on the system's right-hand side
     and :func:`coupled_jacobian` for any host (the reference route; the two
     agree to 1e-7 in the scaled monodromy, tested).  A sealed
@@ -311,7 +311,7 @@ PHI_ATOL = 1e-12
 def _flow(system, x0, T, scale, opts, compiled, monodromy=True, samples=None):
     """x(T), the monodromy Phi(T) (unscaled, or None) and the states at ``samples`` times.
 
-    ``compiled``: the kernel of :func:`liquidamp.coupled.fast.second_order_flow`;
+    ``compiled``: the kernel of :func:`liquidamp.coupled.fast_rotor.second_order_flow`;
     else :func:`scipy.integrate.solve_ivp` (DOP853) on the system's right-hand
     side and :func:`coupled_jacobian`, Phi integrated in scaled coordinates.
     """
@@ -319,7 +319,7 @@ def _flow(system, x0, T, scale, opts, compiled, monodromy=True, samples=None):
     S = scale
     T = float(T)
     if compiled:
-        from liquidamp.coupled.fast import second_order_flow
+        from liquidamp.coupled.fast_rotor import second_order_flow
 
         r = second_order_flow(system, x0, T, t_eval=samples, monodromy=monodromy, scales=S,
                               options=opts, phi_atol=PHI_ATOL, max_step=T / 20.0)
@@ -434,7 +434,7 @@ def forced_orbit(system: CoupledSystem, *, period: float | None = None, x0=None,
     options : SolverOptions, optional
         ``engine``, ``rtol`` and ``atol_scale`` of the state and variational
         integration (default the ``"decay"`` preset: rtol 1e-10 on the compiled
-        kernel, :func:`liquidamp.coupled.fast.second_order_flow`, for systems
+        kernel, :func:`liquidamp.coupled.fast_rotor.second_order_flow`, for systems
         from ``blade_system``/``rotor_system``; ``engine="scipy"`` integrates
         ``system.rhs`` and :func:`coupled_jacobian` with ``solve_ivp``'s DOP853,
         the reference, and takes any host).  The monodromy's absolute
@@ -541,7 +541,7 @@ def forced_orbit(system: CoupledSystem, *, period: float | None = None, x0=None,
     Jbar = np.mean([coupled_jacobian(system, tt[k], X[:, k]) * ratio for k in range(samples)],
                    axis=0)
     flo = floquet_from_monodromy(Phi, T)
-    route = ("compiled kernel (fast.second_order_flow)" if compiled else
+    route = ("compiled kernel (fast_rotor.second_order_flow)" if compiled else
              "scipy DOP853 on coupled_jacobian")
     msg = (f"periodic orbit by shooting: {it} Newton iterations, periodicity residual "
            f"{res:.2e}; monodromy of the variational equations along it, {route}, rtol "

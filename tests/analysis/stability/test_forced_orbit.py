@@ -15,7 +15,7 @@ from liquidamp.analysis.stability.forced_orbit import (
 )
 from liquidamp.analysis.stability.sizing import scale_device
 from liquidamp.coupled.assembly import Device, blade_system, rotor_system, viscous
-from liquidamp.coupled.fast import second_order_flow
+from liquidamp.coupled.fast_rotor import second_order_flow
 from liquidamp.coupled.inputs import HarmonicInput
 from liquidamp.device import preset
 from liquidamp.device.effects import SeriesCompliance, with_effects
