@@ -83,6 +83,7 @@ from liquidamp.analysis.measured.calibration_result import (
     RecordError,
     parameter_flags,
 )
+from liquidamp.analysis.measured.device_class import DEVICE_CLASSES, calibrate_by_class
 from liquidamp.analysis.measured.fit_spec import (
     PAPER_FOUR,
     FitSpec,
@@ -90,6 +91,7 @@ from liquidamp.analysis.measured.fit_spec import (
     check_spec_uses,
     scale_effect_bounds,
 )
+from liquidamp.analysis.measured.plausibility import plausibility_flags
 from liquidamp.analysis.measured.record_model import nrmse, simulate_record
 from liquidamp.analysis.measured.record_quality import (
     DataQuality,
@@ -498,7 +500,7 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
               start: str = "physics", max_nfev: int = 80, preroll: int = 1,
               tol: float = 1e-6, strict: bool = False,
               outliers: str = "raise", warn: bool = True,
-              sizing: str = "auto") -> CalibrationResult:
+              sizing: str = "auto", device_class: str = "auto") -> CalibrationResult:
     """Fit ``spec`` to the calibration ``records``; report errors on ``validate`` too.
 
     Parameters
@@ -530,6 +532,13 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
         similar device sized to the records; 'preset' always ``params`` (a
         stroke past its chamber end is refused); 'data' always the sized
         device.
+    device_class : {'auto', 'fluid', 'friction', 'viscous'}
+        The start's device class (:mod:`~liquidamp.analysis.measured.device_class`):
+        'auto' (default) calibrates the sized fluid device, a friction damper and a
+        viscous damper with a force offset cheaply and continues the one chosen on the
+        data, where the caller left the structure to the start (``spec`` None,
+        ``start='physics'``, ``sizing`` not 'preset'; otherwise the fluid start alone);
+        a class name starts from that class only.
     max_nfev : int
         Budget of model evaluations (each runs every calibration record).
     preroll : int
@@ -588,11 +597,25 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
             raise ParameterError(f"calibrate takes Record objects, got {type(r).__name__}")
     base = preset("paper_initial") if params is None else params
     effects = tuple(effects)
+    structure_open = spec is None  # the caller left the model's structure to the start
     if spec is None:
         spec = FitSpec.default(effects=effects)
     check_spec_uses(base, spec)
     check_choice("start", start, ("physics", "spec"))
     check_choice("sizing", sizing, SIZING_CHOICES)
+    check_choice("device_class", device_class, ("auto",) + DEVICE_CLASSES)
+    if structure_open and (device_class in ("friction", "viscous") or (
+            device_class == "auto" and start == "physics" and sizing != "preset")):
+        res = calibrate_by_class(
+            calibrate, records, validate, params=base, effects=effects, sizing=sizing,
+            max_nfev=max_nfev, model=model, options=options, preroll=preroll, tol=tol,
+            outliers=outliers,
+            classes=DEVICE_CLASSES if device_class == "auto" else (device_class,))
+        if strict and not res.converged:
+            raise ConvergenceError(f"calibration did not converge: {res.message}")
+        for w in res.warnings if warn else ():
+            warnings.warn(f"calibrate: {w}", LiquidampWarning, stacklevel=2)
+        return res
     quality, dropped = check_records(records + validate, base if sizing == "preset" else None,
                                      outliers=outliers)
     for r in records + validate:
@@ -707,6 +730,9 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
     flags = parameter_flags(spec_fit, tuple(p.name for p in obj.var), values, stderr, J,
                             params_fit)
     warns += flags.warnings()
+    plaus = plausibility_flags(params_fit, effects_fit, records, force_scale=sz.force_scale,
+                               at_bound=flags.at_bound)
+    warns += [f"implausible: {f.message}" for f in plaus]
     if sz.sized:
         warns.append(f"started from a device sized to the records: {sz.params.name} "
                      f"({sz.reason})")
@@ -727,4 +753,5 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
         validation=validate, predictions_calibration=tuple(pc),
         predictions_validation=tuple(pv), jacobian=J, data_quality=quality, dropped=dropped,
         warnings=tuple(warns), start={**sz.as_dict(), "chosen": best.label},
-        start_trials=tuple(dataclasses.replace(t, forces=None) for t in trials), flags=flags)
+        start_trials=tuple(dataclasses.replace(t, forces=None) for t in trials), flags=flags,
+        plausibility=plaus)

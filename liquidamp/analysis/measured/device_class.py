@@ -1,0 +1,475 @@
+"""Starts that find the device class: fluid, friction or viscous, chosen on the data.
+
+A calibration that starts from the fluid device alone can only explain a loop
+by the fluid: a friction damper's 13 kN rectangle is then drawn by a sized
+fluid device of a 338 mm piston, air ratios and losses at their bounds, and
+nothing afterwards finds the friction.  :func:`calibrate_by_class` therefore
+calibrates three structurally different starts cheaply, chooses one on the
+data (:func:`choose_start`) and continues only that one.
+
+The three starts (every number read off the records, :func:`read_loop`)
+    ``fluid``
+        The device sized to the records and its air ratios and losses matched
+        to the first-harmonic K', K'' (:mod:`~liquidamp.analysis.measured.start`;
+        the calibration as it always was).
+    ``friction``
+        A friction damper: smooth friction (LuGre/Dahl,
+        :class:`~liquidamp.device.effects.SmoothFriction`) with the loop's
+        friction level F_c, the least-squares coefficient of sign(v) in
+        F ~ F0 + k (y - mean y) + F_c sign(v) (the loop's mean half height
+        about its centre line F0 + k y; where that is not positive, the
+        Coulomb level pi K'' Y / 4 that gives the loop's loss part), and a
+        pre-sliding stiffness sigma0 = F_c ln 2 / dy0, dy0 the median stroke
+        from a reversal until the force crosses the centre line (LuGre with
+        n = 1 from z = -1: 1 - z = 2 exp(-sigma0 y / F_c), z = 0 at
+        y = F_c ln 2 / sigma0).  The fluid device, similar to the sized one,
+        carries only what the friction's describing function leaves of each
+        record's K*: K_fluid = K* - K_friction, each part at least
+        :data:`FLUID_FLOOR` (5 %) of |K*| (a vanishing fluid would give the fit
+        no gradient on its parameters).
+    ``viscous``
+        A viscous damper with a force offset: the fluid device matched to the
+        records' K* with the quadratic loss at :data:`QUADRATIC_SHARE` (5 %)
+        of its describing-function damping (so c = K'' / w is the linear
+        loss, read off the first harmonic's loss part), and a ``force_offset``
+        at the records' mean force F0.
+
+Each start is calibrated with :data:`START_NFEV` evaluations (its multipliers
+start at 1 on its own device, its effect parameters at the values read off);
+the chosen one is continued with the caller's budget.
+
+The choice (:func:`choose_start`)
+    On the calibration records: the effective-sample BIC,
+    N_eff ln RSS + k ln N_eff, with N_eff from the residuals' correlation
+    times (:func:`~liquidamp.analysis.measured.selection.effective_samples`,
+    the smallest over the starts) and k the varied parameters, so that the
+    friction start's extra parameters are paid for.  With validation records,
+    a start is admissible only when its pooled held-out NRMSE is within
+    :data:`HELD_OUT_TOLERANCE` (5 %, the spread of cheap, unconverged fits) of the
+    best start's: no start wins that is worse held-out.  The diagnosis can call
+    :func:`choose_start` on any set of fits of the same records.
+
+References
+----------
+.. [1] B. Titurus, AIAA J. 56(10), 2018, Sec. IV.C (friction F_f sign(v), 30 N).
+.. [2] C. Canudas de Wit, H. Olsson, K. J. Astrom, P. Lischinsky, "A new model for
+   control of systems with friction", IEEE TAC 40(3), 1995 (LuGre).
+.. [3] G. Schwarz, "Estimating the dimension of a model", Ann. Stat. 6(2), 1978 (BIC).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from liquidamp.analysis.measured.fit_spec import FitSpec
+from liquidamp.analysis.measured.plausibility import plausibility_flags
+from liquidamp.analysis.measured.selection import effective_samples
+from liquidamp.analysis.measured.start import (
+    first_harmonic_stiffness,
+    linear_stiffness,
+    physics_factors,
+    similar_device,
+    stroke_factor,
+)
+from liquidamp.device.effects import EFFECTS
+from liquidamp.device.params import DeviceParams
+from liquidamp.errors import ConvergenceError, ParameterError, PressureError
+
+__all__ = ["DEVICE_CLASSES", "FLUID_FLOOR", "QUADRATIC_SHARE", "START_NFEV",
+           "HELD_OUT_TOLERANCE", "LoopReading", "read_loop", "ClassStart", "fluid_matched",
+           "friction_start", "viscous_start", "StartOutcome", "choose_start",
+           "calibrate_by_class"]
+
+#: The structurally different starts, in the order they are tried.
+DEVICE_CLASSES = ("fluid", "friction", "viscous")
+#: Least share of |K*| the fluid keeps in the friction start (each of K', K'') [-].
+FLUID_FLOOR = 0.05
+#: Share of the quadratic loss in the viscous start's describing-function damping [-].
+QUADRATIC_SHARE = 0.05
+#: Evaluation budget of each start's cheap calibration.
+START_NFEV = 20
+#: Largest relative excess of a start's pooled held-out NRMSE over the best start's [-].
+HELD_OUT_TOLERANCE = 0.05
+_FRICTION = ("smooth_friction", "coulomb_friction")
+
+
+# ---------------------------------------------------------------------------
+# what the loop shows
+
+
+@dataclass(frozen=True)
+class LoopReading:
+    """What the calibration records' loops show (:func:`read_loop`), in SI.
+
+    Attributes
+    ----------
+    offset : float
+        F0, the centre line's force at the mean stroke [N].
+    stiffness : float
+        k, the centre line's slope [N/m].
+    friction : float
+        F_c, the friction level (module docstring) [N].
+    friction_source : str
+        ``"sign(v) regression"`` or ``"loss part (pi K'' Y / 4)"``.
+    presliding : float
+        dy0, the median stroke from a reversal to the centre line [m] (nan where no
+        reversal could be read).
+    mean_force : float
+        Pooled mean force [N].
+    stiffnesses : tuple of complex
+        Each record's first-harmonic K* [N/m].
+    """
+
+    offset: float
+    stiffness: float
+    friction: float
+    friction_source: str
+    presliding: float
+    mean_force: float
+    stiffnesses: tuple
+
+    def as_dict(self) -> dict:
+        """JSON-ready (SI)."""
+        return {"offset [N]": self.offset, "stiffness [N/m]": self.stiffness,
+                "friction [N]": self.friction, "friction_source": self.friction_source,
+                "presliding_stroke [m]": None if math.isnan(self.presliding)
+                else self.presliding, "mean_force [N]": self.mean_force,
+                "K* [N/m]": [[K.real, K.imag] for K in self.stiffnesses]}
+
+
+def read_loop(records) -> LoopReading:
+    """Friction level, centre line, pre-sliding stroke and K* of ``records`` (module doc).
+
+    Examples
+    --------
+    >>> from liquidamp.analysis.measured.records import Record
+    >>> t = np.arange(0, 4.0, 0.002)
+    >>> y = 0.01 * np.sin(2 * np.pi * t)
+    >>> F = 200.0 + 1e4 * y + 500.0 * np.tanh(np.gradient(y, t) / 1e-3)
+    >>> L = read_loop([Record.from_arrays(t, y, F)])
+    >>> round(L.friction), round(L.stiffness, -2), round(L.offset)
+    (492, 10000.0, 200)
+    """
+    records = tuple(records)
+    ys = [r.displacement - r.offset for r in records]
+    X = np.column_stack((np.ones(sum(y.size for y in ys)), np.concatenate(ys),
+                         np.concatenate([np.sign(r.velocity) for r in records])))
+    F = np.concatenate([r.force for r in records])
+    (F0, k, Fc), *_ = np.linalg.lstsq(X, F, rcond=None)
+    Ks = tuple(first_harmonic_stiffness(r) for r in records)
+    source = "sign(v) regression"
+    if not Fc > 0:
+        Fc = float(np.mean([math.pi * K.imag * r.stroke_scale / 4.0
+                            for K, r in zip(Ks, records, strict=True)]))
+        source = "loss part (pi K'' Y / 4)"
+    dys = []
+    for r, y in zip(records, ys, strict=True):
+        centre = r.force - (F0 + k * y)
+        s = np.sign(r.velocity)
+        for i in np.flatnonzero(s[1:] * s[:-1] < 0) + 1:
+            side = np.sign(centre[i - 1])
+            j = i
+            while j < y.size and np.sign(centre[j]) == side and s[j] == s[i]:
+                j += 1
+            if j < y.size and s[j] == s[i]:
+                dys.append(abs(y[j] - y[i - 1]))
+    return LoopReading(float(F0), float(k), float(max(Fc, 0.0)), source,
+                       float(np.median(dys)) if dys else math.nan, float(np.mean(F)), Ks)
+
+
+# ---------------------------------------------------------------------------
+# the starts
+
+
+@dataclass(frozen=True)
+class ClassStart:
+    """A structurally different start: device, effects, what varies, what was read."""
+
+    name: str
+    params: DeviceParams
+    effects: tuple
+    spec: FitSpec | None
+    reason: str
+
+
+def fluid_matched(reference: DeviceParams, records, targets,
+                  quadratic_share: float | None = None) -> tuple[DeviceParams, str]:
+    """A device similar to ``reference`` whose linear model carries ``targets`` (one
+    complex K [N/m] per record): the force factor rho matches |K| (geometric mean over
+    the records, eq. 16 with inertia), then the air ratios and losses match K', K''
+    (:func:`~liquidamp.analysis.measured.start.physics_factors`).  ``quadratic_share``
+    sets c2 so that the quadratic loss is that share of the damping c_eq first."""
+    Ys = [r.stroke_scale for r in records]
+    ref = [linear_stiffness(reference, r.frequency, Y) for r, Y in zip(records, Ys,
+                                                                      strict=True)]
+    rho = float(np.exp(np.mean([math.log(abs(K) / abs(R))
+                                for K, R in zip(targets, ref, strict=True)])))
+    p, _ = similar_device(reference, force=rho)
+    how = [f"force x{rho:.3g}"]
+    if quadratic_share is not None:
+        Q = float(np.mean([p.A_p * 2 * math.pi * r.frequency * Y
+                           for r, Y in zip(records, Ys, strict=True)]))
+        quad = 8.0 / (3.0 * math.pi) * p.c2 * Q
+        if quad > 0:
+            f2 = quadratic_share / (1 - quadratic_share) * p.c1 / quad
+            p = p.scaled(c2=f2)
+            how.append(f"c2 x{f2:.3g} (quadratic loss {quadratic_share:.0%} of c_eq)")
+    f_air, f_loss = physics_factors(records, p, targets=targets)
+    mult = {**(dict.fromkeys(("inv_gamma1", "inv_gamma2"), f_air) if f_air else {}),
+            **(dict.fromkeys(("c1", "c2"), f_loss) if f_loss else {})}
+    if mult:
+        p = p.scaled(**mult)
+    how += ([f"air x{f_air:.3g}"] if f_air else []) + ([f"losses x{f_loss:.3g}"]
+                                                        if f_loss else [])
+    return p, ", ".join(how)
+
+
+def _reference(base: DeviceParams, records) -> DeviceParams:
+    """The starting device with its chambers stretched so the stroke uses at most half."""
+    return similar_device(base, stroke=stroke_factor(records, base))[0]
+
+
+def friction_start(base: DeviceParams, effects, records, reading: LoopReading) -> ClassStart:
+    """The friction damper start (module docstring): smooth friction at the loop's level,
+    the fluid carrying the rest of K* (at least :data:`FLUID_FLOOR` of it)."""
+    Fc = max(reading.friction, 1e-3)
+    scales = [r.stroke_scale for r in records]
+    dy0 = reading.presliding
+    if not (math.isfinite(dy0) and dy0 > 0):
+        dy0 = 0.05 * float(np.mean(scales))  # no reversal read: 5 % of the stroke
+    lo, hi = EFFECTS["smooth_friction"].bounds["stiffness_N_per_m"]
+    sigma0 = min(max(Fc * math.log(2.0) / dy0, lo), hi)
+    present = {e.name: e for e in effects}
+    name = next((n for n in _FRICTION if n in present), "smooth_friction")
+    fr = present.get(name) or EFFECTS[name]()
+    fr = fr.replace(force_N=Fc, **({"stiffness_N_per_m": sigma0}
+                                    if name == "smooth_friction" else {}))
+    targets = []
+    for K, r, Y in zip(reading.stiffnesses, records, scales, strict=True):
+        kf, cf, _ = fr.describing_function(Y, 2 * math.pi * r.frequency, None)
+        rest = K - complex(kf, 2 * math.pi * r.frequency * cf)
+        floor = FLUID_FLOOR * abs(K)
+        targets.append(complex(max(rest.real, floor), max(rest.imag, floor)))
+    p, how = fluid_matched(_reference(base, records), records, targets)
+    p = p.replace(name=f"{base.name or 'device'} friction start ({how})")
+    effs = tuple(fr if e.name == name else e for e in effects) + (
+        () if name in present else (fr,))
+    spec = FitSpec.default(effects=effs)
+    why = (f"{name} {Fc:.4g} N ({reading.friction_source})"
+           + (f", sigma0 {sigma0:.3g} N/m (pre-sliding stroke {dy0 * 1e3:.3g} mm)"
+              if name == "smooth_friction" else "")
+           + f"; the fluid carries K* less the friction's describing function ({how})")
+    return ClassStart("friction", p, effs, spec, why)
+
+
+def viscous_start(base: DeviceParams, effects, records, reading: LoopReading) -> ClassStart:
+    """The viscous damper with a force offset (module docstring)."""
+    targets = []
+    for K in reading.stiffnesses:
+        floor = FLUID_FLOOR * abs(K)
+        targets.append(complex(max(K.real, floor), max(K.imag, floor)))
+    p, how = fluid_matched(_reference(base, records), records, targets,
+                           quadratic_share=QUADRATIC_SHARE)
+    p = p.replace(name=f"{base.name or 'device'} viscous start ({how})")
+    present = {e.name: e for e in effects}
+    off = (present.get("force_offset") or EFFECTS["force_offset"]()).replace(
+        offset_N=reading.mean_force)
+    effs = tuple(off if e.name == "force_offset" else e for e in effects) + (
+        () if "force_offset" in present else (off,))
+    c = [K.imag / (2 * math.pi * r.frequency) for K, r in zip(reading.stiffnesses, records,
+                                                             strict=True)]
+    why = (f"linear loss c = K''/w ({', '.join(f'{x:.4g}' for x in c)} N s/m), "
+           f"offset {reading.mean_force:.4g} N ({how})")
+    return ClassStart("viscous", p, effs, FitSpec.default(effects=effs), why)
+
+
+# ---------------------------------------------------------------------------
+# the choice
+
+
+@dataclass(frozen=True)
+class StartOutcome:
+    """One start's cheap calibration and how :func:`choose_start` judged it.
+
+    Attributes
+    ----------
+    name : str
+        ``"fluid"``, ``"friction"`` or ``"viscous"`` (or any label).
+    reason : str
+        What the start was read off.
+    nrmse_calibration, nrmse_validation : float or None
+        Pooled NRMSE [-] (None: the start could not be calibrated).
+    validation_records : dict
+        Record label -> held-out NRMSE [-].
+    k : int
+        Varied parameters.
+    bic : float or None
+        N_eff ln RSS + k ln N_eff on the calibration records [-].
+    admissible : bool
+        Held-out NRMSE within the tolerance of the best start's.
+    chosen : bool
+    nfev : int
+        Model evaluations of its cheap calibration.
+    error : str
+        Why it could not be calibrated ('' when it was).
+    """
+
+    name: str
+    reason: str
+    nrmse_calibration: float | None = None
+    nrmse_validation: float | None = None
+    validation_records: dict = dataclasses.field(default_factory=dict)
+    k: int = 0
+    bic: float | None = None
+    admissible: bool = True
+    chosen: bool = False
+    nfev: int = 0
+    error: str = ""
+
+    def describe(self) -> str:
+        """'friction: calibration 0.21, validation 0.25 (chosen)'."""
+        if self.nrmse_calibration is None:
+            return f"{self.name}: failed ({self.error})"
+        nv = ("" if self.nrmse_validation is None
+              else f", validation {self.nrmse_validation:.3g}")
+        tag = " (chosen)" if self.chosen else ("" if self.admissible
+                                               else " (worse held-out)")
+        return f"{self.name}: calibration {self.nrmse_calibration:.3g}{nv}{tag}"
+
+    def as_dict(self) -> dict:
+        """JSON-ready."""
+        return dataclasses.asdict(self)
+
+
+def choose_start(fits: dict, tolerance: float = HELD_OUT_TOLERANCE,
+                 reasons: dict | None = None) -> tuple[str, tuple]:
+    """The start to continue among calibrations of the same records (module docstring).
+
+    Parameters
+    ----------
+    fits : dict
+        Name -> :class:`~liquidamp.analysis.measured.calibration_result.CalibrationResult`
+        (same calibration and validation records), or the exception its fit raised.
+    tolerance : float
+        Largest relative excess of the pooled held-out NRMSE over the best start's [-].
+    reasons : dict, optional
+        Name -> what the start was read off (copied into the outcomes).
+
+    Returns
+    -------
+    (str, tuple of StartOutcome)
+        The chosen name and every start's outcome.
+
+    Raises
+    ------
+    ConvergenceError
+        When no start could be calibrated (every error named).
+    """
+    if not (math.isfinite(tolerance) and tolerance >= 0):
+        raise ParameterError(f"choose_start: tolerance must be a finite number >= 0 [-], "
+                             f"got {tolerance!r}")
+    reasons = reasons or {}
+    ok = {n: r for n, r in fits.items() if not isinstance(r, BaseException)}
+    if not ok:
+        raise ConvergenceError("calibration: no start could be calibrated: " + "; ".join(
+            f"{n}: {e}" for n, e in fits.items()))
+    res = {n: r.residuals("calibration") for n, r in ok.items()}
+    n_eff = min(effective_samples(v)[0] for v in res.values())
+    bic = {n: n_eff * math.log(max(sum(float(np.sum(x * x)) for x in v), 1e-300))
+           + len(ok[n].varying) * math.log(n_eff) for n, v in res.items()}
+    val = {n: r.nrmse_validation for n, r in ok.items()}
+    if all(v is not None for v in val.values()):
+        best_val = min(val.values())
+        admissible = {n: val[n] <= (1 + tolerance) * best_val for n in ok}
+    else:
+        admissible = dict.fromkeys(ok, True)
+    chosen = min((n for n in ok if admissible[n]), key=lambda n: bic[n])
+    out = []
+    for n, r in fits.items():
+        if isinstance(r, BaseException):
+            out.append(StartOutcome(n, reasons.get(n, ""), admissible=False,
+                                    error=f"{type(r).__name__}: {r}"))
+            continue
+        out.append(StartOutcome(
+            n, reasons.get(n, ""), r.nrmse_calibration, r.nrmse_validation,
+            {e.label: e.nrmse for e in r.record_errors if e.role == "validation"},
+            len(r.varying), bic[n], admissible[n], n == chosen, r.nfev))
+    return chosen, tuple(out)
+
+
+def calibrate_by_class(fit, records, validate, *, params: DeviceParams, effects, sizing: str,
+                       max_nfev: int, classes=DEVICE_CLASSES, **kwargs):
+    """Calibrate each start of ``classes`` cheaply, continue the one chosen (module doc).
+
+    ``fit`` is :func:`~liquidamp.analysis.measured.calibration.calibrate` (passed in, so
+    this module does not import it); ``kwargs`` go to every fit (model, options, preroll,
+    tol, outliers).  Returns the continued fit with ``device_class`` and ``class_starts``
+    set and every start's figures in ``start["classes"]``.
+    """
+    records, validate, effects = tuple(records), tuple(validate), tuple(effects)
+    cheap = min(START_NFEV, max_nfev) if len(classes) > 1 else max_nfev
+    common = dict(validate=validate, warn=False, **kwargs)
+    reading = read_loop(records)
+    fits, reasons = {}, {}
+    for name in classes:
+        if name == "fluid":  # first: a record the data checks refuse is refused here
+            reasons[name] = "the device sized to the records, air and losses from K', K''"
+            try:
+                fits[name] = fit(records, params=params, effects=effects, spec=None,
+                                 start="physics", sizing=sizing, max_nfev=cheap,
+                                 device_class="fluid", **common)
+            except ConvergenceError as exc:  # no fluid start can be used: try the others
+                if len(classes) == 1:
+                    raise
+                fits[name] = exc
+            continue
+        try:
+            make = friction_start if name == "friction" else viscous_start
+            st = make(params, effects, records, reading)
+            reasons[name] = st.reason
+            fits[name] = fit(records, params=st.params, effects=st.effects, spec=st.spec,
+                             start="spec", sizing="preset", max_nfev=cheap,
+                             device_class=name, **common)
+        except (ConvergenceError, PressureError, ParameterError, ValueError,
+                FloatingPointError) as exc:
+            if len(classes) == 1:
+                raise
+            fits[name] = exc
+    if all(isinstance(r, BaseException) for r in fits.values()) and isinstance(
+            fits.get("fluid"), ConvergenceError):
+        raise ConvergenceError(f"{fits['fluid']}; the friction and viscous starts failed "
+                               "too: " + "; ".join(f"{n}: {e}" for n, e in fits.items()
+                                                   if n != "fluid"))
+    chosen, outcomes = choose_start(fits, reasons=reasons)
+    first = fits[chosen]
+    nfev = sum(r.nfev for r in fits.values() if not isinstance(r, BaseException))
+    final = first
+    if len(classes) > 1 and not first.converged:
+        final = fit(records, params=first.start_params, effects=first.effects,
+                    spec=first.spec, start="spec", sizing="preset", max_nfev=max_nfev,
+                    device_class=chosen, **common)
+        nfev += final.nfev
+    others = "; ".join(o.describe() for o in outcomes if not o.chosen)
+    start = {**first.start, "device_class": chosen,
+             "device_class_rule": (
+                 f"each start calibrated with {cheap} evaluations; the lowest effective-"
+                 f"sample BIC on the calibration records among the starts whose pooled "
+                 f"held-out NRMSE is within {HELD_OUT_TOLERANCE:.0%} of the best"),
+             "loop": reading.as_dict(),
+             "classes": [o.as_dict() for o in outcomes]}
+    warns = [w for w in final.warnings if not w.startswith("implausible: ")]
+    if len(classes) > 1:
+        warns.append(f"device class: the {chosen} start was chosen ({reasons[chosen]}); "
+                     f"others: {others}")
+    plaus = plausibility_flags(final.params, final.effects, records,
+                               force_scale=float(first.start.get("force_scale", 1.0)),
+                               at_bound=final.flags.at_bound)
+    warns += [f"implausible: {f.message}" for f in plaus]
+    return dataclasses.replace(final, nfev=nfev, start=start, device_class=chosen,
+                               plausibility=plaus,
+                               class_starts=outcomes, warnings=tuple(warns),
+                               start_trials=first.start_trials, starts=first.starts)
