@@ -15,14 +15,12 @@ The three starts (every number read off the records, :func:`read_loop`)
     ``friction``
         A friction damper: smooth friction (LuGre/Dahl,
         :class:`~liquidamp.device.effects.SmoothFriction`) with the loop's
-        friction level F_c, the least-squares coefficient of sign(v) in
-        F ~ F0 + k (y - mean y) + F_c sign(v) (the loop's mean half height
-        about its centre line F0 + k y; where that is not positive, the
-        Coulomb level pi K'' Y / 4 that gives the loop's loss part), and a
-        pre-sliding stiffness sigma0 = F_c ln 2 / dy0, dy0 the median stroke
-        from a reversal until the force crosses the centre line (LuGre with
-        n = 1 from z = -1: 1 - z = 2 exp(-sigma0 y / F_c), z = 0 at
-        y = F_c ln 2 / sigma0).  The fluid device, similar to the sized one,
+        friction level F_c, pre-sliding stiffness sigma0 = F_c / dy0 and a
+        parallel spring k read off the loop by least squares,
+        F ~ F0 + k (y - mean y) + F_c z(t), z the Dahl/LuGre (n = 1) bristle
+        state of pre-sliding stroke dy0 driven by the recorded stroke, dy0 on a
+        log grid (:func:`read_loop`: a slanted reversal is pre-sliding, a
+        sloped loop a spring).  The fluid device, similar to the sized one,
         carries only what the friction's describing function leaves of each
         record's K*: K_fluid = K* - K_friction, each part at least
         :data:`FLUID_FLOOR` (5 %) of |K*| (a vanishing fluid would give the fit
@@ -114,10 +112,9 @@ class LoopReading:
     friction : float
         F_c, the friction level (module docstring) [N].
     friction_source : str
-        ``"sign(v) regression"`` or ``"loss part (pi K'' Y / 4)"``.
+        ``"least squares on F0 + k y + F_c z"`` or ``"loss part (pi K'' Y / 4)"``.
     presliding : float
-        dy0, the median stroke from a reversal to the centre line [m] (nan where no
-        reversal could be read).
+        dy0, the pre-sliding stroke F_c / sigma0 of the best description [m].
     mean_force : float
         Pooled mean force [N].
     stiffnesses : tuple of complex
@@ -141,8 +138,33 @@ class LoopReading:
                 "K* [N/m]": [[K.real, K.imag] for K in self.stiffnesses]}
 
 
+def _bristle(record, deltas, passes: int = 2) -> np.ndarray:
+    """z(t) of Dahl/LuGre friction (n = 1, no Stribeck) of pre-sliding strokes ``deltas``
+    [m] driven by the record's velocity, one row per delta [-]: dz/dy = (sign v - z) / delta,
+    exact for a velocity held over each sample; the last of ``passes`` passes (the first
+    from z = 0)."""
+    v = record.velocity
+    dy = np.abs(v) * np.gradient(record.time)
+    sv = np.sign(v)
+    decay = np.exp(-dy[None, :] / np.asarray(deltas, float)[:, None])
+    z = np.zeros(len(deltas))
+    out = np.empty((len(deltas), v.size))
+    for _ in range(passes):
+        for i in range(v.size):
+            z = sv[i] + (z - sv[i]) * decay[:, i]
+            out[:, i] = z
+    return out
+
+
 def read_loop(records) -> LoopReading:
-    """Friction level, centre line, pre-sliding stroke and K* of ``records`` (module doc).
+    """Friction level, pre-sliding stroke, centre line and K* of ``records`` (module doc).
+
+    The loop is described by least squares as F ~ F0 + k (y - mean y) + F_c z(t), z the
+    state of Dahl/LuGre friction (n = 1) of pre-sliding stroke dy0 driven by the recorded
+    stroke (:func:`_bristle`), for dy0 on a log grid from 1e-3 to 1 times the stroke
+    amplitude; the dy0 of the least residual wins (a friction damper's slanted reversal is
+    its pre-sliding, a parallel spring is k).  Where F_c is not positive, F_c is the Coulomb
+    level pi K'' Y / 4 of the loop's loss part.
 
     Examples
     --------
@@ -151,34 +173,31 @@ def read_loop(records) -> LoopReading:
     >>> y = 0.01 * np.sin(2 * np.pi * t)
     >>> F = 200.0 + 1e4 * y + 500.0 * np.tanh(np.gradient(y, t) / 1e-3)
     >>> L = read_loop([Record.from_arrays(t, y, F)])
-    >>> round(L.friction), round(L.stiffness, -2), round(L.offset)
-    (492, 10000.0, 200)
+    >>> round(L.friction, -1), round(L.stiffness, -3), round(L.offset)   # tanh, not Dahl
+    (500.0, 8000.0, 200)
     """
     records = tuple(records)
-    ys = [r.displacement - r.offset for r in records]
-    X = np.column_stack((np.ones(sum(y.size for y in ys)), np.concatenate(ys),
-                         np.concatenate([np.sign(r.velocity) for r in records])))
+    Y = max(r.stroke_scale for r in records)
+    deltas = np.geomspace(1e-3 * Y, Y, 31)
+    zs = [_bristle(r, deltas) for r in records]
+    ys = np.concatenate([r.displacement - r.offset for r in records])
     F = np.concatenate([r.force for r in records])
-    (F0, k, Fc), *_ = np.linalg.lstsq(X, F, rcond=None)
+    best = None
+    for j, d in enumerate(deltas):
+        X = np.column_stack((np.ones_like(ys), ys, np.concatenate([z[j] for z in zs])))
+        coef, *_ = np.linalg.lstsq(X, F, rcond=None)
+        rss = float(np.sum((X @ coef - F) ** 2))
+        if best is None or rss < best[0]:
+            best = (rss, d, coef)
+    _, dy0, (F0, k, Fc) = best
     Ks = tuple(first_harmonic_stiffness(r) for r in records)
-    source = "sign(v) regression"
+    source = "least squares on F0 + k y + F_c z"
     if not Fc > 0:
         Fc = float(np.mean([math.pi * K.imag * r.stroke_scale / 4.0
                             for K, r in zip(Ks, records, strict=True)]))
         source = "loss part (pi K'' Y / 4)"
-    dys = []
-    for r, y in zip(records, ys, strict=True):
-        centre = r.force - (F0 + k * y)
-        s = np.sign(r.velocity)
-        for i in np.flatnonzero(s[1:] * s[:-1] < 0) + 1:
-            side = np.sign(centre[i - 1])
-            j = i
-            while j < y.size and np.sign(centre[j]) == side and s[j] == s[i]:
-                j += 1
-            if j < y.size and s[j] == s[i]:
-                dys.append(abs(y[j] - y[i - 1]))
-    return LoopReading(float(F0), float(k), float(max(Fc, 0.0)), source,
-                       float(np.median(dys)) if dys else math.nan, float(np.mean(F)), Ks)
+    return LoopReading(float(F0), float(k), float(max(Fc, 0.0)), source, float(dy0),
+                       float(np.mean(F)), Ks)
 
 
 # ---------------------------------------------------------------------------
@@ -239,10 +258,8 @@ def friction_start(base: DeviceParams, effects, records, reading: LoopReading) -
     Fc = max(reading.friction, 1e-3)
     scales = [r.stroke_scale for r in records]
     dy0 = reading.presliding
-    if not (math.isfinite(dy0) and dy0 > 0):
-        dy0 = 0.05 * float(np.mean(scales))  # no reversal read: 5 % of the stroke
     lo, hi = EFFECTS["smooth_friction"].bounds["stiffness_N_per_m"]
-    sigma0 = min(max(Fc * math.log(2.0) / dy0, lo), hi)
+    sigma0 = min(max(Fc / dy0, lo), hi)
     present = {e.name: e for e in effects}
     name = next((n for n in _FRICTION if n in present), "smooth_friction")
     fr = present.get(name) or EFFECTS[name]()
