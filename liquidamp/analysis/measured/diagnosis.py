@@ -234,6 +234,7 @@ class Diagnosis:
                               "validation": res.nrmse_validation},
                     "fit": d["fit"], "summary": d["summary"], "start": d["start"],
                     "parameter_flags": d["parameter_flags"], "records": d["records"],
+                    "plausibility": d["plausibility"], "device_class": d["device_class"],
                     "fit_warnings": d["warnings"]}
         fits = [("baseline", self.baseline)] + [(f"step {i + 1}: + {s.effect}", s.result)
                                                  for i, s in enumerate(self.steps)
