@@ -32,9 +32,12 @@ The three starts (every number read off the records, :func:`read_loop`)
         loss, read off the first harmonic's loss part), and a ``force_offset``
         at the records' mean force F0.
 
-Each start is calibrated with :data:`START_NFEV` evaluations (its multipliers
+Each start is calibrated with ``max_nfev`` :data:`START_NFEV` (its multipliers
 start at 1 on its own device, its effect parameters at the values read off);
-the chosen one is continued with the caller's budget.
+the chosen one is continued with the caller's budget.  A cheap fit's held-out
+error is not yet the converged one's, so the choice is made again with the
+continued fit in place of the cheap one, and a start that then wins is
+continued too before it can win (each start at most once).
 
 The choice (:func:`choose_start`)
     On the calibration records: the effective-sample BIC,
@@ -42,10 +45,19 @@ The choice (:func:`choose_start`)
     times (:func:`~liquidamp.analysis.measured.selection.effective_samples`,
     the smallest over the starts) and k the varied parameters, so that the
     friction start's extra parameters are paid for.  With validation records,
-    a start is admissible only when its pooled held-out NRMSE is within
-    :data:`HELD_OUT_TOLERANCE` (5 %, the spread of cheap, unconverged fits) of the
-    best start's: no start wins that is worse held-out.  The diagnosis can call
-    :func:`choose_start` on any set of fits of the same records.
+    a start whose fit another start dominates -- predicts the pooled held-out
+    records better by more than :data:`HELD_OUT_TOLERANCE` (5 %) without being
+    worse by more than 5 % on any record, calibration or held-out -- cannot
+    win: no start wins that is worse held-out than one at least as good on
+    the calibration data.  Where the records disagree (a start better
+    held-out but worse on the calibration record: one record does not
+    identify a fluid device's nonlinearity, and a start of another class can
+    extrapolate better by chance) the BIC decides and the result says so
+    (``start["disagreement"]`` and a warning).  Only continued fits can win:
+    the BIC leader of the cheap fits is continued, then any start whose cheap
+    held-out NRMSE beats every continued fit's by more than the tolerance.
+    The diagnosis can call :func:`choose_start` on any set of fits of the
+    same records.
 
 References
 ----------
@@ -327,12 +339,15 @@ class StartOutcome:
     bic : float or None
         N_eff ln RSS + k ln N_eff on the calibration records [-].
     admissible : bool
-        Held-out NRMSE within the tolerance of the best start's.
+        Not dominated by another start (:func:`choose_start`).
     chosen : bool
     nfev : int
         Model evaluations of its cheap calibration.
     error : str
         Why it could not be calibrated ('' when it was).
+    continued : bool
+        Its fit was continued with the full budget (its figures are the continued
+        fit's).
     """
 
     name: str
@@ -346,6 +361,7 @@ class StartOutcome:
     chosen: bool = False
     nfev: int = 0
     error: str = ""
+    continued: bool = False
 
     def describe(self) -> str:
         """'friction: calibration 0.21, validation 0.25 (chosen)'."""
@@ -354,17 +370,35 @@ class StartOutcome:
         nv = ("" if self.nrmse_validation is None
               else f", validation {self.nrmse_validation:.3g}")
         tag = " (chosen)" if self.chosen else ("" if self.admissible
-                                               else " (worse held-out)")
-        return f"{self.name}: calibration {self.nrmse_calibration:.3g}{nv}{tag}"
+                                               else " (dominated)")
+        cheap = "" if self.continued else " after the cheap fit"
+        return f"{self.name}: calibration {self.nrmse_calibration:.3g}{nv}{cheap}{tag}"
 
     def as_dict(self) -> dict:
         """JSON-ready."""
         return dataclasses.asdict(self)
 
 
+def _dominates(b, a, tolerance: float) -> bool:
+    """Fit ``b`` predicts the held-out records better than ``a`` by more than ``tolerance``
+    (pooled) and is not worse by more than it on any record, calibration or held-out."""
+    if a.nrmse_validation is None or b.nrmse_validation is None:
+        return False
+    ea = {(e.role, e.label): e.nrmse for e in a.record_errors}
+    eb = {(e.role, e.label): e.nrmse for e in b.record_errors}
+    return (b.nrmse_validation * (1 + tolerance) < a.nrmse_validation
+            and all(eb[k] <= (1 + tolerance) * v for k, v in ea.items() if k in eb))
+
+
 def choose_start(fits: dict, tolerance: float = HELD_OUT_TOLERANCE,
-                 reasons: dict | None = None) -> tuple[str, tuple]:
+                 reasons: dict | None = None, eligible=None) -> tuple[str, tuple, str]:
     """The start to continue among calibrations of the same records (module docstring).
+
+    The lowest effective-sample BIC on the calibration records wins unless another
+    eligible fit dominates it: better on the pooled held-out records by more than
+    ``tolerance`` and not worse by more than ``tolerance`` on any record (calibration or
+    held-out).  Where a fit is better held-out but worse on a calibration record, the
+    records disagree; the BIC decides and the returned note says so.
 
     Parameters
     ----------
@@ -372,39 +406,56 @@ def choose_start(fits: dict, tolerance: float = HELD_OUT_TOLERANCE,
         Name -> :class:`~liquidamp.analysis.measured.calibration_result.CalibrationResult`
         (same calibration and validation records), or the exception its fit raised.
     tolerance : float
-        Largest relative excess of the pooled held-out NRMSE over the best start's [-].
+        Relative tolerance on the NRMSE [-] (``math.inf``: the calibration BIC alone).
     reasons : dict, optional
         Name -> what the start was read off (copied into the outcomes).
+    eligible : collection of str, optional
+        The names that may win (default: every fit); the others are judged and reported
+        only.
 
     Returns
     -------
-    (str, tuple of StartOutcome)
-        The chosen name and every start's outcome.
+    (str, tuple of StartOutcome, str)
+        The chosen name, every start's outcome and a note ('' or where the records
+        disagree).
 
     Raises
     ------
     ConvergenceError
         When no start could be calibrated (every error named).
+    ParameterError
+        A negative or NaN ``tolerance``, or no eligible fit.
     """
-    if not (math.isfinite(tolerance) and tolerance >= 0):
-        raise ParameterError(f"choose_start: tolerance must be a finite number >= 0 [-], "
+    if math.isnan(tolerance) or tolerance < 0:
+        raise ParameterError(f"choose_start: tolerance must be a number >= 0 [-], "
                              f"got {tolerance!r}")
     reasons = reasons or {}
     ok = {n: r for n, r in fits.items() if not isinstance(r, BaseException)}
     if not ok:
         raise ConvergenceError("calibration: no start could be calibrated: " + "; ".join(
             f"{n}: {e}" for n, e in fits.items()))
+    can = [n for n in ok if eligible is None or n in eligible]
+    if not can:
+        raise ParameterError(f"choose_start: no eligible fit among {sorted(ok)} "
+                             f"(eligible: {sorted(eligible)})")
     res = {n: r.residuals("calibration") for n, r in ok.items()}
     n_eff = min(effective_samples(v)[0] for v in res.values())
     bic = {n: n_eff * math.log(max(sum(float(np.sum(x * x)) for x in v), 1e-300))
            + len(ok[n].varying) * math.log(n_eff) for n, v in res.items()}
-    val = {n: r.nrmse_validation for n, r in ok.items()}
-    if all(v is not None for v in val.values()):
-        best_val = min(val.values())
-        admissible = {n: val[n] <= (1 + tolerance) * best_val for n in ok}
-    else:
-        admissible = dict.fromkeys(ok, True)
-    chosen = min((n for n in ok if admissible[n]), key=lambda n: bic[n])
+    dominated = {n: any(_dominates(ok[m], ok[n], tolerance) for m in can if m != n)
+                 for n in ok}
+    chosen = min((n for n in can if not dominated[n]), key=lambda n: bic[n])
+    note = ""
+    r0 = ok[chosen]
+    better = [m for m in can if m != chosen and r0.nrmse_validation is not None
+              and ok[m].nrmse_validation * (1 + tolerance) < r0.nrmse_validation]
+    if better:
+        m = min(better, key=lambda n: ok[n].nrmse_validation)
+        note = (f"the records disagree: the {m} start predicts the held-out records better "
+                f"({ok[m].nrmse_validation:.3g} against {r0.nrmse_validation:.3g}) but fits "
+                f"a calibration record worse ({ok[m].nrmse_calibration:.3g} against "
+                f"{r0.nrmse_calibration:.3g}); the {chosen} start has the lower effective-"
+                f"sample BIC ({bic[chosen]:.4g} against {bic[m]:.4g})")
     out = []
     for n, r in fits.items():
         if isinstance(r, BaseException):
@@ -414,8 +465,8 @@ def choose_start(fits: dict, tolerance: float = HELD_OUT_TOLERANCE,
         out.append(StartOutcome(
             n, reasons.get(n, ""), r.nrmse_calibration, r.nrmse_validation,
             {e.label: e.nrmse for e in r.record_errors if e.role == "validation"},
-            len(r.varying), bic[n], admissible[n], n == chosen, r.nfev))
-    return chosen, tuple(out)
+            len(r.varying), bic[n], not dominated[n], n == chosen, r.nfev))
+    return chosen, tuple(out), note
 
 
 def calibrate_by_class(fit, records, validate, *, params: DeviceParams, effects, sizing: str,
@@ -461,27 +512,49 @@ def calibrate_by_class(fit, records, validate, *, params: DeviceParams, effects,
         raise ConvergenceError(f"{fits['fluid']}; the friction and viscous starts failed "
                                "too: " + "; ".join(f"{n}: {e}" for n, e in fits.items()
                                                    if n != "fluid"))
-    chosen, outcomes = choose_start(fits, reasons=reasons)
-    first = fits[chosen]
     nfev = sum(r.nfev for r in fits.values() if not isinstance(r, BaseException))
-    final = first
-    if len(classes) > 1 and not first.converged:
-        final = fit(records, params=first.start_params, effects=first.effects,
-                    spec=first.spec, start="spec", sizing="preset", max_nfev=max_nfev,
-                    device_class=chosen, **common)
-        nfev += final.nfev
+    # the BIC leader of the cheap fits is continued; a start whose cheap held-out error
+    # beats every continued fit's by more than the tolerance is continued too; the choice is
+    # then made among the continued fits (cheap fits are not converged: they cannot win)
+    pool, cont = dict(fits), {}
+
+    def extend(name):
+        nonlocal nfev
+        r = fits[name]
+        if not r.converged and len(classes) > 1:
+            r = fit(records, params=r.start_params, effects=r.effects, spec=r.spec,
+                    start="spec", sizing="preset", max_nfev=max_nfev, device_class=name,
+                    **common)
+            nfev += r.nfev
+        cont[name] = pool[name] = r
+
+    extend(choose_start(fits, math.inf)[0])
+    while validate:
+        best = min(r.nrmse_validation for r in cont.values())
+        rivals = {n: r for n, r in fits.items() if n not in cont
+                  and not isinstance(r, BaseException)
+                  and r.nrmse_validation * (1 + HELD_OUT_TOLERANCE) < best}
+        if not rivals:
+            break
+        extend(choose_start(rivals, math.inf)[0])
+    chosen, outcomes, note = choose_start(pool, reasons=reasons, eligible=tuple(cont))
+    outcomes = tuple(dataclasses.replace(o, continued=o.name in cont) for o in outcomes)
+    first, final = fits[chosen], cont[chosen]
     others = "; ".join(o.describe() for o in outcomes if not o.chosen)
     start = {**first.start, "device_class": chosen,
              "device_class_rule": (
-                 f"each start calibrated with {cheap} evaluations; the lowest effective-"
-                 f"sample BIC on the calibration records among the starts whose pooled "
-                 f"held-out NRMSE is within {HELD_OUT_TOLERANCE:.0%} of the best"),
+                 f"each start calibrated with max_nfev {cheap}; the leader by effective-"
+                 "sample BIC on the calibration records continued, and any start better "
+                 f"held-out than it by over {HELD_OUT_TOLERANCE:.0%}; of those the lowest "
+                 "BIC that no other predicts better held-out (by the tolerance) without "
+                 "losing on a record"),
+             **({"disagreement": note} if note else {}),
              "loop": reading.as_dict(),
              "classes": [o.as_dict() for o in outcomes]}
     warns = [w for w in final.warnings if not w.startswith("implausible: ")]
     if len(classes) > 1:
         warns.append(f"device class: the {chosen} start was chosen ({reasons[chosen]}); "
-                     f"others: {others}")
+                     f"others: {others}" + (f"; {note}" if note else ""))
     plaus = plausibility_flags(final.params, final.effects, records,
                                force_scale=float(first.start.get("force_scale", 1.0)),
                                at_bound=final.flags.at_bound)
