@@ -233,7 +233,9 @@ def fluid_matched(reference: DeviceParams, records, targets,
     complex K [N/m] per record): the force factor rho matches |K| (geometric mean over
     the records, eq. 16 with inertia), then the air ratios and losses match K', K''
     (:func:`~liquidamp.analysis.measured.start.physics_factors`).  ``quadratic_share``
-    sets c2 so that the quadratic loss is that share of the damping c_eq first."""
+    sets c2 so that the quadratic loss is that share of the damping c_eq first; an
+    inertance b_L beyond what the target allows (w^2 b_L > 1 / (2 |Im 1/K|), where the
+    series spring-dashpot-inertance has no solution) is brought to half that bound."""
     Ys = [r.stroke_scale for r in records]
     ref = [linear_stiffness(reference, r.frequency, Y) for r, Y in zip(records, Ys,
                                                                       strict=True)]
@@ -249,6 +251,13 @@ def fluid_matched(reference: DeviceParams, records, targets,
             f2 = quadratic_share / (1 - quadratic_share) * p.c1 / quad
             p = p.scaled(c2=f2)
             how.append(f"c2 x{f2:.3g} (quadratic loss {quadratic_share:.0%} of c_eq)")
+    # the channel's inertance in series makes K' negative beyond w^2 b_L = 1 / (2 |Im 1/K|)
+    # (linear_fit has no solution there): a larger one is brought to half that bound
+    f_in = min(1.0 / (2.0 * abs((1.0 / K).imag)) / ((2 * math.pi * r.frequency) ** 2 * p.b_L)
+               for K, r in zip(targets, records, strict=True)) if p.b_L > 0 else math.inf
+    if f_in < 1.0:
+        p = p.scaled(S_t=0.5 * f_in)
+        how.append(f"S_t x{0.5 * f_in:.3g} (inertance within K*)")
     f_air, f_loss = physics_factors(records, p, targets=targets)
     mult = {**(dict.fromkeys(("inv_gamma1", "inv_gamma2"), f_air) if f_air else {}),
             **(dict.fromkeys(("c1", "c2"), f_loss) if f_loss else {})}
