@@ -1,7 +1,7 @@
 import sys, warnings, time
 warnings.simplefilter("ignore")
 import liquidamp.analysis.measured.device_class as dc
-dc.FLUID_FLOOR = float(sys.argv[1])
+#
 from liquidamp.analysis.measured.diagnosis import diagnose
 from liquidamp.analysis.measured.records import read_record
 D="/work/shared/data/friction-damper-backlash/"

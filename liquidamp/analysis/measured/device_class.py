@@ -22,9 +22,11 @@ The three starts (every number read off the records, :func:`read_loop`)
         log grid (:func:`read_loop`: a slanted reversal is pre-sliding, a
         sloped loop a spring).  The fluid device, similar to the sized one,
         carries only what the friction's describing function leaves of each
-        record's K*: K_fluid = K* - K_friction, each part at least
-        :data:`FLUID_FLOOR` (5 %) of |K*| (a vanishing fluid would give the fit
-        no gradient on its parameters).
+        record's K*: K_fluid = K* - K_friction, each part at least the record's
+        noise floor (:func:`~liquidamp.analysis.measured.record_quality.noise_floor`,
+        as an NRMSE; :data:`FLUID_FLOOR` where lower) times |K*|: a fluid force
+        at the noise level is the least the record can resolve, and a vanishing
+        fluid would give the fit no gradient on its parameters.
     ``viscous``
         A viscous damper with a force offset: the fluid device matched to the
         records' K* with the quadratic loss at :data:`QUADRATIC_SHARE` (5 %)
@@ -49,11 +51,13 @@ The choice (:func:`choose_start`)
     records better by more than :data:`HELD_OUT_TOLERANCE` (5 %) without being
     worse by more than 5 % on any record, calibration or held-out -- cannot
     win: no start wins that is worse held-out than one at least as good on
-    the calibration data.  Where the records disagree (a start better
-    held-out but worse on the calibration record: one record does not
-    identify a fluid device's nonlinearity, and a start of another class can
-    extrapolate better by chance) the BIC decides and the result says so
-    (``start["disagreement"]`` and a warning).  Only continued fits can win:
+    the calibration data.  A start better held-out by more than 5 % also wins
+    where the BIC leader's advantage on the calibration records is not
+    strong evidence (less than :data:`BIC_STRONG`, 10).  Where it is (a start
+    better held-out but far worse on the calibration record: one record does
+    not identify a fluid device's nonlinearity, and a start of another class
+    can extrapolate better by chance) the BIC leader stays and the result says
+    so (``start["disagreement"]`` and a warning).  Only continued fits can win:
     the BIC leader of the cheap fits is continued, then any start whose cheap
     held-out NRMSE beats every continued fit's by more than the tolerance.
     The diagnosis can call :func:`choose_start` on any set of fits of the
@@ -77,6 +81,7 @@ import numpy as np
 
 from liquidamp.analysis.measured.fit_spec import FitSpec
 from liquidamp.analysis.measured.plausibility import plausibility_flags
+from liquidamp.analysis.measured.record_quality import noise_floor
 from liquidamp.analysis.measured.selection import effective_samples
 from liquidamp.analysis.measured.start import (
     first_harmonic_stiffness,
@@ -89,21 +94,28 @@ from liquidamp.device.effects import EFFECTS
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, ParameterError, PressureError
 
-__all__ = ["DEVICE_CLASSES", "FLUID_FLOOR", "QUADRATIC_SHARE", "START_NFEV",
-           "HELD_OUT_TOLERANCE", "LoopReading", "read_loop", "ClassStart", "fluid_matched",
-           "friction_start", "viscous_start", "StartOutcome", "choose_start",
+__all__ = ["DEVICE_CLASSES", "FLUID_FLOOR", "VISCOUS_FLOOR", "QUADRATIC_SHARE", "START_NFEV",
+           "HELD_OUT_TOLERANCE", "BIC_STRONG", "LoopReading", "read_loop", "ClassStart",
+           "fluid_matched", "friction_start", "viscous_start", "StartOutcome", "choose_start",
            "calibrate_by_class"]
 
 #: The structurally different starts, in the order they are tried.
 DEVICE_CLASSES = ("fluid", "friction", "viscous")
-#: Least share of |K*| the fluid keeps in the friction start (each of K', K'') [-].
-FLUID_FLOOR = 0.05
+#: Least share of |K*| the fluid keeps in the friction start (each of K', K''), where the
+#: record's noise floor (as an NRMSE) is lower [-].
+FLUID_FLOOR = 1e-3
+#: Least share of |K*| in each of K', K'' of the viscous start's target (a loop without
+#: measurable stiffness still needs a finite air spring) [-].
+VISCOUS_FLOOR = 0.05
 #: Share of the quadratic loss in the viscous start's describing-function damping [-].
 QUADRATIC_SHARE = 0.05
 #: Evaluation budget of each start's cheap calibration.
 START_NFEV = 20
 #: Largest relative excess of a start's pooled held-out NRMSE over the best start's [-].
 HELD_OUT_TOLERANCE = 0.05
+#: BIC difference that is strong evidence on the calibration records (Kass and Raftery's
+#: "very strong", as the diagnosis's ``bic_threshold``) [-].
+BIC_STRONG = 10.0
 _FRICTION = ("smooth_friction", "coulomb_friction")
 
 
@@ -275,7 +287,7 @@ def _reference(base: DeviceParams, records) -> DeviceParams:
 
 def friction_start(base: DeviceParams, effects, records, reading: LoopReading) -> ClassStart:
     """The friction damper start (module docstring): smooth friction at the loop's level,
-    the fluid carrying the rest of K* (at least :data:`FLUID_FLOOR` of it)."""
+    the fluid carrying the rest of K* (at least its noise floor share of it)."""
     Fc = max(reading.friction, 1e-3)
     scales = [r.stroke_scale for r in records]
     dy0 = reading.presliding
@@ -290,7 +302,7 @@ def friction_start(base: DeviceParams, effects, records, reading: LoopReading) -
     for K, r, Y in zip(reading.stiffnesses, records, scales, strict=True):
         kf, cf, _ = fr.describing_function(Y, 2 * math.pi * r.frequency, None)
         rest = K - complex(kf, 2 * math.pi * r.frequency * cf)
-        floor = FLUID_FLOOR * abs(K)
+        floor = max(noise_floor(r).nrmse, FLUID_FLOOR) * abs(K)
         targets.append(complex(max(rest.real, floor), max(rest.imag, floor)))
     p, how = fluid_matched(_reference(base, records), records, targets)
     p = p.replace(name=f"{base.name or 'device'} friction start ({how})")
@@ -308,7 +320,7 @@ def viscous_start(base: DeviceParams, effects, records, reading: LoopReading) ->
     """The viscous damper with a force offset (module docstring)."""
     targets = []
     for K in reading.stiffnesses:
-        floor = FLUID_FLOOR * abs(K)
+        floor = VISCOUS_FLOOR * abs(K)
         targets.append(complex(max(K.real, floor), max(K.imag, floor)))
     p, how = fluid_matched(_reference(base, records), records, targets,
                            quadratic_share=QUADRATIC_SHARE)
@@ -403,11 +415,14 @@ def choose_start(fits: dict, tolerance: float = HELD_OUT_TOLERANCE,
                  reasons: dict | None = None, eligible=None) -> tuple[str, tuple, str]:
     """The start to continue among calibrations of the same records (module docstring).
 
-    The lowest effective-sample BIC on the calibration records wins unless another
-    eligible fit dominates it: better on the pooled held-out records by more than
-    ``tolerance`` and not worse by more than ``tolerance`` on any record (calibration or
-    held-out).  Where a fit is better held-out but worse on a calibration record, the
-    records disagree; the BIC decides and the returned note says so.
+    Among the eligible fits that no other dominates (better on the pooled held-out
+    records by more than ``tolerance`` and not worse by more than ``tolerance`` on any
+    record, calibration or held-out), the lowest effective-sample BIC on the calibration
+    records leads.  A fit better held-out than the leader by more than ``tolerance``
+    wins instead where the leader's BIC is lower by less than :data:`BIC_STRONG` (the
+    calibration records hold no strong evidence; the best held-out of those wins);
+    where it is lower by more, the records disagree, the leader stays and the returned
+    note says so.
 
     Parameters
     ----------
@@ -453,18 +468,27 @@ def choose_start(fits: dict, tolerance: float = HELD_OUT_TOLERANCE,
            + len(ok[n].varying) * math.log(n_eff) for n, v in res.items()}
     dominated = {n: any(_dominates(ok[m], ok[n], tolerance) for m in can if m != n)
                  for n in ok}
-    chosen = min((n for n in can if not dominated[n]), key=lambda n: bic[n])
-    note = ""
-    r0 = ok[chosen]
-    better = [m for m in can if m != chosen and r0.nrmse_validation is not None
+    free = [n for n in can if not dominated[n]]
+    leader = min(free, key=lambda n: bic[n])
+    r0 = ok[leader]
+    better = [m for m in free if m != leader and r0.nrmse_validation is not None
               and ok[m].nrmse_validation * (1 + tolerance) < r0.nrmse_validation]
-    if better:
+    weak = [m for m in better if bic[m] - bic[leader] < BIC_STRONG]
+    chosen, note = leader, ""
+    if weak:  # the calibration records do not hold strong evidence: the held-out decide
+        chosen = min(weak, key=lambda n: ok[n].nrmse_validation)
+        note = (f"the held-out records decide: the {chosen} start predicts them better "
+                f"({ok[chosen].nrmse_validation:.3g} against {r0.nrmse_validation:.3g}) and "
+                f"the {leader} start's lower effective-sample BIC on the calibration records "
+                f"is not strong evidence ({bic[chosen] - bic[leader]:.3g} < {BIC_STRONG:g})")
+    elif better:
         m = min(better, key=lambda n: ok[n].nrmse_validation)
         note = (f"the records disagree: the {m} start predicts the held-out records better "
-                f"({ok[m].nrmse_validation:.3g} against {r0.nrmse_validation:.3g}) but fits "
-                f"a calibration record worse ({ok[m].nrmse_calibration:.3g} against "
-                f"{r0.nrmse_calibration:.3g}); the {chosen} start has the lower effective-"
-                f"sample BIC ({bic[chosen]:.4g} against {bic[m]:.4g})")
+                f"({ok[m].nrmse_validation:.3g} against {r0.nrmse_validation:.3g}) but the "
+                f"{leader} start fits the calibration records better ({r0.nrmse_calibration:.3g} "
+                f"against {ok[m].nrmse_calibration:.3g}) with strong evidence (effective-"
+                f"sample BIC {bic[leader]:.4g} against {bic[m]:.4g}, more than {BIC_STRONG:g} "
+                "lower)")
     out = []
     for n, r in fits.items():
         if isinstance(r, BaseException):
@@ -554,10 +578,10 @@ def calibrate_by_class(fit, records, validate, *, params: DeviceParams, effects,
              "device_class_rule": (
                  f"each start calibrated with max_nfev {cheap}; the leader by effective-"
                  "sample BIC on the calibration records continued, and any start better "
-                 f"held-out than it by over {HELD_OUT_TOLERANCE:.0%}; of those the lowest "
-                 "BIC that no other predicts better held-out (by the tolerance) without "
-                 "losing on a record"),
-             **({"disagreement": note} if note else {}),
+                 f"held-out than it by over {HELD_OUT_TOLERANCE:.0%}; of those not "
+                 "dominated (better held-out without losing on a record), the lowest BIC, "
+                 f"unless one better held-out is within {BIC_STRONG:g} of it"),
+             **({"held_out_note": note} if note else {}),
              "loop": reading.as_dict(),
              "classes": [o.as_dict() for o in outcomes]}
     warns = [w for w in final.warnings if not w.startswith("implausible: ")]

@@ -66,8 +66,7 @@ def test_friction_element_with_a_spring_gets_the_friction_start(friction_spring)
 def _fake(cal, val, k, cal_rec=None):
     """A stand-in CalibrationResult: calibration NRMSE ``cal`` (white residual of 400
     samples), pooled held-out ``val``, ``k`` varied parameters."""
-    rng = np.random.default_rng(int(cal * 1e4) + k)
-    r = rng.normal(0.0, cal, 400)
+    r = cal * np.random.default_rng(0).standard_normal(400)  # RSS proportional to cal^2
     errs = (RecordError("c", "calibration", cal_rec or cal, 1.0, 1e-3),
             RecordError("v", "validation", val, 2.0, 1e-3))
     return SimpleNamespace(residuals=lambda role: [r], varying=tuple(range(k)),
@@ -86,10 +85,17 @@ def test_choose_start_bic_then_held_out_dominance():
     fits = {"fluid": _fake(0.200, 0.60, 4), "friction": _fake(0.205, 0.30, 6)}
     name, out, note = choose_start(fits)
     assert name == "friction" and not {o.name: o for o in out}["fluid"].admissible
-    # the records disagree (better held-out, worse calibration): BIC decides, said so
+    # the records disagree (better held-out, far worse calibration): strong BIC evidence
+    # keeps the leader, said so
     fits = {"fluid": _fake(0.02, 0.22, 4), "friction": _fake(0.06, 0.17, 6)}
     name, out, note = choose_start(fits)
     assert name == "fluid" and note.startswith("the records disagree: the friction start")
+    # ... weak BIC evidence (a residual 0.5 % lower): the held-out records decide
+    weak = {"fluid": _fake(0.200, 0.44, 4), "friction": _fake(0.201, 0.22, 4, 0.25)}
+    name, out, note = choose_start(weak)
+    b = {o.name: o.bic for o in out}
+    assert 0 < b["friction"] - b["fluid"] < 10
+    assert name == "friction" and note.startswith("the held-out records decide")
     # only eligible fits win; a failed start is reported, not chosen
     name, out, _ = choose_start({**fits, "viscous": ConvergenceError("x")},
                                 eligible=("friction",))
