@@ -152,3 +152,24 @@ def test_plausibility_flags_name_their_numbers():
     flags = plausibility_flags(big, (), [rec])
     assert [f.kind for f in flags] == ["piston_too_large"]
     assert flags[0].values["pressure_swing [Pa]"] == pytest.approx(0.01 * p.p0, rel=0.02)
+
+
+def test_real_friction_damper_gets_the_friction_start(friction_damper_records):
+    """Issue #19: the default calibration of the real friction-damper records (as the
+    calibrate command conditions them) starts from the friction damper, not from a
+    fluid impostor; the fluid start's held-out error is 3x the friction start's."""
+    from liquidamp.analysis.measured.conditioning import condition
+    from liquidamp.analysis.measured.records import read_record
+
+    d = friction_damper_records
+    cal, val = ([condition(read_record(d / f"brfd30_{f}_0.5in_steady.csv"))[0] for f in fs]
+                for fs in (("0.5Hz",), ("1Hz", "0.25Hz")))
+    res = calibrate(cal, validate=val, warn=False)
+    assert res.device_class == "friction" and res.plausibility == ()
+    by = {o.name: o for o in res.class_starts}
+    assert by["fluid"].nrmse_validation > 3 * res.nrmse_validation  # 0.87 against 0.24
+    assert res.nrmse_validation < 0.3 and res.nrmse_calibration < 0.25
+    fr = {e.name: e for e in res.effects}["smooth_friction"]
+    assert 5e3 < fr.force_N < 15e3  # the band slips at +13 / -10 kN
+    # the fluid carries what the friction leaves: not the impostor's 338 mm piston
+    assert 2 * math.sqrt(res.params.A_p / math.pi) < 0.17
