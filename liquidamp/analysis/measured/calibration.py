@@ -30,6 +30,17 @@ measured one with the stroke inside half the chamber; ``sizing`` chooses).
 The multipliers and their bounds then apply to that device; the result states
 which device and scale (``CalibrationResult.start``).
 
+Which class of device (:mod:`liquidamp.analysis.measured.device_class`): where
+the caller leaves the structure to the start (no ``spec``, ``start='physics'``,
+``sizing`` not 'preset'), three structurally different starts are calibrated
+cheaply -- that fluid device, a friction damper (smooth friction read off the
+loop, little fluid) and a viscous damper with a force offset -- and the one
+chosen on the data (effective-sample BIC on the calibration records, held-out
+records as a veto) is continued; ``CalibrationResult.device_class`` and
+``class_starts`` give every start's figures.  Geometry the records cannot
+support is flagged in ``CalibrationResult.plausibility``
+(:mod:`liquidamp.analysis.measured.plausibility`).
+
 Local minima (least squares on the air ratios and loss coefficients has
 them: a start away from the paper's multipliers can stall at ten times the
 noise floor): the default start is taken from physics.  The

@@ -20,13 +20,15 @@ The three starts (every number read off the records, :func:`read_loop`)
         F ~ F0 + k (y - mean y) + F_c z(t), z the Dahl/LuGre (n = 1) bristle
         state of pre-sliding stroke dy0 driven by the recorded stroke, dy0 on a
         log grid (:func:`read_loop`: a slanted reversal is pre-sliding, a
-        sloped loop a spring).  The fluid device, similar to the sized one,
-        carries only what the friction's describing function leaves of each
-        record's K*: K_fluid = K* - K_friction, each part at least the record's
-        noise floor (:func:`~liquidamp.analysis.measured.record_quality.noise_floor`,
+        sloped loop a spring).  Little fluid: the fluid device, similar to the
+        sized one, is matched to K_fluid = k + i floor, the loop's parallel
+        spring k (at least the floor) and a loss part at the floor, the
+        record's noise floor (:func:`~liquidamp.analysis.measured.record_quality.noise_floor`,
         as an NRMSE; :data:`FLUID_FLOOR` where lower) times |K*|: a fluid force
         at the noise level is the least the record can resolve, and a vanishing
-        fluid would give the fit no gradient on its parameters.
+        fluid would give the fit no gradient on its parameters.  So a fluid
+        device with some friction is the fluid start's (the diagnosis adds the
+        friction), a friction damper the friction start's.
     ``viscous``
         A viscous damper with a force offset: the fluid device matched to the
         records' K* with the quadratic loss at :data:`QUADRATIC_SHARE` (5 %)
@@ -287,9 +289,8 @@ def _reference(base: DeviceParams, records) -> DeviceParams:
 
 def friction_start(base: DeviceParams, effects, records, reading: LoopReading) -> ClassStart:
     """The friction damper start (module docstring): smooth friction at the loop's level,
-    the fluid carrying the rest of K* (at least its noise floor share of it)."""
+    a fluid of the loop's parallel spring and a loss at the record's noise floor."""
     Fc = max(reading.friction, 1e-3)
-    scales = [r.stroke_scale for r in records]
     dy0 = reading.presliding
     lo, hi = EFFECTS["smooth_friction"].bounds["stiffness_N_per_m"]
     sigma0 = min(max(Fc / dy0, lo), hi)
@@ -299,11 +300,9 @@ def friction_start(base: DeviceParams, effects, records, reading: LoopReading) -
     fr = fr.replace(force_N=Fc, **({"stiffness_N_per_m": sigma0}
                                     if name == "smooth_friction" else {}))
     targets = []
-    for K, r, Y in zip(reading.stiffnesses, records, scales, strict=True):
-        kf, cf, _ = fr.describing_function(Y, 2 * math.pi * r.frequency, None)
-        rest = K - complex(kf, 2 * math.pi * r.frequency * cf)
+    for K, r in zip(reading.stiffnesses, records, strict=True):
         floor = max(noise_floor(r).nrmse, FLUID_FLOOR) * abs(K)
-        targets.append(complex(max(rest.real, floor), max(rest.imag, floor)))
+        targets.append(complex(max(reading.stiffness, floor), floor))
     p, how = fluid_matched(_reference(base, records), records, targets)
     p = p.replace(name=f"{base.name or 'device'} friction start ({how})")
     effs = tuple(fr if e.name == name else e for e in effects) + (
@@ -312,7 +311,8 @@ def friction_start(base: DeviceParams, effects, records, reading: LoopReading) -
     why = (f"{name} {Fc:.4g} N ({reading.friction_source})"
            + (f", sigma0 {sigma0:.3g} N/m (pre-sliding stroke {dy0 * 1e3:.3g} mm)"
               if name == "smooth_friction" else "")
-           + f"; the fluid carries K* less the friction's describing function ({how})")
+           + f"; the fluid a spring of {max(reading.stiffness, 0.0):.4g} N/m with little "
+           f"loss ({how})")
     return ClassStart("friction", p, effs, spec, why)
 
 
