@@ -20,15 +20,18 @@ The three starts (every number read off the records, :func:`read_loop`)
         F ~ F0 + k (y - mean y) + F_c z(t), z the Dahl/LuGre (n = 1) bristle
         state of pre-sliding stroke dy0 driven by the recorded stroke, dy0 on a
         log grid (:func:`read_loop`: a slanted reversal is pre-sliding, a
-        sloped loop a spring).  Little fluid: the fluid device, similar to the
-        sized one, is matched to K_fluid = k + i floor, the loop's parallel
-        spring k (at least the floor) and a loss part at the floor, the
-        record's noise floor (:func:`~liquidamp.analysis.measured.record_quality.noise_floor`,
-        as an NRMSE; :data:`FLUID_FLOOR` where lower) times |K*|: a fluid force
-        at the noise level is the least the record can resolve, and a vanishing
-        fluid would give the fit no gradient on its parameters.  So a fluid
-        device with some friction is the fluid start's (the diagnosis adds the
-        friction), a friction damper the friction start's.
+        sloped loop a spring).  Where k is above the fluid's floor (below),
+        the spring is the ``elastomer`` effect's parallel branch k0 alone (a
+        sealed fluid is a spring only while its air takes the swept volume).
+        Little fluid: the fluid device, similar to the sized one, is matched to
+        K' = K'' = the record's noise floor
+        (:func:`~liquidamp.analysis.measured.record_quality.noise_floor`, as an
+        NRMSE; :data:`FLUID_FLOOR` where lower) times |K*| (a linear loss: the
+        quadratic one at :data:`QUADRATIC_SHARE`): a fluid force at the noise
+        level is the least the record can resolve, and a vanishing fluid would
+        give the fit no gradient on its parameters.  So a fluid device with
+        some friction is the fluid start's (the diagnosis adds the friction), a
+        friction damper the friction start's.
     ``viscous``
         A viscous damper with a force offset: the fluid device matched to the
         records' K* with the quadratic loss at :data:`QUADRATIC_SHARE` (5 %)
@@ -60,8 +63,10 @@ The choice (:func:`choose_start`)
     not identify a fluid device's nonlinearity, and a start of another class
     can extrapolate better by chance) the BIC leader stays and the result says
     so (``start["disagreement"]`` and a warning).  Only continued fits can win:
-    the BIC leader of the cheap fits is continued, then any start whose cheap
-    held-out NRMSE beats every continued fit's by more than the tolerance.
+    the BIC leader of the cheap fits and the fluid start (the family's own,
+    so that another class must beat it converged) are continued, then any
+    start whose cheap held-out NRMSE beats every continued fit's by more than
+    the tolerance.
     The diagnosis can call :func:`choose_start` on any set of fits of the
     same records.
 
@@ -289,7 +294,7 @@ def _reference(base: DeviceParams, records) -> DeviceParams:
 
 def friction_start(base: DeviceParams, effects, records, reading: LoopReading) -> ClassStart:
     """The friction damper start (module docstring): smooth friction at the loop's level,
-    a fluid of the loop's parallel spring and a loss at the record's noise floor."""
+    the loop's parallel spring, a fluid at the record's noise floor."""
     Fc = max(reading.friction, 1e-3)
     dy0 = reading.presliding
     lo, hi = EFFECTS["smooth_friction"].bounds["stiffness_N_per_m"]
@@ -299,20 +304,28 @@ def friction_start(base: DeviceParams, effects, records, reading: LoopReading) -
     fr = present.get(name) or EFFECTS[name]()
     fr = fr.replace(force_N=Fc, **({"stiffness_N_per_m": sigma0}
                                     if name == "smooth_friction" else {}))
-    targets = []
+    targets, floors = [], []
     for K, r in zip(reading.stiffnesses, records, strict=True):
-        floor = max(noise_floor(r).nrmse, FLUID_FLOOR) * abs(K)
-        targets.append(complex(max(reading.stiffness, floor), floor))
-    p, how = fluid_matched(_reference(base, records), records, targets)
+        floors.append(max(noise_floor(r).nrmse, FLUID_FLOOR) * abs(K))
+        targets.append(complex(floors[-1], floors[-1]))
+    p, how = fluid_matched(_reference(base, records), records, targets,
+                           quadratic_share=QUADRATIC_SHARE)
     p = p.replace(name=f"{base.name or 'device'} friction start ({how})")
     effs = tuple(fr if e.name == name else e for e in effects) + (
         () if name in present else (fr,))
     spec = FitSpec.default(effects=effs)
+    spring = ""
+    if reading.stiffness > max(floors) and "elastomer" not in present:
+        # the loop's parallel spring, as the elastomer's parallel branch alone (a sealed
+        # fluid is a spring only while its air takes the swept volume: not in general)
+        el = EFFECTS["elastomer"](parallel_stiffness_N_per_m=reading.stiffness)
+        effs += (el,)
+        spec = spec.with_effect(el, keys=("parallel_stiffness_N_per_m",))
+        spring = f", a parallel spring {reading.stiffness:.4g} N/m (elastomer k0)"
     why = (f"{name} {Fc:.4g} N ({reading.friction_source})"
            + (f", sigma0 {sigma0:.3g} N/m (pre-sliding stroke {dy0 * 1e3:.3g} mm)"
               if name == "smooth_friction" else "")
-           + f"; the fluid a spring of {max(reading.stiffness, 0.0):.4g} N/m with little "
-           f"loss ({how})")
+           + f"{spring}; little fluid: K' and K'' at the noise floor ({how})")
     return ClassStart("friction", p, effs, spec, why)
 
 
@@ -562,6 +575,8 @@ def calibrate_by_class(fit, records, validate, *, params: DeviceParams, effects,
         cont[name] = pool[name] = r
 
     extend(choose_start(fits, math.inf)[0])
+    if "fluid" in fits and "fluid" not in cont and not isinstance(fits["fluid"], BaseException):
+        extend("fluid")  # the family's own start is judged converged, never cheap
     while validate:
         best = min(r.nrmse_validation for r in cont.values())
         rivals = {n: r for n, r in fits.items() if n not in cont
