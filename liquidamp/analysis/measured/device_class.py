@@ -33,11 +33,13 @@ The three starts (every number read off the records, :func:`read_loop`)
         some friction is the fluid start's (the diagnosis adds the friction), a
         friction damper the friction start's.
     ``viscous``
-        A viscous damper with a force offset: the fluid device matched to the
-        records' K* with the quadratic loss at :data:`QUADRATIC_SHARE` (5 %)
-        of its describing-function damping (so c = K'' / w is the linear
-        loss, read off the first harmonic's loss part), and a ``force_offset``
-        at the records' mean force F0.
+        A viscous damper with a force offset, F = c v + F0: the fluid device
+        matched to K = i K'' with a stiff air spring (K' at
+        :data:`VISCOUS_FLOOR`, 5 %, of |K*|: a dashpot's loop has no
+        stiffness, but its air cannot be rigid) and the quadratic loss at
+        :data:`QUADRATIC_SHARE` (5 %) of its describing-function damping (so
+        c = K'' / w is the linear loss, read off the first harmonic's loss
+        part), and a ``force_offset`` at the records' mean force F0.
 
 Each start is calibrated with ``max_nfev`` :data:`START_NFEV` (its multipliers
 start at 1 on its own device, its effect parameters at the values read off);
@@ -58,11 +60,13 @@ The choice (:func:`choose_start`)
     win: no start wins that is worse held-out than one at least as good on
     the calibration data.  A start better held-out by more than 5 % also wins
     where the BIC leader's advantage on the calibration records is not
-    strong evidence (less than :data:`BIC_STRONG`, 10).  Where it is (a start
+    strong evidence (less than :data:`BIC_STRONG`, 10), and the fluid start
+    (the family's own) gives way only on positive evidence (its BIC higher by
+    more than :data:`BIC_POSITIVE`, 2, or worse held-out).  Where it is (a start
     better held-out but far worse on the calibration record: one record does
     not identify a fluid device's nonlinearity, and a start of another class
     can extrapolate better by chance) the BIC leader stays and the result says
-    so (``start["disagreement"]`` and a warning).  Only continued fits can win:
+    so (``start["held_out_note"]`` and a warning).  Only continued fits can win:
     the BIC leader of the cheap fits and the fluid start (the family's own,
     so that another class must beat it converged) are continued, then any
     start whose cheap held-out NRMSE beats every continued fit's by more than
@@ -102,7 +106,8 @@ from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, ParameterError, PressureError
 
 __all__ = ["DEVICE_CLASSES", "FLUID_FLOOR", "VISCOUS_FLOOR", "QUADRATIC_SHARE", "START_NFEV",
-           "HELD_OUT_TOLERANCE", "BIC_STRONG", "LoopReading", "read_loop", "ClassStart",
+           "HELD_OUT_TOLERANCE", "BIC_STRONG", "BIC_POSITIVE", "DEFAULT_CLASS", "LoopReading",
+           "read_loop", "ClassStart",
            "fluid_matched", "friction_start", "viscous_start", "StartOutcome", "choose_start",
            "calibrate_by_class"]
 
@@ -111,8 +116,8 @@ DEVICE_CLASSES = ("fluid", "friction", "viscous")
 #: Least share of |K*| the fluid keeps in the friction start (each of K', K''), where the
 #: record's noise floor (as an NRMSE) is lower [-].
 FLUID_FLOOR = 1e-3
-#: Least share of |K*| in each of K', K'' of the viscous start's target (a loop without
-#: measurable stiffness still needs a finite air spring) [-].
+#: Share of |K*| in K' of the viscous start's target (a dashpot, but its air cannot be
+#: rigid), and least share in K'' [-].
 VISCOUS_FLOOR = 0.05
 #: Share of the quadratic loss in the viscous start's describing-function damping [-].
 QUADRATIC_SHARE = 0.05
@@ -123,6 +128,11 @@ HELD_OUT_TOLERANCE = 0.05
 #: BIC difference that is strong evidence on the calibration records (Kass and Raftery's
 #: "very strong", as the diagnosis's ``bic_threshold``) [-].
 BIC_STRONG = 10.0
+#: BIC difference that is positive evidence (Kass and Raftery): another class replaces the
+#: fluid start only beyond it (or better held-out) [-].
+BIC_POSITIVE = 2.0
+#: The family's own start.
+DEFAULT_CLASS = "fluid"
 _FRICTION = ("smooth_friction", "coulomb_friction")
 
 
@@ -334,7 +344,7 @@ def viscous_start(base: DeviceParams, effects, records, reading: LoopReading) ->
     targets = []
     for K in reading.stiffnesses:
         floor = VISCOUS_FLOOR * abs(K)
-        targets.append(complex(max(K.real, floor), max(K.imag, floor)))
+        targets.append(complex(floor, max(K.imag, floor)))  # a dashpot: K' at the floor
     p, how = fluid_matched(_reference(base, records), records, targets,
                            quadratic_share=QUADRATIC_SHARE)
     p = p.replace(name=f"{base.name or 'device'} viscous start ({how})")
@@ -435,7 +445,10 @@ def choose_start(fits: dict, tolerance: float = HELD_OUT_TOLERANCE,
     wins instead where the leader's BIC is lower by less than :data:`BIC_STRONG` (the
     calibration records hold no strong evidence; the best held-out of those wins);
     where it is lower by more, the records disagree, the leader stays and the returned
-    note says so.
+    note says so.  A leader of another class than :data:`DEFAULT_CLASS` (the fluid start)
+    whose BIC is lower than the fluid start's by less than :data:`BIC_POSITIVE` (2, no
+    positive evidence) and that does not predict the held-out records better by more than
+    ``tolerance`` gives way to the fluid start.
 
     Parameters
     ----------
@@ -494,6 +507,15 @@ def choose_start(fits: dict, tolerance: float = HELD_OUT_TOLERANCE,
                 f"({ok[chosen].nrmse_validation:.3g} against {r0.nrmse_validation:.3g}) and "
                 f"the {leader} start's lower effective-sample BIC on the calibration records "
                 f"is not strong evidence ({bic[chosen] - bic[leader]:.3g} < {BIC_STRONG:g})")
+    elif (leader != DEFAULT_CLASS and DEFAULT_CLASS in free
+          and bic[DEFAULT_CLASS] - bic[leader] < BIC_POSITIVE and not (
+              r0.nrmse_validation is not None and ok[DEFAULT_CLASS].nrmse_validation
+              > (1 + tolerance) * r0.nrmse_validation)):
+        chosen = DEFAULT_CLASS  # another class replaces the family's own on evidence only
+        note = (f"the {leader} start's lower effective-sample BIC is not positive evidence "
+                f"({bic[DEFAULT_CLASS] - bic[leader]:.3g} < {BIC_POSITIVE:g}) and it does "
+                f"not predict the held-out records better by {tolerance:.0%}: the "
+                f"{DEFAULT_CLASS} start is kept")
     elif better:
         m = min(better, key=lambda n: ok[n].nrmse_validation)
         note = (f"the records disagree: the {m} start predicts the held-out records better "
