@@ -20,18 +20,21 @@ The three starts (every number read off the records, :func:`read_loop`)
         F ~ F0 + k (y - mean y) + F_c z(t), z the Dahl/LuGre (n = 1) bristle
         state of pre-sliding stroke dy0 driven by the recorded stroke, dy0 on a
         log grid (:func:`read_loop`: a slanted reversal is pre-sliding, a
-        sloped loop a spring).  Where k is above the fluid's floor (below),
-        the spring is the ``elastomer`` effect's parallel branch k0 alone (a
-        sealed fluid is a spring only while its air takes the swept volume).
+        sloped loop a spring, read but not part of the start: a parallel
+        spring is the ``elastomer`` effect's, which the diagnosis adds where
+        the residual asks for it).
         Little fluid: the fluid device, similar to the sized one, is matched to
         K' = K'' = the record's noise floor
         (:func:`~liquidamp.analysis.measured.record_quality.noise_floor`, as an
         NRMSE; :data:`FLUID_FLOOR` where lower) times |K*| (a linear loss: the
         quadratic one at :data:`QUADRATIC_SHARE`): a fluid force at the noise
-        level is the least the record can resolve, and a vanishing fluid would
-        give the fit no gradient on its parameters.  So a fluid device with
-        some friction is the fluid start's (the diagnosis adds the friction), a
-        friction damper the friction start's.
+        level is the most the record cannot resolve, and it keeps the device
+        model whole (pressures, chambers) for the effects the diagnosis may
+        add.  The fluid is held there: only the friction's parameters are
+        fitted (the start is a friction damper, not a fluid device in
+        disguise).  So a fluid
+        device with some friction is the fluid start's (the diagnosis adds the
+        friction), a friction damper the friction start's.
     ``viscous``
         A viscous damper with a force offset, F = c v + F0: the fluid device
         matched to K = i K'' with a stiff air spring (K' at
@@ -39,7 +42,9 @@ The three starts (every number read off the records, :func:`read_loop`)
         stiffness, but its air cannot be rigid) and the quadratic loss at
         :data:`QUADRATIC_SHARE` (5 %) of its describing-function damping (so
         c = K'' / w is the linear loss, read off the first harmonic's loss
-        part), and a ``force_offset`` at the records' mean force F0.
+        part), and a ``force_offset`` at the records' mean force F0.  Only c
+        (the c1 multiplier) and F0 are fitted: the start is the two-parameter
+        line F = c v + F0 in the family's terms, not a fluid device in disguise.
 
 Each start is calibrated with ``max_nfev`` :data:`START_NFEV` (its multipliers
 start at 1 on its own device, its effect parameters at the values read off);
@@ -304,7 +309,7 @@ def _reference(base: DeviceParams, records) -> DeviceParams:
 
 def friction_start(base: DeviceParams, effects, records, reading: LoopReading) -> ClassStart:
     """The friction damper start (module docstring): smooth friction at the loop's level,
-    the loop's parallel spring, a fluid at the record's noise floor."""
+    a fluid held at the record's noise floor."""
     Fc = max(reading.friction, 1e-3)
     dy0 = reading.presliding
     lo, hi = EFFECTS["smooth_friction"].bounds["stiffness_N_per_m"]
@@ -314,28 +319,21 @@ def friction_start(base: DeviceParams, effects, records, reading: LoopReading) -
     fr = present.get(name) or EFFECTS[name]()
     fr = fr.replace(force_N=Fc, **({"stiffness_N_per_m": sigma0}
                                     if name == "smooth_friction" else {}))
-    targets, floors = [], []
+    targets = []
     for K, r in zip(reading.stiffnesses, records, strict=True):
-        floors.append(max(noise_floor(r).nrmse, FLUID_FLOOR) * abs(K))
-        targets.append(complex(floors[-1], floors[-1]))
+        floor = max(noise_floor(r).nrmse, FLUID_FLOOR) * abs(K)
+        targets.append(complex(floor, floor))
     p, how = fluid_matched(_reference(base, records), records, targets,
                            quadratic_share=QUADRATIC_SHARE)
     p = p.replace(name=f"{base.name or 'device'} friction start ({how})")
     effs = tuple(fr if e.name == name else e for e in effects) + (
         () if name in present else (fr,))
-    spec = FitSpec.default(effects=effs)
-    spring = ""
-    if reading.stiffness > max(floors) and "elastomer" not in present:
-        # the loop's parallel spring, as the elastomer's parallel branch alone (a sealed
-        # fluid is a spring only while its air takes the swept volume: not in general)
-        el = EFFECTS["elastomer"](parallel_stiffness_N_per_m=reading.stiffness)
-        effs += (el,)
-        spec = spec.with_effect(el, keys=("parallel_stiffness_N_per_m",))
-        spring = f", a parallel spring {reading.stiffness:.4g} N/m (elastomer k0)"
+    # a friction damper's parameters: the friction's; the fluid held
+    spec = FitSpec.default(vary=(), effects=effs)
     why = (f"{name} {Fc:.4g} N ({reading.friction_source})"
            + (f", sigma0 {sigma0:.3g} N/m (pre-sliding stroke {dy0 * 1e3:.3g} mm)"
               if name == "smooth_friction" else "")
-           + f"{spring}; little fluid: K' and K'' at the noise floor ({how})")
+           + f"; little fluid: K' and K'' at the noise floor, held ({how})")
     return ClassStart("friction", p, effs, spec, why)
 
 
@@ -357,7 +355,8 @@ def viscous_start(base: DeviceParams, effects, records, reading: LoopReading) ->
                                                              strict=True)]
     why = (f"linear loss c = K''/w ({', '.join(f'{x:.4g}' for x in c)} N s/m), "
            f"offset {reading.mean_force:.4g} N ({how})")
-    return ClassStart("viscous", p, effs, FitSpec.default(effects=effs), why)
+    # a viscous damper's two parameters, c and F0: the air and the quadratic loss held
+    return ClassStart("viscous", p, effs, FitSpec.default(vary=("c1",), effects=effs), why)
 
 
 # ---------------------------------------------------------------------------
