@@ -66,8 +66,9 @@ The choice (:func:`choose_start`)
     the calibration data.  A start better held-out by more than 5 % also wins
     where the BIC leader's advantage on the calibration records is not
     strong evidence (less than :data:`BIC_STRONG`, 10), and the fluid start
-    (the family's own) gives way only on positive evidence (its BIC higher by
-    more than :data:`BIC_POSITIVE`, 2, or worse held-out).  Where it is (a start
+    (the family's own) gives way only to a start that predicts the held-out
+    records at least as well and has positive evidence (BIC lower by more than
+    :data:`BIC_POSITIVE`, 2, or held-out better by 5 %).  Where it is (a start
     better held-out but far worse on the calibration record: one record does
     not identify a fluid device's nonlinearity, and a start of another class
     can extrapolate better by chance) the BIC leader stays and the result says
@@ -444,10 +445,11 @@ def choose_start(fits: dict, tolerance: float = HELD_OUT_TOLERANCE,
     wins instead where the leader's BIC is lower by less than :data:`BIC_STRONG` (the
     calibration records hold no strong evidence; the best held-out of those wins);
     where it is lower by more, the records disagree, the leader stays and the returned
-    note says so.  A leader of another class than :data:`DEFAULT_CLASS` (the fluid start)
-    whose BIC is lower than the fluid start's by less than :data:`BIC_POSITIVE` (2, no
-    positive evidence) and that does not predict the held-out records better by more than
-    ``tolerance`` gives way to the fluid start.
+    note says so.  A choice of another class than :data:`DEFAULT_CLASS` (the fluid start,
+    when it is eligible and not dominated) gives way to the fluid start where it predicts
+    the held-out records worse than the fluid start (at all), or where its BIC is lower
+    than the fluid start's by less than :data:`BIC_POSITIVE` (2, no positive evidence)
+    and it does not predict the held-out records better by more than ``tolerance``.
 
     Parameters
     ----------
@@ -506,15 +508,6 @@ def choose_start(fits: dict, tolerance: float = HELD_OUT_TOLERANCE,
                 f"({ok[chosen].nrmse_validation:.3g} against {r0.nrmse_validation:.3g}) and "
                 f"the {leader} start's lower effective-sample BIC on the calibration records "
                 f"is not strong evidence ({bic[chosen] - bic[leader]:.3g} < {BIC_STRONG:g})")
-    elif (leader != DEFAULT_CLASS and DEFAULT_CLASS in free
-          and bic[DEFAULT_CLASS] - bic[leader] < BIC_POSITIVE and not (
-              r0.nrmse_validation is not None and ok[DEFAULT_CLASS].nrmse_validation
-              > (1 + tolerance) * r0.nrmse_validation)):
-        chosen = DEFAULT_CLASS  # another class replaces the family's own on evidence only
-        note = (f"the {leader} start's lower effective-sample BIC is not positive evidence "
-                f"({bic[DEFAULT_CLASS] - bic[leader]:.3g} < {BIC_POSITIVE:g}) and it does "
-                f"not predict the held-out records better by {tolerance:.0%}: the "
-                f"{DEFAULT_CLASS} start is kept")
     elif better:
         m = min(better, key=lambda n: ok[n].nrmse_validation)
         note = (f"the records disagree: the {m} start predicts the held-out records better "
@@ -523,6 +516,21 @@ def choose_start(fits: dict, tolerance: float = HELD_OUT_TOLERANCE,
                 f"against {ok[m].nrmse_calibration:.3g}) with strong evidence (effective-"
                 f"sample BIC {bic[leader]:.4g} against {bic[m]:.4g}, more than {BIC_STRONG:g} "
                 "lower)")
+    if chosen != DEFAULT_CLASS and DEFAULT_CLASS in free:
+        f, c = ok[DEFAULT_CLASS], ok[chosen]
+        worse = (c.nrmse_validation is not None
+                 and c.nrmse_validation > f.nrmse_validation)
+        weak_bic = bic[DEFAULT_CLASS] - bic[chosen] < BIC_POSITIVE and not (
+            c.nrmse_validation is not None
+            and c.nrmse_validation * (1 + tolerance) < f.nrmse_validation)
+        if worse or weak_bic:  # the family's own start gives way on evidence only
+            note = (f"the {chosen} start " + (
+                f"predicts the held-out records worse than the {DEFAULT_CLASS} start "
+                f"({c.nrmse_validation:.3g} against {f.nrmse_validation:.3g})" if worse else
+                f"has no positive evidence over the {DEFAULT_CLASS} start (BIC lower by "
+                f"{bic[DEFAULT_CLASS] - bic[chosen]:.3g} < {BIC_POSITIVE:g}, held-out not "
+                f"better by {tolerance:.0%})") + f": the {DEFAULT_CLASS} start is kept")
+            chosen = DEFAULT_CLASS
     out = []
     for n, r in fits.items():
         if isinstance(r, BaseException):
