@@ -51,12 +51,14 @@ def test_friction_element_with_a_spring_gets_the_friction_start(friction_spring)
     assert res.device_class == "friction"
     by = {o.name: o for o in res.class_starts}
     assert set(by) == {"fluid", "friction", "viscous"} and by["friction"].chosen
-    # the fluid start, continued, predicts the held-out record with twice the error
+    # the fluid start, continued, predicts the held-out record with twice the error (0.64
+    # against 0.30; on the calibration record it draws the spring, 0.39 against 0.42)
     assert by["fluid"].continued
     assert by["fluid"].nrmse_validation > 2 * res.nrmse_validation
-    assert res.nrmse_calibration < by["fluid"].nrmse_calibration
     fr = {e.name: e for e in res.effects}["smooth_friction"]
-    assert 0.5 * F_C < fr.force_N < 1.5 * F_C
+    assert fr.force_N == pytest.approx(F_C, rel=0.1)
+    # the fluid is held at the record's noise floor: only the friction was fitted
+    assert set(res.varying) == {"smooth_friction.force_N", "smooth_friction.stiffness_N_per_m"}
     assert res.plausibility == ()
     d = res.as_dict()
     assert d["device_class"]["chosen"] == "friction" and len(d["device_class"]["starts"]) == 3
