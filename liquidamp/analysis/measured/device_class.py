@@ -48,17 +48,16 @@ The three starts (every number read off the records, :func:`read_loop`)
 
 Each start is calibrated with ``max_nfev`` :data:`START_NFEV` (its multipliers
 start at 1 on its own device, its effect parameters at the values read off);
-the chosen one is continued with the caller's budget.  A cheap fit's held-out
-error is not yet the converged one's, so the choice is made again with the
-continued fit in place of the cheap one, and a start that then wins is
-continued too before it can win (each start at most once).
+the chosen one is continued with the caller's budget (see below: only
+continued fits can win).
 
 The choice (:func:`choose_start`)
     On the calibration records: the effective-sample BIC,
     N_eff ln RSS + k ln N_eff, with N_eff from the residuals' correlation
     times (:func:`~liquidamp.analysis.measured.selection.effective_samples`,
-    the smallest over the starts) and k the varied parameters, so that the
-    friction start's extra parameters are paid for.  With validation records,
+    the smallest over the starts) and k the varied parameters (4 for the
+    fluid start, 2 for the friction and the viscous starts), so that the
+    parameters are paid for.  With validation records,
     a start whose fit another start dominates -- predicts the pooled held-out
     records better by more than :data:`HELD_OUT_TOLERANCE` (5 %) without being
     worse by more than 5 % on any record, calibration or held-out -- cannot
@@ -68,8 +67,9 @@ The choice (:func:`choose_start`)
     strong evidence (less than :data:`BIC_STRONG`, 10), and the fluid start
     (the family's own) gives way only to a start that predicts the held-out
     records at least as well and has positive evidence (BIC lower by more than
-    :data:`BIC_POSITIVE`, 2, or held-out better by 5 %).  Where it is (a start
-    better held-out but far worse on the calibration record: one record does
+    :data:`BIC_POSITIVE`, 2, or held-out better by 5 %).  Where the BIC
+    advantage is strong (a start better held-out but far worse on the
+    calibration record: one record does
     not identify a fluid device's nonlinearity, and a start of another class
     can extrapolate better by chance) the BIC leader stays and the result says
     so (``start["held_out_note"]`` and a warning).  Only continued fits can win:
