@@ -176,13 +176,16 @@ def checked(cal, val, args, params, command: str):
 
 def load(args):
     """Records, validation records, start parameters, effects and fit spec from the arguments."""
-    from liquidamp.analysis.measured.calibration import FitSpec
+    from liquidamp.analysis.measured.calibration import PAPER_FOUR, FitSpec
 
     params, effects = device_and_effects(args, default="paper_initial")
     cal = [_read(f, args.window, args.order) for f in args.records]
     val = [_read(f, args.window, args.order) for f in args.validate]
     vary = tuple(v.strip() for v in args.vary.split(",") if v.strip())
-    return cal, val, params, effects, FitSpec.default(vary=vary, effects=effects)
+    # the default --vary leaves the model's structure to the start (spec None: calibrate
+    # compares the fluid, friction and viscous starts, analysis.measured.device_class)
+    spec = None if vary == PAPER_FOUR else FitSpec.default(vary=vary, effects=effects)
+    return cal, val, params, effects, spec
 
 
 def register(sub) -> None:

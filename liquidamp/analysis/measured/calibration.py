@@ -30,6 +30,17 @@ measured one with the stroke inside half the chamber; ``sizing`` chooses).
 The multipliers and their bounds then apply to that device; the result states
 which device and scale (``CalibrationResult.start``).
 
+Which class of device (:mod:`liquidamp.analysis.measured.device_class`): where
+the caller leaves the structure to the start (no ``spec``, ``start='physics'``,
+``sizing`` not 'preset'), three structurally different starts are calibrated
+cheaply -- that fluid device, a friction damper (smooth friction read off the
+loop, little fluid) and a viscous damper with a force offset -- and the one
+chosen on the data (effective-sample BIC on the calibration records, held-out
+records as a veto) is continued; ``CalibrationResult.device_class`` and
+``class_starts`` give every start's figures.  Geometry the records cannot
+support is flagged in ``CalibrationResult.plausibility``
+(:mod:`liquidamp.analysis.measured.plausibility`).
+
 Local minima (least squares on the air ratios and loss coefficients has
 them: a start away from the paper's multipliers can stall at ten times the
 noise floor): the default start is taken from physics.  The
@@ -96,6 +107,7 @@ from liquidamp.analysis.measured.checks import (
     dropped_outliers,
     keep_outliers,
 )
+from liquidamp.analysis.measured.device_class import DEVICE_CLASSES, calibrate_by_class
 from liquidamp.analysis.measured.fit_spec import (
     PAPER_FOUR,
     FitSpec,
@@ -103,6 +115,7 @@ from liquidamp.analysis.measured.fit_spec import (
     check_spec_uses,
     scale_effect_bounds,
 )
+from liquidamp.analysis.measured.plausibility import plausibility_flags
 from liquidamp.analysis.measured.record_model import nrmse, simulate_record
 from liquidamp.analysis.measured.record_quality import as_read, check_record_stroke
 from liquidamp.analysis.measured.records import Record
@@ -510,7 +523,7 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
               start: str = "physics", max_nfev: int = 80, preroll: int = 1,
               tol: float = 1e-6, strict: bool = False,
               outliers: str = "refuse", warn: bool = True,
-              sizing: str = "auto") -> CalibrationResult:
+              sizing: str = "auto", device_class: str = "auto") -> CalibrationResult:
     """Fit ``spec`` to the calibration ``records``; report errors on ``validate`` too.
 
     Parameters
@@ -542,6 +555,13 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
         similar device sized to the records; 'preset' always ``params`` (a
         stroke past its chamber end is refused); 'data' always the sized
         device.
+    device_class : {'auto', 'fluid', 'friction', 'viscous'}
+        The start's device class (:mod:`~liquidamp.analysis.measured.device_class`):
+        'auto' (default) calibrates the sized fluid device, a friction damper and a
+        viscous damper with a force offset cheaply and continues the one chosen on the
+        data, where the caller left the structure to the start (``spec`` None,
+        ``start='physics'``, ``sizing`` not 'preset'; otherwise the fluid start alone);
+        a class name starts from that class only.
     max_nfev : int
         Budget of model evaluations (each runs every calibration record).
     preroll : int
@@ -605,11 +625,25 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
             raise ParameterError(f"calibrate takes Record objects, got {type(r).__name__}")
     base = preset("paper_initial") if params is None else params
     effects = tuple(effects)
+    structure_open = spec is None  # the caller left the model's structure to the start
     if spec is None:
         spec = FitSpec.default(effects=effects)
     check_spec_uses(base, spec)
     check_choice("start", start, ("physics", "spec"))
     check_choice("sizing", sizing, SIZING_CHOICES)
+    check_choice("device_class", device_class, ("auto",) + DEVICE_CLASSES)
+    if structure_open and (device_class in ("friction", "viscous") or (
+            device_class == "auto" and start == "physics" and sizing != "preset")):
+        res = calibrate_by_class(
+            calibrate, records, validate, params=base, effects=effects, sizing=sizing,
+            max_nfev=max_nfev, model=model, options=options, preroll=preroll, tol=tol,
+            outliers=outliers,
+            classes=DEVICE_CLASSES if device_class == "auto" else (device_class,))
+        if strict and not res.converged:
+            raise ConvergenceError(f"calibration did not converge: {res.message}")
+        for w in res.warnings if warn else ():
+            warnings.warn(f"calibrate: {w}", LiquidampWarning, stacklevel=2)
+        return res
     quality, found = check_records(records + validate, base if sizing == "preset" else None,
                                    outliers=outliers)
     if outliers != "refuse":  # dropped (the force) or kept, in every later check too
@@ -736,6 +770,9 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
     flags = parameter_flags(spec_fit, tuple(p.name for p in obj.var), values, stderr, J,
                             params_fit)
     warns += flags.warnings()
+    plaus = plausibility_flags(params_fit, effects_fit, records, force_scale=sz.force_scale,
+                               at_bound=flags.at_bound)
+    warns += [f"implausible: {f.message}" for f in plaus]
     if sz.sized:
         warns.append(f"started from a device sized to the records: {sz.params.name} "
                      f"({sz.reason})")
@@ -756,4 +793,5 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
         validation=validate, predictions_calibration=tuple(pc),
         predictions_validation=tuple(pv), jacobian=J, data_quality=quality, dropped=dropped,
         warnings=tuple(warns), start={**sz.as_dict(), "chosen": best.label},
-        start_trials=tuple(dataclasses.replace(t, forces=None) for t in trials), flags=flags)
+        start_trials=tuple(dataclasses.replace(t, forces=None) for t in trials), flags=flags,
+        plausibility=plaus)

@@ -237,6 +237,15 @@ class CalibrationResult:
         Every start evaluated, with its NRMSE, peak forces and energy sign.
     flags : ParameterFlags
         Parameters at a bound, not determined or unused.
+    device_class : str
+        The start class the fit continued (``"fluid"``, ``"friction"``,
+        ``"viscous"``; :mod:`~liquidamp.analysis.measured.device_class`), '' when no
+        class starts were compared.
+    class_starts : tuple of StartOutcome
+        Every class start's cheap calibration, its figures and whether it was chosen.
+    plausibility : tuple of PlausibilityFlag
+        Fitted geometry the records cannot support
+        (:mod:`~liquidamp.analysis.measured.plausibility`); empty when none.
 
     Printing the result gives a short summary; :meth:`fit_report` the
     parameters with their errors and correlations; :meth:`plot` a figure.
@@ -274,6 +283,9 @@ class CalibrationResult:
     start: dict = field(default_factory=dict)
     start_trials: tuple = ()
     flags: ParameterFlags = field(default_factory=ParameterFlags)
+    device_class: str = ""
+    class_starts: tuple = ()
+    plausibility: tuple = ()
 
     @property
     def references(self) -> dict:
@@ -344,10 +356,16 @@ class CalibrationResult:
         dev = self.start_params.name or "custom"
         chosen = self.start.get("chosen", "")
         flags = self.flags.short()
+        cls = ""
+        if self.class_starts:
+            cls = f"; device class {self.device_class} (" + "; ".join(
+                o.describe() for o in self.class_starts if not o.chosen) + ")"
+        implausible = "".join(f"; IMPLAUSIBLE: {f.message}" for f in self.plausibility)
         return (("PHYSICS MODEL LOSES TO THE LINE: " + lose + "; " if lose else "")
                 + f"{self.status} ({self.nfev} evaluations): NRMSE calibration "
                 f"{self.nrmse_calibration:.4g}{nv}; start {chosen + ' ' if chosen else ''}"
-                f"from {dev}" + (f"; flags: {flags}" if flags else "; no parameter flagged"))
+                f"from {dev}{cls}" + (f"; flags: {flags}" if flags else
+                                      "; no parameter flagged") + implausible)
 
     def __str__(self) -> str:
         lines = [f"CalibrationResult: model {self.model!r} from "
@@ -360,8 +378,13 @@ class CalibrationResult:
                     else f", validation {self.nrmse_validation:.4g}")]
         if self.start.get("sized"):
             lines.append(f"  start: sized to the records ({self.start.get('reason', '')})"[:200])
+        if self.class_starts:
+            lines.append(f"  device class: {self.device_class} ("
+                         + "; ".join(o.describe() for o in self.class_starts) + ")")
         if self.flags:
             lines.append(f"  flags: {self.flags.short()}")
+        for f in self.plausibility:
+            lines.append(f"  IMPLAUSIBLE: {f.message}")
         for k, v in self.values.items():
             lines.append(f"  {k:<34s} {v:12.5g} +/- {self.stderr.get(k, math.nan):.2g}")
         if self.effects:
@@ -411,6 +434,13 @@ class CalibrationResult:
             out.append(f"    start device       = {self.start_params.name or 'custom'} "
                        f"({'sized to the records' if self.start.get('sized') else 'as given'})")
             out.append(f"    start chosen       = {self.start.get('chosen', '')}")
+        if self.class_starts:
+            out.append(f"    device class       = {self.device_class}")
+            out += [f"      {o.describe()}" + (f" -- {o.reason}" if o.reason else "")
+                    for o in self.class_starts]
+        if self.plausibility:
+            out.append("[[Plausibility]]")
+            out += [f"    {f.kind}: {f.message}" for f in self.plausibility]
         out.append("[[Variables]]")
         at_bound = self.at_bounds()
         for p in self.spec.parameters:
@@ -499,6 +529,9 @@ class CalibrationResult:
             "warnings": list(self.warnings),
             "at_bounds": self.at_bounds(),
             "parameter_flags": self.flags.as_dict(),
+            "plausibility": [f.as_dict() for f in self.plausibility],
+            "device_class": {"chosen": self.device_class,
+                             "starts": [o.as_dict() for o in self.class_starts]},
             "summary": self.summary(),
             "start": dict(self.start),
             "parameters": self.parameters_dict(),

@@ -203,6 +203,7 @@ class Diagnosis:
                     "heldout_records": heldout_per_record(res),
                     "fit": d["fit"], "summary": d["summary"], "start": d["start"],
                     "parameter_flags": d["parameter_flags"], "records": d["records"],
+                    "plausibility": d["plausibility"], "device_class": d["device_class"],
                     "fit_warnings": d["warnings"]}
         fits = ([("baseline", self.baseline)]
                 + [(f"device: {s.effect}", s.result) for s in self.device_steps]

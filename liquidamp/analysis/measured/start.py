@@ -202,13 +202,15 @@ def first_harmonic_stiffness(record: Record) -> complex:
     return complex(k - w * w * m, w * c)
 
 
-def linear_fit(record: Record, b_L: float) -> tuple[float, float]:
+def linear_fit(record: Record, b_L: float,
+               stiffness: complex | None = None) -> tuple[float, float]:
     """k_D [N/m] and c [N s/m] of a spring in series with (dashpot c + inerter b_L).
 
     Solved from the record's first-harmonic dynamic stiffness
-    K* (:func:`first_harmonic_stiffness`): 1/K = 1/k_D + 1/Z, Z = i w c - w^2 b_L.
+    K* (:func:`first_harmonic_stiffness`), or from ``stiffness`` [N/m] when given (a
+    target at the record's frequency): 1/K = 1/k_D + 1/Z, Z = i w c - w^2 b_L.
     """
-    K = first_harmonic_stiffness(record)
+    K = first_harmonic_stiffness(record) if stiffness is None else complex(stiffness)
     w = 2 * math.pi * record.frequency
     W = 1.0 / K
     beta = w * w * b_L
@@ -220,11 +222,12 @@ def linear_fit(record: Record, b_L: float) -> tuple[float, float]:
     return k_D, c
 
 
-def physics_factors(records, params: DeviceParams,
-                    air=("inv_gamma1", "inv_gamma2")) -> tuple[float | None, float | None]:
+def physics_factors(records, params: DeviceParams, air=("inv_gamma1", "inv_gamma2"),
+                    targets=None) -> tuple[float | None, float | None]:
     """Common factors on the air ratios and on c1, c2 that match the records' K' and K''.
 
-    Each record's K* (:func:`first_harmonic_stiffness`) is solved for the
+    Each record's K* (:func:`first_harmonic_stiffness`; or ``targets``, one complex
+    stiffness [N/m] per record, the part of the loop the fluid is to carry) is solved for the
     linear device's k_D and c (:func:`linear_fit`, with the device's b_L).
     The air factor (on the ratios named in ``air``) makes the device's k_D
     (eq. 2 at p0) the geometric mean of the records' (bracketed in
@@ -247,8 +250,12 @@ def physics_factors(records, params: DeviceParams,
     from liquidamp.errors import LiquidampError
 
     kds, cs = [], []
-    for r in records:
-        k_D, c = linear_fit(r, params.b_L if params.S_t else 0.0)
+    targets = [None] * len(records) if targets is None else list(targets)
+    if len(targets) != len(records):
+        raise ParameterError(f"physics_factors: {len(targets)} target stiffnesses for "
+                             f"{len(records)} records (one per record)")
+    for r, K in zip(records, targets, strict=True):
+        k_D, c = linear_fit(r, params.b_L if params.S_t else 0.0, K)
         if math.isfinite(k_D) and k_D > 0 and c > 0:
             kds.append(k_D)
             cs.append((c, r))

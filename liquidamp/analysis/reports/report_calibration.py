@@ -277,6 +277,16 @@ def _start_section(res) -> list[str]:
     out.append(_table(rows, ["start", "NRMSE", "peak force model [N]",
                              "peak force measured [N]", "RMS ratio", "loss share model",
                              "loss share measured", "what was off", "error"]))
+    if res.class_starts:
+        out.append(f"<h3>Device class: {html.escape(res.device_class)}</h3><p>"
+                   f"{html.escape(str(st.get('device_class_rule', '')))}.</p>")
+        out.append(_table([[o.name, o.nrmse_calibration, o.nrmse_validation,
+                            _fmt(o.validation_records), o.k, o.bic,
+                            "yes" if o.admissible else "no", "chosen" if o.chosen else "",
+                            o.reason or o.error] for o in res.class_starts],
+                          ["start", "NRMSE calibration", "NRMSE validation",
+                           "validation per record", "parameters", "BIC (N_eff)",
+                           "held-out admissible", "", "read off the records"]))
     return out
 
 
@@ -322,6 +332,16 @@ def _verdict_section(final, diagnosis) -> list[str]:
         out.append(_table([[k, r.parameters] for k, r in refs.items()],
                           ["reference model", "parameters (SI)"]))
     return out
+
+
+def _plausibility_section(results, labels) -> list[str]:
+    """Fitted geometry the records cannot support, per fit (HTML parts; none: [])."""
+    rows = [[lab, f.kind, f.message] for res, lab in zip(results, labels, strict=True)
+            for f in res.plausibility]
+    if not rows:
+        return []
+    return ["<h2>Plausibility</h2><div class='warn'>", _table(rows, ["fit", "flag", "finding"]),
+            "</div>"]
 
 
 def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibration") -> Path:
@@ -383,6 +403,7 @@ def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibrat
              "periodic share", "energy per cycle [J]", "loss share", "samples per cycle",
              "max |stroke| [mm]", "outliers", "drift", "measured channels"]))
     parts += _start_section(first)
+    parts += _plausibility_section(results, labels)
     figs = [("records.png", plot_records(list(first.calibration) + list(first.validation)),
              "Records")]
     for role in ("calibration", "validation"):

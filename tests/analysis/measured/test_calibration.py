@@ -42,6 +42,16 @@ def test_recovers_table2_multipliers_from_paper_initial(fitted):
     assert d["fit"]["status"] == "converged"
 
 
+def test_fluid_record_keeps_the_fluid_start(fitted):
+    """Issue #19 item 4: the friction and viscous starts are tried and lose on a record of
+    the fluid device (Table 2 recovered above from the same fit)."""
+    assert fitted.device_class == "fluid"
+    by = {o.name: o for o in fitted.class_starts}
+    assert set(by) == {"fluid", "friction", "viscous"} and by["fluid"].chosen
+    assert by["fluid"].bic < min(by["friction"].bic, by["viscous"].bic)
+    assert fitted.plausibility == ()
+
+
 def test_physics_start_is_in_the_right_decade(records):
     s = physics_start([records[0]], preset("paper_initial"), FitSpec.default())
     assert 1.0 < s["c1"] < 10.0 and s["c1"] == s["c2"]

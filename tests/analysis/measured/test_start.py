@@ -191,7 +191,10 @@ def test_refusal_when_the_model_cannot_run():
     tiny = preset("paper_initial").replace(V01=5e-7, V02=5e-7)  # chamber end at 0.72 mm
     with pytest.raises(DataFileError, match="past the chamber end at 0.7234 mm"):
         calibrate([rec], params=tiny, sizing="preset")
-    res = calibrate([rec], params=tiny, warn=False, max_nfev=20)  # auto: sized to it
+    # the fluid start (auto sizing) is sized to it; device_class="fluid": with the class
+    # starts compared (default) the friction start, whose fluid is matched to K* less the
+    # friction, fits this dashpot record better after the cheap fits (0.0066)
+    res = calibrate([rec], params=tiny, warn=False, max_nfev=20, device_class="fluid")
     assert res.start["sized"] and res.start_trials[0].cause == "geometry"
     assert "could not be run" in res.start_trials[0].describe()
 
@@ -289,13 +292,17 @@ def test_unused_and_undetermined_parameters_are_flagged(paper):
 
 
 def test_real_friction_damper_starts_sized_and_warns_at_bounds(friction_damper_records):
-    """brfd30 0.5 Hz: ~12 kN at 12.7 mm is far from every liquid preset."""
+    """brfd30 0.5 Hz: ~12 kN at 12.7 mm is far from every liquid preset.
+
+    The fluid start alone (``device_class="fluid"``; by default the friction start wins,
+    tests/analysis/measured/test_device_class.py): sized, at bounds, and flagged as a fluid
+    device the record does not support."""
     from liquidamp.analysis.measured.records import read_record
 
     d = friction_damper_records
     cal = read_record(d / "brfd30_0.5Hz_0.5in_steady.csv")
     val = [read_record(d / f"brfd30_{f}_0.5in_steady.csv") for f in ("1Hz", "0.25Hz")]
-    res = calibrate([cal], validate=val, warn=False)
+    res = calibrate([cal], validate=val, warn=False, device_class="fluid")
     assert res.start["sized"] and res.start["force_scale"] > 50
     by = {t.label: t for t in res.start_trials}
     assert by["preset paper_initial"].cause == "scale"
@@ -306,3 +313,8 @@ def test_real_friction_damper_starts_sized_and_warns_at_bounds(friction_damper_r
     for name in at:  # never silently at a bound
         assert name in res.summary()
         assert any(name in w and "at a bound" in w for w in res.warnings)
+    # the impostor is named: a piston sized ~150x with its air ratios at their bound
+    kinds = [f.kind for f in res.plausibility]
+    assert "fluid_unsupported" in kinds and "IMPLAUSIBLE: piston" in res.summary()
+    f = res.plausibility[kinds.index("fluid_unsupported")]
+    assert f.values["piston_diameter [m]"] > 0.3

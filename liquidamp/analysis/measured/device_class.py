@@ -1,0 +1,642 @@
+"""Starts that find the device class: fluid, friction or viscous, chosen on the data.
+
+A calibration that starts from the fluid device alone can only explain a loop
+by the fluid: a friction damper's 13 kN rectangle is then drawn by a sized
+fluid device of a 338 mm piston, air ratios and losses at their bounds, and
+nothing afterwards finds the friction.  :func:`calibrate_by_class` therefore
+calibrates three structurally different starts cheaply, chooses one on the
+data (:func:`choose_start`) and continues only that one.
+
+The three starts (every number read off the records, :func:`read_loop`)
+    ``fluid``
+        The device sized to the records and its air ratios and losses matched
+        to the first-harmonic K', K'' (:mod:`~liquidamp.analysis.measured.start`;
+        the calibration as it always was).
+    ``friction``
+        A friction damper: smooth friction (LuGre/Dahl,
+        :class:`~liquidamp.device.effects.SmoothFriction`) with the loop's
+        friction level F_c, pre-sliding stiffness sigma0 = F_c / dy0 and a
+        parallel spring k read off the loop by least squares,
+        F ~ F0 + k (y - mean y) + F_c z(t), z the Dahl/LuGre (n = 1) bristle
+        state of pre-sliding stroke dy0 driven by the recorded stroke, dy0 on a
+        log grid (:func:`read_loop`: a slanted reversal is pre-sliding, a
+        sloped loop a spring, read but not part of the start: a parallel
+        spring is the ``elastomer`` effect's, which the diagnosis adds where
+        the residual asks for it).
+        Little fluid: the fluid device, similar to the sized one, is matched to
+        K' = K'' = the record's noise floor
+        (:func:`~liquidamp.analysis.measured.record_quality.noise_floor`, as an
+        NRMSE; :data:`FLUID_FLOOR` where lower) times |K*| (a linear loss: the
+        quadratic one at :data:`QUADRATIC_SHARE`): a fluid force at the noise
+        level is the most the record cannot resolve, and it keeps the device
+        model whole (pressures, chambers) for the effects the diagnosis may
+        add.  The fluid is held there: only the friction's parameters are
+        fitted (the start is a friction damper, not a fluid device in
+        disguise).  So a fluid
+        device with some friction is the fluid start's (the diagnosis adds the
+        friction), a friction damper the friction start's.
+    ``viscous``
+        A viscous damper with a force offset, F = c v + F0: the fluid device
+        matched to K = i K'' with a stiff air spring (K' at
+        :data:`VISCOUS_FLOOR`, 5 %, of |K*|: a dashpot's loop has no
+        stiffness, but its air cannot be rigid) and the quadratic loss at
+        :data:`QUADRATIC_SHARE` (5 %) of its describing-function damping (so
+        c = K'' / w is the linear loss, read off the first harmonic's loss
+        part), and a ``force_offset`` at the records' mean force F0.  Only c
+        (the c1 multiplier) and F0 are fitted: the start is the two-parameter
+        line F = c v + F0 in the family's terms, not a fluid device in disguise.
+
+Each start is calibrated with ``max_nfev`` :data:`START_NFEV` (its multipliers
+start at 1 on its own device, its effect parameters at the values read off);
+the chosen one is continued with the caller's budget (see below: only
+continued fits can win).
+
+The choice (:func:`choose_start`)
+    On the calibration records: the effective-sample BIC,
+    N_eff ln RSS + k ln N_eff, with N_eff from the residuals' correlation
+    times (:func:`~liquidamp.analysis.measured.selection.effective_samples`,
+    the smallest over the starts) and k the varied parameters (4 for the
+    fluid start, 2 for the friction and the viscous starts), so that the
+    parameters are paid for.  With validation records,
+    a start whose fit another start dominates -- predicts the pooled held-out
+    records better by more than :data:`HELD_OUT_TOLERANCE` (5 %) without being
+    worse by more than 5 % on any record, calibration or held-out -- cannot
+    win: no start wins that is worse held-out than one at least as good on
+    the calibration data.  A start better held-out by more than 5 % also wins
+    where the BIC leader's advantage on the calibration records is not
+    strong evidence (less than :data:`BIC_STRONG`, 10), and the fluid start
+    (the family's own) gives way only to a start that predicts the held-out
+    records at least as well and has positive evidence (BIC lower by more than
+    :data:`BIC_POSITIVE`, 2, or held-out better by 5 %).  Where the BIC
+    advantage is strong (a start better held-out but far worse on the
+    calibration record: one record does
+    not identify a fluid device's nonlinearity, and a start of another class
+    can extrapolate better by chance) the BIC leader stays and the result says
+    so (``start["held_out_note"]`` and a warning).  Only continued fits can win:
+    the BIC leader of the cheap fits and the fluid start (the family's own,
+    so that another class must beat it converged) are continued, then any
+    start whose cheap held-out NRMSE beats every continued fit's by more than
+    the tolerance.
+    The diagnosis can call :func:`choose_start` on any set of fits of the
+    same records.
+
+References
+----------
+.. [1] B. Titurus, AIAA J. 56(10), 2018, Sec. IV.C (friction F_f sign(v), 30 N).
+.. [2] C. Canudas de Wit, H. Olsson, K. J. Astrom, P. Lischinsky, "A new model for
+   control of systems with friction", IEEE TAC 40(3), 1995 (LuGre).
+.. [3] G. Schwarz, "Estimating the dimension of a model", Ann. Stat. 6(2), 1978 (BIC).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from liquidamp.analysis.measured.fit_spec import FitSpec
+from liquidamp.analysis.measured.plausibility import plausibility_flags
+from liquidamp.analysis.measured.record_quality import noise_floor
+from liquidamp.analysis.measured.selection import effective_samples
+from liquidamp.analysis.measured.start import (
+    first_harmonic_stiffness,
+    linear_stiffness,
+    physics_factors,
+    similar_device,
+    stroke_factor,
+)
+from liquidamp.device.effects import EFFECTS
+from liquidamp.device.params import DeviceParams
+from liquidamp.errors import ConvergenceError, ParameterError, PressureError
+
+__all__ = ["DEVICE_CLASSES", "FLUID_FLOOR", "VISCOUS_FLOOR", "QUADRATIC_SHARE", "START_NFEV",
+           "HELD_OUT_TOLERANCE", "BIC_STRONG", "BIC_POSITIVE", "DEFAULT_CLASS", "LoopReading",
+           "read_loop", "ClassStart",
+           "fluid_matched", "friction_start", "viscous_start", "StartOutcome", "choose_start",
+           "calibrate_by_class"]
+
+#: The structurally different starts, in the order they are tried.
+DEVICE_CLASSES = ("fluid", "friction", "viscous")
+#: Least share of |K*| the fluid keeps in the friction start (each of K', K''), where the
+#: record's noise floor (as an NRMSE) is lower [-].
+FLUID_FLOOR = 1e-3
+#: Share of |K*| in K' of the viscous start's target (a dashpot, but its air cannot be
+#: rigid), and least share in K'' [-].
+VISCOUS_FLOOR = 0.05
+#: Share of the quadratic loss in the viscous start's describing-function damping [-].
+QUADRATIC_SHARE = 0.05
+#: Evaluation budget of each start's cheap calibration.
+START_NFEV = 20
+#: Largest relative excess of a start's pooled held-out NRMSE over the best start's [-].
+HELD_OUT_TOLERANCE = 0.05
+#: BIC difference that is strong evidence on the calibration records (Kass and Raftery's
+#: "very strong", as the diagnosis's ``bic_threshold``) [-].
+BIC_STRONG = 10.0
+#: BIC difference that is positive evidence (Kass and Raftery): another class replaces the
+#: fluid start only beyond it (or better held-out) [-].
+BIC_POSITIVE = 2.0
+#: The family's own start.
+DEFAULT_CLASS = "fluid"
+_FRICTION = ("smooth_friction", "coulomb_friction")
+
+
+# ---------------------------------------------------------------------------
+# what the loop shows
+
+
+@dataclass(frozen=True)
+class LoopReading:
+    """What the calibration records' loops show (:func:`read_loop`), in SI.
+
+    Attributes
+    ----------
+    offset : float
+        F0, the centre line's force at the mean stroke [N].
+    stiffness : float
+        k, the centre line's slope [N/m].
+    friction : float
+        F_c, the friction level (module docstring) [N].
+    friction_source : str
+        ``"least squares on F0 + k y + F_c z"`` or ``"loss part (pi K'' Y / 4)"``.
+    presliding : float
+        dy0, the pre-sliding stroke F_c / sigma0 of the best description [m].
+    mean_force : float
+        Pooled mean force [N].
+    stiffnesses : tuple of complex
+        Each record's first-harmonic K* [N/m].
+    """
+
+    offset: float
+    stiffness: float
+    friction: float
+    friction_source: str
+    presliding: float
+    mean_force: float
+    stiffnesses: tuple
+
+    def as_dict(self) -> dict:
+        """JSON-ready (SI)."""
+        return {"offset [N]": self.offset, "stiffness [N/m]": self.stiffness,
+                "friction [N]": self.friction, "friction_source": self.friction_source,
+                "presliding_stroke [m]": None if math.isnan(self.presliding)
+                else self.presliding, "mean_force [N]": self.mean_force,
+                "K* [N/m]": [[K.real, K.imag] for K in self.stiffnesses]}
+
+
+def _bristle(record, deltas, passes: int = 2) -> np.ndarray:
+    """z(t) of Dahl/LuGre friction (n = 1, no Stribeck) of pre-sliding strokes ``deltas``
+    [m] driven by the record's velocity, one row per delta [-]: dz/dy = (sign v - z) / delta,
+    exact for a velocity held over each sample; the last of ``passes`` passes (the first
+    from z = 0)."""
+    v = record.velocity
+    dy = np.abs(v) * np.gradient(record.time)
+    sv = np.sign(v)
+    decay = np.exp(-dy[None, :] / np.asarray(deltas, float)[:, None])
+    z = np.zeros(len(deltas))
+    out = np.empty((len(deltas), v.size))
+    for _ in range(passes):
+        for i in range(v.size):
+            z = sv[i] + (z - sv[i]) * decay[:, i]
+            out[:, i] = z
+    return out
+
+
+def read_loop(records) -> LoopReading:
+    """Friction level, pre-sliding stroke, centre line and K* of ``records`` (module doc).
+
+    The loop is described by least squares as F ~ F0 + k (y - mean y) + F_c z(t), z the
+    state of Dahl/LuGre friction (n = 1) of pre-sliding stroke dy0 driven by the recorded
+    stroke (:func:`_bristle`), for dy0 on a log grid from 1e-3 to 1 times the stroke
+    amplitude; the dy0 of the least residual wins (a friction damper's slanted reversal is
+    its pre-sliding, a parallel spring is k).  Where F_c is not positive, F_c is the Coulomb
+    level pi K'' Y / 4 of the loop's loss part.
+
+    Examples
+    --------
+    >>> from liquidamp.analysis.measured.records import Record
+    >>> t = np.arange(0, 4.0, 0.002)
+    >>> y = 0.01 * np.sin(2 * np.pi * t)
+    >>> F = 200.0 + 1e4 * y + 500.0 * np.tanh(np.gradient(y, t) / 1e-3)
+    >>> L = read_loop([Record.from_arrays(t, y, F)])
+    >>> round(L.friction, -1), round(L.stiffness, -3), round(L.offset)   # tanh, not Dahl
+    (500.0, 8000.0, 200)
+    """
+    records = tuple(records)
+    Y = max(r.stroke_scale for r in records)
+    deltas = np.geomspace(1e-3 * Y, Y, 31)
+    zs = [_bristle(r, deltas) for r in records]
+    ys = np.concatenate([r.displacement - r.offset for r in records])
+    F = np.concatenate([r.force for r in records])
+    best = None
+    for j, d in enumerate(deltas):
+        X = np.column_stack((np.ones_like(ys), ys, np.concatenate([z[j] for z in zs])))
+        coef, *_ = np.linalg.lstsq(X, F, rcond=None)
+        rss = float(np.sum((X @ coef - F) ** 2))
+        if best is None or rss < best[0]:
+            best = (rss, d, coef)
+    _, dy0, (F0, k, Fc) = best
+    Ks = tuple(first_harmonic_stiffness(r) for r in records)
+    source = "least squares on F0 + k y + F_c z"
+    if not Fc > 0:
+        Fc = float(np.mean([math.pi * K.imag * r.stroke_scale / 4.0
+                            for K, r in zip(Ks, records, strict=True)]))
+        source = "loss part (pi K'' Y / 4)"
+    return LoopReading(float(F0), float(k), float(max(Fc, 0.0)), source, float(dy0),
+                       float(np.mean(F)), Ks)
+
+
+# ---------------------------------------------------------------------------
+# the starts
+
+
+@dataclass(frozen=True)
+class ClassStart:
+    """A structurally different start: device, effects, what varies, what was read."""
+
+    name: str
+    params: DeviceParams
+    effects: tuple
+    spec: FitSpec | None
+    reason: str
+
+
+def fluid_matched(reference: DeviceParams, records, targets,
+                  quadratic_share: float | None = None) -> tuple[DeviceParams, str]:
+    """A device similar to ``reference`` whose linear model carries ``targets`` (one
+    complex K [N/m] per record): the force factor rho matches |K| (geometric mean over
+    the records, eq. 16 with inertia), then the air ratios and losses match K', K''
+    (:func:`~liquidamp.analysis.measured.start.physics_factors`).  ``quadratic_share``
+    sets c2 so that the quadratic loss is that share of the damping c_eq first; an
+    inertance b_L beyond what the target allows (w^2 b_L > 1 / (2 |Im 1/K|), where the
+    series spring-dashpot-inertance has no solution) is brought to half that bound."""
+    Ys = [r.stroke_scale for r in records]
+    ref = [linear_stiffness(reference, r.frequency, Y) for r, Y in zip(records, Ys,
+                                                                      strict=True)]
+    rho = float(np.exp(np.mean([math.log(abs(K) / abs(R))
+                                for K, R in zip(targets, ref, strict=True)])))
+    p, _ = similar_device(reference, force=rho)
+    how = [f"force x{rho:.3g}"]
+    if quadratic_share is not None:
+        Q = float(np.mean([p.A_p * 2 * math.pi * r.frequency * Y
+                           for r, Y in zip(records, Ys, strict=True)]))
+        quad = 8.0 / (3.0 * math.pi) * p.c2 * Q
+        if quad > 0:
+            f2 = quadratic_share / (1 - quadratic_share) * p.c1 / quad
+            p = p.scaled(c2=f2)
+            how.append(f"c2 x{f2:.3g} (quadratic loss {quadratic_share:.0%} of c_eq)")
+    # the channel's inertance in series makes K' negative beyond w^2 b_L = 1 / (2 |Im 1/K|)
+    # (linear_fit has no solution there): a larger one is brought to half that bound
+    f_in = min(1.0 / (2.0 * abs((1.0 / K).imag)) / ((2 * math.pi * r.frequency) ** 2 * p.b_L)
+               for K, r in zip(targets, records, strict=True)) if p.b_L > 0 else math.inf
+    if f_in < 1.0:
+        p = p.scaled(S_t=0.5 * f_in)
+        how.append(f"S_t x{0.5 * f_in:.3g} (inertance within K*)")
+    f_air, f_loss = physics_factors(records, p, targets=targets)
+    mult = {**(dict.fromkeys(("inv_gamma1", "inv_gamma2"), f_air) if f_air else {}),
+            **(dict.fromkeys(("c1", "c2"), f_loss) if f_loss else {})}
+    if mult:
+        p = p.scaled(**mult)
+    how += ([f"air x{f_air:.3g}"] if f_air else []) + ([f"losses x{f_loss:.3g}"]
+                                                        if f_loss else [])
+    return p, ", ".join(how)
+
+
+def _reference(base: DeviceParams, records) -> DeviceParams:
+    """The starting device with its chambers stretched so the stroke uses at most half."""
+    return similar_device(base, stroke=stroke_factor(records, base))[0]
+
+
+def friction_start(base: DeviceParams, effects, records, reading: LoopReading) -> ClassStart:
+    """The friction damper start (module docstring): smooth friction at the loop's level,
+    a fluid held at the record's noise floor."""
+    Fc = max(reading.friction, 1e-3)
+    dy0 = reading.presliding
+    lo, hi = EFFECTS["smooth_friction"].bounds["stiffness_N_per_m"]
+    sigma0 = min(max(Fc / dy0, lo), hi)
+    present = {e.name: e for e in effects}
+    name = next((n for n in _FRICTION if n in present), "smooth_friction")
+    fr = present.get(name) or EFFECTS[name]()
+    fr = fr.replace(force_N=Fc, **({"stiffness_N_per_m": sigma0}
+                                    if name == "smooth_friction" else {}))
+    targets = []
+    for K, r in zip(reading.stiffnesses, records, strict=True):
+        floor = max(noise_floor(r).nrmse, FLUID_FLOOR) * abs(K)
+        targets.append(complex(floor, floor))
+    p, how = fluid_matched(_reference(base, records), records, targets,
+                           quadratic_share=QUADRATIC_SHARE)
+    p = p.replace(name=f"{base.name or 'device'} friction start ({how})")
+    effs = tuple(fr if e.name == name else e for e in effects) + (
+        () if name in present else (fr,))
+    # a friction damper's parameters: the friction's; the fluid held
+    spec = FitSpec.default(vary=(), effects=effs)
+    why = (f"{name} {Fc:.4g} N ({reading.friction_source})"
+           + (f", sigma0 {sigma0:.3g} N/m (pre-sliding stroke {dy0 * 1e3:.3g} mm)"
+              if name == "smooth_friction" else "")
+           + f"; little fluid: K' and K'' at the noise floor, held ({how})")
+    return ClassStart("friction", p, effs, spec, why)
+
+
+def viscous_start(base: DeviceParams, effects, records, reading: LoopReading) -> ClassStart:
+    """The viscous damper with a force offset (module docstring)."""
+    targets = []
+    for K in reading.stiffnesses:
+        floor = VISCOUS_FLOOR * abs(K)
+        targets.append(complex(floor, max(K.imag, floor)))  # a dashpot: K' at the floor
+    p, how = fluid_matched(_reference(base, records), records, targets,
+                           quadratic_share=QUADRATIC_SHARE)
+    p = p.replace(name=f"{base.name or 'device'} viscous start ({how})")
+    present = {e.name: e for e in effects}
+    off = (present.get("force_offset") or EFFECTS["force_offset"]()).replace(
+        offset_N=reading.mean_force)
+    effs = tuple(off if e.name == "force_offset" else e for e in effects) + (
+        () if "force_offset" in present else (off,))
+    c = [K.imag / (2 * math.pi * r.frequency) for K, r in zip(reading.stiffnesses, records,
+                                                             strict=True)]
+    why = (f"linear loss c = K''/w ({', '.join(f'{x:.4g}' for x in c)} N s/m), "
+           f"offset {reading.mean_force:.4g} N ({how})")
+    # a viscous damper's two parameters, c and F0: the air and the quadratic loss held
+    return ClassStart("viscous", p, effs, FitSpec.default(vary=("c1",), effects=effs), why)
+
+
+# ---------------------------------------------------------------------------
+# the choice
+
+
+@dataclass(frozen=True)
+class StartOutcome:
+    """One start's cheap calibration and how :func:`choose_start` judged it.
+
+    Attributes
+    ----------
+    name : str
+        ``"fluid"``, ``"friction"`` or ``"viscous"`` (or any label).
+    reason : str
+        What the start was read off.
+    nrmse_calibration, nrmse_validation : float or None
+        Pooled NRMSE [-] (None: the start could not be calibrated).
+    validation_records : dict
+        Record label -> held-out NRMSE [-].
+    k : int
+        Varied parameters.
+    bic : float or None
+        N_eff ln RSS + k ln N_eff on the calibration records [-].
+    admissible : bool
+        Not dominated by another start (:func:`choose_start`).
+    chosen : bool
+    nfev : int
+        Model evaluations of its cheap calibration.
+    error : str
+        Why it could not be calibrated ('' when it was).
+    continued : bool
+        Its fit was continued with the full budget (its figures are the continued
+        fit's).
+    """
+
+    name: str
+    reason: str
+    nrmse_calibration: float | None = None
+    nrmse_validation: float | None = None
+    validation_records: dict = dataclasses.field(default_factory=dict)
+    k: int = 0
+    bic: float | None = None
+    admissible: bool = True
+    chosen: bool = False
+    nfev: int = 0
+    error: str = ""
+    continued: bool = False
+
+    def describe(self) -> str:
+        """'friction: calibration 0.21, validation 0.25 (chosen)'."""
+        if self.nrmse_calibration is None:
+            return f"{self.name}: failed ({self.error})"
+        nv = ("" if self.nrmse_validation is None
+              else f", validation {self.nrmse_validation:.3g}")
+        tag = " (chosen)" if self.chosen else ("" if self.admissible
+                                               else " (dominated)")
+        cheap = "" if self.continued else " after the cheap fit"
+        return f"{self.name}: calibration {self.nrmse_calibration:.3g}{nv}{cheap}{tag}"
+
+    def as_dict(self) -> dict:
+        """JSON-ready."""
+        return dataclasses.asdict(self)
+
+
+def _dominates(b, a, tolerance: float) -> bool:
+    """Fit ``b`` predicts the held-out records better than ``a`` by more than ``tolerance``
+    (pooled) and is not worse by more than it on any record, calibration or held-out."""
+    if a.nrmse_validation is None or b.nrmse_validation is None:
+        return False
+    ea = {(e.role, e.label): e.nrmse for e in a.record_errors}
+    eb = {(e.role, e.label): e.nrmse for e in b.record_errors}
+    return (b.nrmse_validation * (1 + tolerance) < a.nrmse_validation
+            and all(eb[k] <= (1 + tolerance) * v for k, v in ea.items() if k in eb))
+
+
+def choose_start(fits: dict, tolerance: float = HELD_OUT_TOLERANCE,
+                 reasons: dict | None = None, eligible=None) -> tuple[str, tuple, str]:
+    """The start to continue among calibrations of the same records (module docstring).
+
+    Among the eligible fits that no other dominates (better on the pooled held-out
+    records by more than ``tolerance`` and not worse by more than ``tolerance`` on any
+    record, calibration or held-out), the lowest effective-sample BIC on the calibration
+    records leads.  A fit better held-out than the leader by more than ``tolerance``
+    wins instead where the leader's BIC is lower by less than :data:`BIC_STRONG` (the
+    calibration records hold no strong evidence; the best held-out of those wins);
+    where it is lower by more, the records disagree, the leader stays and the returned
+    note says so.  A choice of another class than :data:`DEFAULT_CLASS` (the fluid start,
+    when it is eligible and not dominated) gives way to the fluid start where it predicts
+    the held-out records worse than the fluid start (at all), or where its BIC is lower
+    than the fluid start's by less than :data:`BIC_POSITIVE` (2, no positive evidence)
+    and it does not predict the held-out records better by more than ``tolerance``.
+
+    Parameters
+    ----------
+    fits : dict
+        Name -> :class:`~liquidamp.analysis.measured.calibration_result.CalibrationResult`
+        (same calibration and validation records), or the exception its fit raised.
+    tolerance : float
+        Relative tolerance on the NRMSE [-] (``math.inf``: the calibration BIC alone).
+    reasons : dict, optional
+        Name -> what the start was read off (copied into the outcomes).
+    eligible : collection of str, optional
+        The names that may win (default: every fit); the others are judged and reported
+        only.
+
+    Returns
+    -------
+    (str, tuple of StartOutcome, str)
+        The chosen name, every start's outcome and a note ('' or where the records
+        disagree).
+
+    Raises
+    ------
+    ConvergenceError
+        When no start could be calibrated (every error named).
+    ParameterError
+        A negative or NaN ``tolerance``, or no eligible fit.
+    """
+    if math.isnan(tolerance) or tolerance < 0:
+        raise ParameterError(f"choose_start: tolerance must be a number >= 0 [-], "
+                             f"got {tolerance!r}")
+    reasons = reasons or {}
+    ok = {n: r for n, r in fits.items() if not isinstance(r, BaseException)}
+    if not ok:
+        raise ConvergenceError("calibration: no start could be calibrated: " + "; ".join(
+            f"{n}: {e}" for n, e in fits.items()))
+    can = [n for n in ok if eligible is None or n in eligible]
+    if not can:
+        raise ParameterError(f"choose_start: no eligible fit among {sorted(ok)} "
+                             f"(eligible: {sorted(eligible)})")
+    res = {n: r.residuals("calibration") for n, r in ok.items()}
+    n_eff = min(effective_samples(v)[0] for v in res.values())
+    bic = {n: n_eff * math.log(max(sum(float(np.sum(x * x)) for x in v), 1e-300))
+           + len(ok[n].varying) * math.log(n_eff) for n, v in res.items()}
+    dominated = {n: any(_dominates(ok[m], ok[n], tolerance) for m in can if m != n)
+                 for n in ok}
+    free = [n for n in can if not dominated[n]]
+    leader = min(free, key=lambda n: bic[n])
+    r0 = ok[leader]
+    better = [m for m in free if m != leader and r0.nrmse_validation is not None
+              and ok[m].nrmse_validation * (1 + tolerance) < r0.nrmse_validation]
+    weak = [m for m in better if bic[m] - bic[leader] < BIC_STRONG]
+    chosen, note = leader, ""
+    if weak:  # the calibration records do not hold strong evidence: the held-out decide
+        chosen = min(weak, key=lambda n: ok[n].nrmse_validation)
+        note = (f"the held-out records decide: the {chosen} start predicts them better "
+                f"({ok[chosen].nrmse_validation:.3g} against {r0.nrmse_validation:.3g}) and "
+                f"the {leader} start's lower effective-sample BIC on the calibration records "
+                f"is not strong evidence ({bic[chosen] - bic[leader]:.3g} < {BIC_STRONG:g})")
+    elif better:
+        m = min(better, key=lambda n: ok[n].nrmse_validation)
+        note = (f"the records disagree: the {m} start predicts the held-out records better "
+                f"({ok[m].nrmse_validation:.3g} against {r0.nrmse_validation:.3g}) but the "
+                f"{leader} start fits the calibration records better ({r0.nrmse_calibration:.3g} "
+                f"against {ok[m].nrmse_calibration:.3g}) with strong evidence (effective-"
+                f"sample BIC {bic[leader]:.4g} against {bic[m]:.4g}, more than {BIC_STRONG:g} "
+                "lower)")
+    if chosen != DEFAULT_CLASS and DEFAULT_CLASS in free:
+        f, c = ok[DEFAULT_CLASS], ok[chosen]
+        worse = (c.nrmse_validation is not None
+                 and c.nrmse_validation > f.nrmse_validation)
+        weak_bic = bic[DEFAULT_CLASS] - bic[chosen] < BIC_POSITIVE and not (
+            c.nrmse_validation is not None
+            and c.nrmse_validation * (1 + tolerance) < f.nrmse_validation)
+        if worse or weak_bic:  # the family's own start gives way on evidence only
+            note = (f"the {chosen} start " + (
+                f"predicts the held-out records worse than the {DEFAULT_CLASS} start "
+                f"({c.nrmse_validation:.3g} against {f.nrmse_validation:.3g})" if worse else
+                f"has no positive evidence over the {DEFAULT_CLASS} start (BIC lower by "
+                f"{bic[DEFAULT_CLASS] - bic[chosen]:.3g} < {BIC_POSITIVE:g}, held-out not "
+                f"better by {tolerance:.0%})") + f": the {DEFAULT_CLASS} start is kept")
+            chosen = DEFAULT_CLASS
+    out = []
+    for n, r in fits.items():
+        if isinstance(r, BaseException):
+            out.append(StartOutcome(n, reasons.get(n, ""), admissible=False,
+                                    error=f"{type(r).__name__}: {r}"))
+            continue
+        out.append(StartOutcome(
+            n, reasons.get(n, ""), r.nrmse_calibration, r.nrmse_validation,
+            {e.label: e.nrmse for e in r.record_errors if e.role == "validation"},
+            len(r.varying), bic[n], not dominated[n], n == chosen, r.nfev))
+    return chosen, tuple(out), note
+
+
+def calibrate_by_class(fit, records, validate, *, params: DeviceParams, effects, sizing: str,
+                       max_nfev: int, classes=DEVICE_CLASSES, **kwargs):
+    """Calibrate each start of ``classes`` cheaply, continue the one chosen (module doc).
+
+    ``fit`` is :func:`~liquidamp.analysis.measured.calibration.calibrate` (passed in, so
+    this module does not import it); ``kwargs`` go to every fit (model, options, preroll,
+    tol, outliers).  Returns the continued fit with ``device_class`` and ``class_starts``
+    set and every start's figures in ``start["classes"]``.
+    """
+    records, validate, effects = tuple(records), tuple(validate), tuple(effects)
+    cheap = min(START_NFEV, max_nfev) if len(classes) > 1 else max_nfev
+    common = dict(validate=validate, warn=False, **kwargs)
+    reading = read_loop(records)
+    fits, reasons = {}, {}
+    for name in classes:
+        if name == "fluid":  # first: a record the data checks refuse is refused here
+            reasons[name] = "the device sized to the records, air and losses from K', K''"
+            try:
+                fits[name] = fit(records, params=params, effects=effects, spec=None,
+                                 start="physics", sizing=sizing, max_nfev=cheap,
+                                 device_class="fluid", **common)
+            except ConvergenceError as exc:  # no fluid start can be used: try the others
+                if len(classes) == 1:
+                    raise
+                fits[name] = exc
+            continue
+        try:
+            make = friction_start if name == "friction" else viscous_start
+            st = make(params, effects, records, reading)
+            reasons[name] = st.reason
+            fits[name] = fit(records, params=st.params, effects=st.effects, spec=st.spec,
+                             start="spec", sizing="preset", max_nfev=cheap,
+                             device_class=name, **common)
+        except (ConvergenceError, PressureError, ParameterError, ValueError,
+                FloatingPointError) as exc:
+            if len(classes) == 1:
+                raise
+            fits[name] = exc
+    if all(isinstance(r, BaseException) for r in fits.values()) and isinstance(
+            fits.get("fluid"), ConvergenceError):
+        raise ConvergenceError(f"{fits['fluid']}; the friction and viscous starts failed "
+                               "too: " + "; ".join(f"{n}: {e}" for n, e in fits.items()
+                                                   if n != "fluid"))
+    nfev = sum(r.nfev for r in fits.values() if not isinstance(r, BaseException))
+    # the BIC leader of the cheap fits is continued; a start whose cheap held-out error
+    # beats every continued fit's by more than the tolerance is continued too; the choice is
+    # then made among the continued fits (cheap fits are not converged: they cannot win)
+    pool, cont = dict(fits), {}
+
+    def extend(name):
+        nonlocal nfev
+        r = fits[name]
+        if not r.converged and len(classes) > 1:
+            r = fit(records, params=r.start_params, effects=r.effects, spec=r.spec,
+                    start="spec", sizing="preset", max_nfev=max_nfev, device_class=name,
+                    **common)
+            nfev += r.nfev
+        cont[name] = pool[name] = r
+
+    extend(choose_start(fits, math.inf)[0])
+    if "fluid" in fits and "fluid" not in cont and not isinstance(fits["fluid"], BaseException):
+        extend("fluid")  # the family's own start is judged converged, never cheap
+    while validate:
+        best = min(r.nrmse_validation for r in cont.values())
+        rivals = {n: r for n, r in fits.items() if n not in cont
+                  and not isinstance(r, BaseException)
+                  and r.nrmse_validation * (1 + HELD_OUT_TOLERANCE) < best}
+        if not rivals:
+            break
+        extend(choose_start(rivals, math.inf)[0])
+    chosen, outcomes, note = choose_start(pool, reasons=reasons, eligible=tuple(cont))
+    outcomes = tuple(dataclasses.replace(o, continued=o.name in cont) for o in outcomes)
+    first, final = fits[chosen], cont[chosen]
+    others = "; ".join(o.describe() for o in outcomes if not o.chosen)
+    start = {**first.start, "device_class": chosen,
+             "device_class_rule": (
+                 f"each start calibrated with max_nfev {cheap}; the leader by effective-"
+                 "sample BIC on the calibration records continued, and any start better "
+                 f"held-out than it by over {HELD_OUT_TOLERANCE:.0%}; of those not "
+                 "dominated (better held-out without losing on a record), the lowest BIC, "
+                 f"unless one better held-out is within {BIC_STRONG:g} of it"),
+             **({"held_out_note": note} if note else {}),
+             "loop": reading.as_dict(),
+             "classes": [o.as_dict() for o in outcomes]}
+    warns = [w for w in final.warnings if not w.startswith("implausible: ")]
+    if len(classes) > 1:
+        warns.append(f"device class: the {chosen} start was chosen ({reasons[chosen]}); "
+                     f"others: {others}" + (f"; {note}" if note else ""))
+    plaus = plausibility_flags(final.params, final.effects, records,
+                               force_scale=float(first.start.get("force_scale", 1.0)),
+                               at_bound=final.flags.at_bound)
+    warns += [f"implausible: {f.message}" for f in plaus]
+    return dataclasses.replace(final, nfev=nfev, start=start, device_class=chosen,
+                               plausibility=plaus,
+                               class_starts=outcomes, warnings=tuple(warns),
+                               start_trials=first.start_trials, starts=first.starts)
