@@ -162,14 +162,20 @@ def test_a_device_outside_the_family_loses_to_the_line_and_says_so_first():
         return Record.from_arrays(t, y + rng.normal(0, 2e-6, t.size),
                                   2e5 * y + 60.0 * np.tanh(v / 0.002)
                                   + rng.normal(0, 1.5, t.size), source=f"sf_{f:g}Hz.csv")
-    r = calibrate([rec(3.0, 0.003, 1)], validate=[rec(1.0, 0.002, 2)], warn=False,
-                  max_nfev=40)
+    cal, val = [rec(3.0, 0.003, 1)], [rec(1.0, 0.002, 2)]
+    # the fluid device alone (the class the starts would not choose here) loses and says so
+    r = calibrate(cal, validate=val, warn=False, max_nfev=40, device_class="fluid")
     line = r.references["line"]
     assert line.parameters["k [N/m]"] == pytest.approx(2e5, rel=0.1)
     assert line.validation_of("sf_1Hz") < 0.5 * r.heldout_records()["sf_1Hz"]
     assert r.summary().startswith("PHYSICS MODEL LOSES TO THE LINE")
     assert r.as_dict()["physics_loses_to_line"]
     assert set(r.as_dict()["reference_models"]) == {"line", "two_slope"}
+    # by default the starts find the friction class, which predicts the held-out record
+    # better than the fluid device
+    auto = calibrate(cal, validate=val, warn=False, max_nfev=40)
+    assert auto.device_class == "friction"
+    assert auto.heldout_records()["sf_1Hz"] < 0.5 * r.heldout_records()["sf_1Hz"]
 
 
 def test_a_channel_unlike_the_presets_is_a_device_parameter_not_an_effect():
