@@ -29,6 +29,8 @@ PHYSICAL = {  # option -> (a value with a unit, its value in the option's base u
     "--t-end": ("1min", 60.0),
     "--force-filter": ("0.03kHz", 30.0),
     "--zeta": ("5%", 0.05),
+    "--degradation": ("50%", 0.5),
+    "--lag-damping": ("4.0675kN m s/rad", 4067.5),
 }
 DIMENSIONLESS = {"--speeds", "--k", "--harmonics", "--rtol"}
 NAMES = {"--preset", "--model", "--effect", "--engine", "--compiled-method", "--method",
@@ -36,7 +38,7 @@ NAMES = {"--preset", "--model", "--effect", "--engine", "--compiled-method", "--
          "--average", "--vary", "--cases", "--decimate"}
 FILES = {"--json", "--plot", "--out", "--report", "--save-device", "--device", "--validate"}
 COUNTS = {"--window", "--order", "--max-nfev", "--max-steps", "--top", "--repeats",
-          "--inoperative"}
+          "--inoperative", "--blade"}
 
 
 def parsers() -> dict:

@@ -243,14 +243,45 @@ def map_dampers(rotor, parameter: str, values, *, blade: int = 1, inoperative=()
     return D
 
 
-@functools.lru_cache(maxsize=4)
+#: Azimuth nodes at which a rotor's coefficients are evaluated at least (coarser grids are
+#: every k-th node of it): 4 x 512, the step count the default tolerances need for Hammond's.
+_MIN_NODES = 2048
+
+
 def _basis(rotor, nodes: int):
     """Coefficient nodes of the undamped rotor and each blade's damper column.
 
     Returns ``B`` (nodes, 3, r, n) (lower half of ``A0, A1, A2``), ``G``
     (nodes, N, r) and ``cols`` (N,): ``A0 += sum_k c_k G_k`` in column
-    ``cols[k]``.  Checked: the dampers enter nowhere else.
+    ``cols[k]``.  Checked: the dampers enter nowhere else.  Evaluated once on
+    a fine grid (at least :data:`_MIN_NODES`); a coarser grid that divides it
+    is a slice of it.
     """
+    try:
+        fine = _basis_fine(rotor, _fine_nodes(nodes))
+    except TypeError:  # unhashable rotor
+        fine = _basis_eval(rotor, _fine_nodes(nodes))
+    B, G, cols = fine
+    k = B.shape[0] // nodes
+    if k == 1:
+        return fine
+    return np.ascontiguousarray(B[::k]), np.ascontiguousarray(G[::k]), cols
+
+
+def _fine_nodes(nodes: int) -> int:
+    nodes = int(nodes)
+    if nodes < 1:
+        raise ParameterError(f"azimuth nodes must be >= 1, got {nodes}")
+    fine = max(nodes, _MIN_NODES)
+    return fine if fine % nodes == 0 else nodes
+
+
+@functools.lru_cache(maxsize=4)
+def _basis_fine(rotor, nodes: int):
+    return _basis_eval(rotor, nodes)
+
+
+def _basis_eval(rotor, nodes: int):
     N = rotor.n_blades
     psi = np.arange(nodes) * (2.0 * math.pi / nodes)
     A_zero = _RotorCoefficients(rotor.with_lag_dampers([0.0] * N))(psi)
@@ -378,7 +409,8 @@ def ground_resonance_map(rotor, Omega, parameter: str, values, *, blade: int = 1
     if ex is not None and ex != "serial" and not hasattr(ex, "submit"):
         raise ParameterError(f"executor must be None, 'serial' or have a submit() method, got "
                              f"{type(ex).__name__}")
-    N = opts.steps or _choose_steps(rotor, W, D[sorted({0, D.shape[0] // 2, D.shape[0] - 1})],
+    probe = np.unique(np.linspace(0, W.size - 1, min(W.size, 51)).round().astype(int))
+    N = opts.steps or _choose_steps(rotor, W[probe], D[sorted({0, D.shape[0] - 1})],
                                     opts.floquet or FloquetOptions())
     N = int(N)
     from liquidamp.analysis.stability.parallel import _Progress
