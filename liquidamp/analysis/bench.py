@@ -81,7 +81,7 @@ __all__ = ["run_bench", "GOALS", "CASES"]
 
 CASES = ("steady_state_loop", "calibration", "floquet_sweep", "coupled_rotor", "diagnosis",
          "stiffness_sweep", "diagnosis_hidden_effects", "diagnosis_3khz_20s",
-         "diagnosis_200hz_10_cycles", "dual_frequency")
+         "diagnosis_200hz_10_cycles", "dual_frequency", "stability_map", "stability_map_dask")
 
 #: The issue's goals: case -> (quantity, comparison, target).
 GOALS = {
@@ -99,6 +99,8 @@ GOALS = {
                                   ("seconds_freeplay", "<", 3.0),
                                   ("seconds_series_compliance", "<", 3.0)],
     "dual_frequency": [("seconds", "<", 0.05)],
+    "stability_map": [("seconds", "<", 30.0)],
+    "stability_map_dask": [("parallel_efficiency", ">=", 0.8)],
     "first_call": [("cold_cache_seconds", "<", 10.0)],
 }
 
@@ -694,7 +696,16 @@ _RUNNERS = {"steady_state_loop": _case_steady, "calibration": _case_calibration,
             "diagnosis_hidden_effects": _case_hidden_effects,
             "diagnosis_3khz_20s": _real_rates("diagnosis_3khz_20s"),
             "diagnosis_200hz_10_cycles": _real_rates("diagnosis_200hz_10_cycles"),
-            "dual_frequency": _case_dual_frequency}
+            "dual_frequency": _case_dual_frequency,
+            "stability_map": lambda q, r: _bench_maps().case_map(q, r),
+            "stability_map_dask": lambda q, r: _bench_maps().case_map_dask(q, r)}
+
+
+def _bench_maps():
+    """The stability-map cases (:mod:`liquidamp.analysis.bench_maps`), imported on use."""
+    from liquidamp.analysis import bench_maps
+
+    return bench_maps
 
 # ------------------------------------------------------------ first calls
 _FIRST_CALL_CODE = {

@@ -281,11 +281,44 @@ def _basis_fine(rotor, nodes: int):
     return _basis_eval(rotor, nodes)
 
 
+def _first_order_grid(rotor, psi: np.ndarray) -> np.ndarray:
+    """``A(Omega, psi) = A0 + Omega A1 + Omega^2 A2`` on the azimuths ``psi``, (m, 3, 2n, 2n).
+
+    The same first-order form as :class:`~liquidamp.analysis.stability.ground_resonance.
+    _RotorCoefficients`, evaluated at once on the whole grid from the rotor's
+    first-harmonic matrices (:meth:`GroundResonanceRotor.harmonic_second_order`
+    at Omega = 0, 1, 2; exact: M does not depend on Omega, C is linear and K
+    quadratic in it); checked against it at two azimuths.
+    """
+    c, s = np.cos(psi)[:, None, None], np.sin(psi)[:, None, None]
+    H = [rotor.harmonic_second_order(w) for w in (0.0, 1.0, 2.0)]
+    M = H[0][0] + H[0][1] * c + H[0][2] * s
+    CK = [[h[3] + h[4] * c + h[5] * s, h[6] + h[7] * c + h[8] * s] for h in H]
+    Minv = np.linalg.inv(M)
+    n = M.shape[1]
+    A = np.zeros((psi.size, 3, 2 * n, 2 * n))
+    A[:, 0, :n, n:] = np.eye(n)
+    for k in range(2):  # 0: C, 1: K
+        X0, X1, X2 = CK[0][k], CK[1][k], CK[2][k]
+        c2 = 0.5 * (X2 - 2.0 * X1 + X0)
+        for j, X in enumerate((X0, X1 - X0 - c2, c2)):
+            if k == 0:
+                A[:, j, n:, n:] = -Minv @ X
+            else:
+                A[:, j, n:, :n] = -Minv @ X
+    probe = [0, psi.size // 3] if psi.size > 1 else [0]
+    ref = _RotorCoefficients(rotor)._evaluate(psi[probe])
+    if not np.allclose(A[probe], ref, rtol=1e-10, atol=1e-10 * np.abs(ref).max()):
+        raise ConvergenceError("the rotor's harmonic matrices do not reproduce its periodic "
+                               "coefficients; the map kernel does not apply")
+    return A
+
+
 def _basis_eval(rotor, nodes: int):
     N = rotor.n_blades
     psi = np.arange(nodes) * (2.0 * math.pi / nodes)
-    A_zero = _RotorCoefficients(rotor.with_lag_dampers([0.0] * N))(psi)
-    A_one = _RotorCoefficients(rotor.with_lag_dampers([1.0] * N))(psi)
+    A_zero = _first_order_grid(rotor.with_lag_dampers([0.0] * N), psi)
+    A_one = _first_order_grid(rotor.with_lag_dampers([1.0] * N), psi)
     n = A_zero.shape[-1]
     r0 = n // 2
     want = np.zeros((n, n))
