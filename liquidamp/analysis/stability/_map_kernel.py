@@ -22,8 +22,8 @@ from numba import njit, prange
 
 __all__ = ["LANES", "monodromies", "monodromies_parallel"]
 
-#: Points integrated together (one SIMD register of doubles on AVX-512).
-LANES = 8
+#: Points integrated together (the innermost axis of every work array).
+LANES = 16
 
 
 @njit(cache=True, error_model="numpy")
@@ -52,21 +52,19 @@ def _apply(C, X, invW, out):
         for j in range(n):
             for p in range(LANES):
                 out[i, j, p] = X[r0 + i, j, p] * invW[p]
-    for i in range(r):  # eight scalar accumulators: one per lane (LANES == 8)
+    P = X.shape[2]  # a run-time trip count: the compiler vectorizes the lane loops
+    for i in range(r):
         for j in range(n):
-            a0 = a1 = a2 = a3 = a4 = a5 = a6 = a7 = 0.0
-            for l in range(n):
-                a0 += C[i, l, 0] * X[l, j, 0]
-                a1 += C[i, l, 1] * X[l, j, 1]
-                a2 += C[i, l, 2] * X[l, j, 2]
-                a3 += C[i, l, 3] * X[l, j, 3]
-                a4 += C[i, l, 4] * X[l, j, 4]
-                a5 += C[i, l, 5] * X[l, j, 5]
-                a6 += C[i, l, 6] * X[l, j, 6]
-                a7 += C[i, l, 7] * X[l, j, 7]
             o = out[r0 + i, j]
-            o[0], o[1], o[2], o[3] = a0, a1, a2, a3
-            o[4], o[5], o[6], o[7] = a4, a5, a6, a7
+            c = C[i, 0]
+            x = X[0, j]
+            for p in range(P):
+                o[p] = c[p] * x[p]
+            for l in range(1, n):
+                c = C[i, l]
+                x = X[l, j]
+                for p in range(P):
+                    o[p] += c[p] * x[p]
 
 
 @njit(cache=True, error_model="numpy")
