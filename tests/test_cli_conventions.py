@@ -31,6 +31,7 @@ PHYSICAL = {  # option -> (a value with a unit, its value in the option's base u
     "--zeta": ("5%", 0.05),
     "--degradation": ("50%", 0.5),
     "--lag-damping": ("4.0675kN m s/rad", 4067.5),
+    "--damping": ("2kN s/m", 2000.0),
 }
 DIMENSIONLESS = {"--speeds", "--k", "--harmonics", "--rtol"}
 NAMES = {"--preset", "--model", "--effect", "--engine", "--compiled-method", "--method",

@@ -32,7 +32,8 @@ from liquidamp.commands._args import (
 from liquidamp.commands._units import Bound, grid_type, name_type, preset_names
 from liquidamp.errors import ParameterError
 
-__all__ = ["register", "COST", "MAX_SECONDS", "MAX_SILENT_SECONDS", "check_work"]
+__all__ = ["register", "COST", "FLUTTER_COST", "MAX_SECONDS", "MAX_SILENT_SECONDS",
+           "check_work"]
 
 #: Measured cost of one map point [s] on this project's 2-core machine, both cores (idle,
 #: warm compile cache): the compiled lane-blocked Floquet kernel, rounded up.
@@ -44,6 +45,7 @@ MAX_SILENT_SECONDS = 30.0
 
 _DEGRADATION = Bound(0.0, 1.0, low_open=False, why=" (a fraction of the damper's damping: "
                      "0 failed, 1 healthy)")
+_DAMPING = Bound(0.0, 1e7, low_open=False, why=" (a damper far stiffer than the section)")
 _LAG_DAMPING = Bound(0.0, 1e7, low_open=False, why=" (2500 times Hammond's damper)")
 
 
@@ -75,7 +77,7 @@ without --quiet: 120 s): use a coarser grid or split the range
 
 
 def register(subparsers) -> None:
-    """Add the ``map`` command and its ``ground-resonance`` kind."""
+    """Add the ``map`` command and its ``ground-resonance`` and ``flutter`` kinds."""
     p = subparsers.add_parser(
         "map", help="stability maps: rotor speed x a damper parameter, boundary as a contour",
         description=__doc__.split("\n\n", 1)[1])
@@ -110,6 +112,31 @@ def register(subparsers) -> None:
     add_plot_argument(g, "filled map with the stability boundary")
     add_quiet_argument(g)
     g.set_defaults(func=_ground_resonance, command_name="map ground-resonance")
+
+    f = sub.add_parser("flutter", help="typical section: reduced speed x a damper coefficient")
+    f.add_argument("--section", default="hodges-pierce",
+                   type=name_type("--section", lambda: preset_names("section"), "section preset",
+                                  files=True),
+                   help="section preset name ({sections}) or .toml/.json file (default "
+                   "hodges-pierce)")
+    f.add_argument("--speeds", default="0.5:3.5:61", metavar="LIST",
+                   type=grid_type("--speeds", "reduced", "reduced_speed"),
+                   help="reduced speeds U/(b omega_theta): comma list or START:STOP:COUNT "
+                   "(default 0.5:3.5:61)")
+    f.add_argument("--damping", required=True, metavar="LIST",
+                   type=grid_type("--damping", "damping", _DAMPING),
+                   help="coefficients of the viscous damper on --port, N s/m or with a unit "
+                   "(2kN s/m), at most 1e7")
+    f.add_argument("--port", default="plunge",
+                   type=name_type("--port", ("plunge", "pitch"), "port"),
+                   help="plunge (default) or pitch")
+    f.add_argument("--aero", default="jones",
+                   type=name_type("--aero", ("jones", "quasi-steady", "steady"), "aerodynamics"),
+                   help="state-space aerodynamics: jones (default), quasi-steady or steady")
+    add_json_argument(f, "map")
+    add_plot_argument(f, "filled map with the flutter boundary")
+    add_quiet_argument(f)
+    f.set_defaults(func=_flutter, command_name="map flutter")
 
 
 def _blade(text: str) -> int:
@@ -167,6 +194,45 @@ def _ground_resonance(args) -> int:
     summary = (f"{rotor.name}: map of {count} points ({len(values)} {parameter} x "
                f"{len(args.rpm)} rpm) in {result.seconds:.1f} s; unstable somewhere at "
                f"{len(unstable)} of {len(values)} values")
+    emit(args, args.command_name, data, summary, "plot")
+    if args.plot:
+        from liquidamp.analysis.reports.map_plots import plot_stability_map
+
+        save_figure(plot_stability_map(result), args.plot, dpi=120)
+    return 0
+
+
+#: Measured cost of one flutter-map point [s] (one closed-loop eigenvalue problem), rounded up.
+FLUTTER_COST = 2e-3
+
+
+def _flutter(args) -> int:
+    check_outputs([Output("--json", json_path(args), "json"), Output("--plot", args.plot,
+                                                                      "plot")],
+                  file_inputs(("--section", args.section)))
+    for flag, grid in (("--speeds", args.speeds), ("--damping", args.damping)):
+        if any(b <= a for a, b in zip(grid, grid[1:], strict=False)):
+            raise ParameterError(f"{flag} values must be strictly increasing, got "
+                                 f"{grid.text!r}")
+    count = len(args.speeds) * len(args.damping)
+    progress = show_progress(args.quiet)
+    check_work(int(count * FLUTTER_COST / COST), progress)
+    import numpy as np
+
+    from liquidamp.analysis.stability.flutter_maps import flutter_map
+    from liquidamp.structure.hostio import load_section
+
+    section = load_section(args.section)
+    with progress_bar(count, "map points", args.quiet) as bar:
+        result = flutter_map(section, np.asarray(args.speeds, float),
+                             np.asarray(args.damping, float), port=args.port, aero=args.aero,
+                             progress=bar.update if progress else False)
+    data = result.to_dict()
+    speeds = result.flutter_speeds()
+    known = [v for v in speeds if v is not None]
+    summary = (f"{section.name} + viscous damper on {args.port}: map of {count} points in "
+               f"{result.seconds:.1f} s; flutter speed U/(b omega_theta) "
+               + (f"{min(known):.4f} to {max(known):.4f}" if known else "none in range"))
     emit(args, args.command_name, data, summary, "plot")
     if args.plot:
         from liquidamp.analysis.reports.map_plots import plot_stability_map

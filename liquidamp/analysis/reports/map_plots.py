@@ -2,7 +2,8 @@
 
 Plotting only: takes a :class:`~liquidamp.analysis.stability.maps.StabilityMap`
 and returns a :class:`matplotlib.figure.Figure` (Agg canvas, no ``pyplot``).
-Rotor speeds in rpm at this edge.
+Rotor speeds in rpm at this edge; a flutter map (:class:`~liquidamp.analysis.stability.
+flutter_maps.FlutterMap`) against reduced speed.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ def plot_stability_map(result, *, title: str | None = None):
 
     Parameters
     ----------
-    result : StabilityMap
+    result : StabilityMap or FlutterMap
     title : str, optional
 
     Returns
@@ -47,20 +48,27 @@ def plot_stability_map(result, *, title: str | None = None):
     FigureCanvasAgg(fig)
     ax = fig.add_subplot(1, 1, 1)
     z = np.asarray(result.max_real_part, float)
-    x, y = result.rpm, np.asarray(result.values, float)
+    rotor = hasattr(result, "rpm")
+    x, y = (result.rpm if rotor else result.speed), np.asarray(result.values, float)
+    level = result.neutral_tol if rotor else 1e-9
     lo, hi = float(np.min(z)), float(np.max(z))
     span = max(abs(lo), abs(hi), 1e-12)
     norm = TwoSlopeNorm(vcenter=0.0, vmin=min(lo, -1e-3 * span), vmax=max(hi, 1e-3 * span))
     if y.size > 1 and x.size > 1:
         cs = ax.contourf(x, y, z, levels=21, cmap="RdBu_r", norm=norm)
-        if lo < result.neutral_tol < hi:
-            ax.contour(x, y, z, levels=[result.neutral_tol], colors="k", linewidths=1.5)
-            ax.contourf(x, y, z, levels=[result.neutral_tol, hi], colors="none", hatches=["//"])
+        if lo < level < hi:
+            ax.contour(x, y, z, levels=[level], colors="k", linewidths=1.5)
+            ax.contourf(x, y, z, levels=[level, hi], colors="none", hatches=["//"])
     else:
         cs = ax.pcolormesh(x, y, z, cmap="RdBu_r", norm=norm, shading="nearest")
-    fig.colorbar(cs, ax=ax, label="largest real part [1/s]")
-    ax.set_xlabel("rotor speed [rpm]")
-    ax.set_ylabel(_LABELS.get(result.parameter, f"{result.parameter} [{result.unit}]"))
+    if rotor:
+        fig.colorbar(cs, ax=ax, label="largest real part [1/s]")
+        ax.set_xlabel("rotor speed [rpm]")
+        ax.set_ylabel(_LABELS.get(result.parameter, f"{result.parameter} [{result.unit}]"))
+    else:
+        fig.colorbar(cs, ax=ax, label="largest Re p [-] (decay rate / omega_theta)")
+        ax.set_xlabel("reduced speed U/(b omega_theta) [-]")
+        ax.set_ylabel(f"damper on {result.port} [N s/m]")
     ax.set_title(title or f"{result.host}: stability map (black: boundary, hatched: unstable)",
                  fontsize=10)
     return fig

@@ -155,3 +155,20 @@ def test_map_command_writes_json_and_plot_and_refuses_a_long_silent_grid(tmp_pat
     assert main(["map", "ground-resonance", "--rpm", "100:400:2001", "--arm", "0.1:0.3:20",
                  "--quiet"]) == 2
     assert "would take about 60 s" in capsys.readouterr().err
+
+
+def test_flutter_map_boundary_matches_the_p_method_flutter_speed_and_divergence():
+    from liquidamp.analysis.stability.damped_stability import damped_flutter_analysis
+    from liquidamp.analysis.stability.flutter_maps import flutter_map
+    from liquidamp.coupled.assembly import viscous
+    from liquidamp.structure.hostio import load_section
+
+    s = load_section("hodges-pierce")
+    V = np.linspace(1.5, 3.2, 18)  # 0.1 spacing
+    m = flutter_map(s, V, [1e-9, 300.0, 5000.0])
+    for c, vf in zip(m.values, m.flutter_speeds(), strict=True):
+        ref = damped_flutter_analysis(s, {"plunge": viscous(c)}, speeds=V).flutter_speed
+        assert abs(vf - ref) < V[1] - V[0]
+    # heavy plunge damping leaves divergence, sqrt(mu r^2 / (1 + 2 a)) = sqrt(8), as the edge
+    assert abs(m.flutter_speeds()[-1] - np.sqrt(8.0)) < V[1] - V[0]
+    assert np.all((m.min_damping_ratio < 0.0) == (m.max_real_part > 0.0))
