@@ -96,7 +96,8 @@ def register(subparsers) -> None:
     what.add_argument("--degradation", metavar="LIST",
                       type=grid_type("--degradation", "ratio", _DEGRADATION),
                       help="fractions of its damping that blade --blade's damper keeps, in "
-                      "[0, 1] or in percent (0%%:100%%:50)")
+                      "[0, 1] or in percent: comma list or START:STOP:COUNT (COUNT points "
+                      "linearly spaced; 0%%:100%%:50)")
     what.add_argument("--lag-damping", metavar="LIST",
                       type=grid_type("--lag-damping", "lag_damping", _LAG_DAMPING),
                       help="lag damper of every working blade, N m s/rad or with a unit "
@@ -122,7 +123,7 @@ def register(subparsers) -> None:
     f.add_argument("--speeds", default="0.5:3.5:61", metavar="LIST",
                    type=grid_type("--speeds", "reduced", "reduced_speed"),
                    help="reduced speeds U/(b omega_theta): comma list or START:STOP:COUNT "
-                   "(default 0.5:3.5:61)")
+                   "(COUNT points linearly spaced; default 0.5:3.5:61)")
     f.add_argument("--damping", required=True, metavar="LIST",
                    type=grid_type("--damping", "damping", _DAMPING),
                    help="coefficients of the viscous damper on --port, N s/m or with a unit "
