@@ -714,6 +714,7 @@ _FIRST_CALL_CODE = {
                       "from liquidamp.coupled.fast import simulate_rotor; r, d, _ = "
                       "_coupled_setup(); simulate_rotor(r, 27.2, d, 0.1, {'zeta_1': 1e-3})"),
     "dual_frequency": "from liquidamp.analysis.bench import _dual_frequency as f; f()",
+    "stability_map": "from liquidamp.analysis.bench_maps import _warm; _warm(64)",
     "calibration": ("import tempfile; from liquidamp.analysis.bench import _records, "
                     "_as_record_objects; "
                     "from liquidamp.analysis.measured.calibration import calibrate; "
