@@ -130,22 +130,29 @@ def case_map_dask(quick: bool, repeats: int) -> dict:
     _warm(steps)
     opts = dict(steps=steps)
     load_before = _load()
-    t = time.perf_counter()
-    serial = maps.ground_resonance_map(rotor, W, "degradation", fr,
-                                       options=maps.MapOptions(executor="serial", **opts))
-    t_serial = time.perf_counter() - t
     workers = 2
+    serial_times, serial_cpu, times, cluster_cpu, done = [], [], [], [], []
     with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                       dashboard_address=None) as cluster, Client(cluster) as client:
         pids = client.run(_warm, steps)
-        times, remote, done = [], None, []
         for _ in range(1 if quick else min(max(repeats, 1), 3)):
+            # serial and cluster runs interleaved, so that both see the same machine load
+            c0, t = time.process_time(), time.perf_counter()
+            serial = maps.ground_resonance_map(rotor, W, "degradation", fr,
+                                               options=maps.MapOptions(executor="serial",
+                                                                       **opts))
+            serial_times.append(time.perf_counter() - t)
+            serial_cpu.append(time.process_time() - c0)
             done.clear()
-            t = time.perf_counter()
+            w0 = sum(client.run(time.process_time).values())
+            c0, t = time.process_time(), time.perf_counter()
             remote = maps.ground_resonance_map(
                 rotor, W, "degradation", fr,
                 options=maps.MapOptions(executor=client, progress=done.append, **opts))
             times.append(time.perf_counter() - t)
+            cluster_cpu.append(time.process_time() - c0
+                               + sum(client.run(time.process_time).values()) - w0)
+    t_serial = float(np.median(serial_times))
     t_cluster = float(np.median(times))
     row = t_serial / fr.size
     return {
@@ -156,6 +163,12 @@ def case_map_dask(quick: bool, repeats: int) -> dict:
         "seconds": t_cluster,
         "runs_seconds": times,
         "serial_seconds": t_serial,
+        "serial_runs_seconds": serial_times,
+        "cpu_efficiency": float(np.median(serial_cpu) / np.median(cluster_cpu)),
+        "cpu_efficiency_note": "CPU seconds of the serial map / CPU seconds of the cluster run "
+                               "(client + workers): the work the distribution adds, whatever "
+                               "the machine load; parallel_efficiency (wall) also counts the "
+                               "waits for cores that other jobs hold",
         "workers": len(pids),
         "task_seconds": row,
         "parallel_efficiency": t_serial / (workers * t_cluster),
