@@ -36,7 +36,7 @@ PHYSICAL = {  # option -> (a value with a unit, its value in the option's base u
 DIMENSIONLESS = {"--speeds", "--k", "--harmonics", "--rtol"}
 NAMES = {"--preset", "--model", "--effect", "--engine", "--compiled-method", "--method",
          "--rotor", "--damper", "--section", "--aero", "--port", "--candidate", "--sizing",
-         "--average", "--vary", "--cases", "--decimate"}
+         "--average", "--vary", "--cases", "--decimate", "--dask"}
 FILES = {"--json", "--plot", "--out", "--report", "--save-device", "--device", "--validate"}
 COUNTS = {"--window", "--order", "--max-nfev", "--max-steps", "--top", "--repeats",
           "--inoperative", "--blade"}

@@ -109,6 +109,10 @@ def register(subparsers) -> None:
                    help="the degraded blade for --degradation (1-based, default 1)")
     g.add_argument("--inoperative", action="append", default=[], metavar="K", type=_blade,
                    help="blade whose lag damper has failed at every value (1-based; repeat)")
+    g.add_argument("--dask", default=None, metavar="ADDRESS",
+                   help="Dask scheduler address (tcp://HOST:PORT): rows of the map are sent "
+                   "there in batches of 0.1 s or more (pip install liquidamp[dask]); the "
+                   "numbers are the same as local")
     add_json_argument(g, "map")
     add_plot_argument(g, "filled map with the stability boundary")
     add_quiet_argument(g)
@@ -181,11 +185,28 @@ def _ground_resonance(args) -> int:
     blade = rotor.check_blade(args.blade)
     if parameter == "degradation" and blade in blades:
         raise ParameterError(f"--blade {blade} is also --inoperative: degrade a working damper")
-    with progress_bar(count, "map points", args.quiet) as bar:
-        result = ground_resonance_map(
-            rotor, rpm_to_rad_s(np.asarray(args.rpm, float)), parameter,
-            np.asarray(values, float), blade=blade, inoperative=tuple(blades),
-            options=MapOptions(progress=bar.update if progress else False))
+    client = None
+    if args.dask:
+        try:
+            from dask.distributed import Client
+        except ImportError:
+            raise ParameterError("--dask needs dask.distributed: pip install "
+                                 "'liquidamp[dask]'") from None
+        try:
+            client = Client(args.dask, timeout=10)
+        except (OSError, TimeoutError, ValueError) as exc:
+            raise ParameterError(f"--dask {args.dask}: cannot reach the scheduler ({exc})"
+                                 ) from None
+    try:
+        with progress_bar(count, "map points", args.quiet) as bar:
+            result = ground_resonance_map(
+                rotor, rpm_to_rad_s(np.asarray(args.rpm, float)), parameter,
+                np.asarray(values, float), blade=blade, inoperative=tuple(blades),
+                options=MapOptions(progress=bar.update if progress else False,
+                                   executor=client))
+    finally:
+        if client is not None:
+            client.close()
     data = result.to_dict()
     data["inoperative_blades"] = blades
     if parameter == "degradation":

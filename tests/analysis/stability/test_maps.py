@@ -172,3 +172,18 @@ def test_flutter_map_boundary_matches_the_p_method_flutter_speed_and_divergence(
     # heavy plunge damping leaves divergence, sqrt(mu r^2 / (1 + 2 a)) = sqrt(8), as the edge
     assert abs(m.flutter_speeds()[-1] - np.sqrt(8.0)) < V[1] - V[0]
     assert np.all((m.min_damping_ratio < 0.0) == (m.max_real_part > 0.0))
+
+
+def test_map_command_on_a_dask_scheduler_equals_local(tmp_path):
+    distributed = pytest.importorskip("dask.distributed")
+    from liquidamp.cli import main
+
+    argv = ["map", "ground-resonance", "--rpm", "200:300:3", "--arm", "0.1,0.25", "--quiet"]
+    assert main(argv + ["--json", str(tmp_path / "local.json")]) == 0
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as cluster:
+        assert main(argv + ["--json", str(tmp_path / "dask.json"), "--dask",
+                            cluster.scheduler_address]) == 0
+    local, remote = (json.loads((tmp_path / f).read_text()) for f in ("local.json", "dask.json"))
+    assert remote["route"] == "executor Client" and local["route"] == "threads"
+    assert remote["max_real_part [1/s]"] == local["max_real_part [1/s]"]
