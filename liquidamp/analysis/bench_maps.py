@@ -172,6 +172,8 @@ def case_map_dask(quick: bool, repeats: int) -> dict:
         "workers": len(pids),
         "task_seconds": row,
         "parallel_efficiency": t_serial / (workers * t_cluster),
+        "run_efficiencies": [a / (workers * b) for a, b in zip(serial_times, times,
+                                                               strict=True)],
         "equal_to_local": bool(np.array_equal(remote.max_real_part, serial.max_real_part)),
         "progress_points_reported": int(sum(done)),
         "load_average_before": load_before,
