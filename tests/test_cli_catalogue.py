@@ -157,6 +157,21 @@ def catalogue(d: Path, rec: Path, dev: Path, rep: Path):
           "1mm", "--lag-amplitude", "1mm", "--json", j, "--plot", png],
          "argument --rev-frequency: rev-frequency must be > 0 and at most 10000 [Hz] (the "
          "highest frequency of a lumped device model), got '-4'"),
+        # --- map
+        (["map", "ground-resonance", "--rpm", "100:400:5", "--degradation", "0:1.5:3",
+          "--json", j], "degradation STOP must be >= 0 and at most 1 (a fraction of the "
+         "damper's damping: 0 failed, 1 healthy), got '1.5'"),
+        (["map", "ground-resonance", "--rpm", "100:400:5", "--degradation", "0:1:3",
+          "--arm", "0.2", "--json", j], "not allowed with argument"),
+        (["map", "ground-resonance", "--rpm", "100:400:5", "--degradation", "1,0",
+          "--json", j], "--degradation values must be strictly increasing"),
+        (["map", "ground-resonance", "--rpm", "100:400:2001", "--lag-damping", "0:4kN m s/rad:50",
+          "--quiet", "--json", j], "would take about 150 s"),
+        (["map", "ground-resonance", "--rpm", "100:400:5", "--arm", "0.2", "--blade", "9",
+          "--json", j], "blade index must lie in [1, 4], got 9"),
+        (["map", "flutter", "--damping", "0:2kN s/m:5", "--json", j, "--plot", str(d / "m.x")],
+         "unknown figure format '.x'"),
+        (["map", "flutter", "--damping", "-1", "--json", j], "--damping"),
         # --- bench, demo
         (["bench", "--repeats", "0"], "argument --repeats: must be an integer in [1, 1000] "
          "(repeats of the fast routes), got '0'"),

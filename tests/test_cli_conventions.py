@@ -30,14 +30,17 @@ PHYSICAL = {  # option -> (a value with a unit, its value in the option's base u
     "--force-filter": ("0.03kHz", 30.0),
     "--zeta": ("5%", 0.05),
     "--confidence": ("95%", 0.95),
+    "--degradation": ("50%", 0.5),
+    "--lag-damping": ("4.0675kN m s/rad", 4067.5),
+    "--damping": ("2kN s/m", 2000.0),
 }
 DIMENSIONLESS = {"--speeds", "--k", "--harmonics", "--rtol", "--degrade", "--change"}
 NAMES = {"--preset", "--model", "--effect", "--engine", "--compiled-method", "--method",
          "--rotor", "--damper", "--section", "--aero", "--port", "--candidate", "--sizing",
-         "--average", "--vary", "--cases", "--decimate", "--outliers"}
+         "--average", "--vary", "--cases", "--decimate", "--outliers", "--dask"}
 FILES = {"--json", "--plot", "--out", "--report", "--save-device", "--device", "--validate"}
 COUNTS = {"--window", "--order", "--max-nfev", "--max-steps", "--top", "--repeats",
-          "--inoperative", "--samples"}
+          "--inoperative", "--samples", "--blade"}
 
 
 def parsers() -> dict:

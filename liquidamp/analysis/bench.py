@@ -84,7 +84,8 @@ __all__ = ["run_bench", "GOALS", "CASES"]
 
 CASES = ("steady_state_loop", "calibration", "floquet_sweep", "coupled_rotor", "diagnosis",
          "stiffness_sweep", "diagnosis_hidden_effects", "diagnosis_3khz_20s",
-         "diagnosis_200hz_10_cycles", "dual_frequency", "stiffness_1um")
+         "diagnosis_200hz_10_cycles", "dual_frequency", "stiffness_1um", "stability_map",
+         "stability_map_dask")
 
 #: The issue's goals: case -> (quantity, comparison, target).
 GOALS = {
@@ -104,6 +105,8 @@ GOALS = {
         "elastomer", "end_stops", "cavitation")],
     "dual_frequency": [("seconds", "<", 0.05)],
     "stiffness_1um": [("seconds", "<", 3.0), ("points_present", ">=", 56)],
+    "stability_map": [("seconds", "<", 30.0)],
+    "stability_map_dask": [("parallel_efficiency", ">=", 0.8)],
     "first_call": [("cold_cache_seconds", "<", 10.0)],
     # issue #21 item 2: a first result in seconds
     "cold_start": [("import_seconds", "<", 0.5), ("help_seconds", "<", 0.5),
@@ -711,7 +714,16 @@ _RUNNERS = {"steady_state_loop": _case_steady, "calibration": _case_calibration,
             "diagnosis_hidden_effects": _case_hidden_effects,
             "diagnosis_3khz_20s": _real_rates("diagnosis_3khz_20s"),
             "diagnosis_200hz_10_cycles": _real_rates("diagnosis_200hz_10_cycles"),
-            "dual_frequency": _case_dual_frequency}
+            "dual_frequency": _case_dual_frequency,
+            "stability_map": lambda q, r: _bench_maps().case_map(q, r),
+            "stability_map_dask": lambda q, r: _bench_maps().case_map_dask(q, r)}
+
+
+def _bench_maps():
+    """The stability-map cases (:mod:`liquidamp.analysis.bench_maps`), imported on use."""
+    from liquidamp.analysis import bench_maps
+
+    return bench_maps
 
 def _goals(result: dict) -> dict:
     out = {}

@@ -130,6 +130,7 @@ def cold_start(quick: bool = False, runs: int | None = None, progress=None) -> d
 
 # ------------------------------------------------------------ first calls
 FIRST_CALL_CODE = {
+    "stability_map": "from liquidamp.analysis.bench_maps import _warm; _warm(64)",
     "steady_state_loop": "from liquidamp.analysis.bench import _fast_steady as f; f()",
     "coupled_rotor": ("from liquidamp.analysis.bench import _coupled_setup; "
                       "from liquidamp.coupled.fast_rotor import simulate_rotor; r, d, _ = "

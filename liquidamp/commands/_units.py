@@ -46,12 +46,13 @@ UNITS: dict[str, dict[str, float]] = {
     "ratio": {"-": 1.0, "%": 1e-2},
     "reduced": {"-": 1.0},
     "conductance": {"m^3/(s Pa)": 1.0},
+    "lag_damping": {"N m s/rad": 1.0, "kN m s/rad": 1e3},
 }
 #: Base unit of each dimension (what a bare number means).
 BASE = {"length": "m", "frequency": "Hz", "rotor_speed": "rpm", "force": "N", "time": "s",
         "pressure": "Pa", "mass": "kg", "stiffness": "N/m", "damping": "N s/m",
         "velocity": "m/s", "angle": "rad", "angular_speed": "rad/s", "ratio": "-",
-        "reduced": "-", "conductance": "m^3/(s Pa)"}
+        "reduced": "-", "conductance": "m^3/(s Pa)", "lag_damping": "N m s/rad"}
 #: Dimension of an effect parameter's unit (``Effect.units``).
 _UNIT_DIMENSION = {"N": "force", "m": "length", "Pa": "pressure", "kg": "mass",
                    "N/m": "stiffness", "N s/m": "damping", "m/s": "velocity", "rad": "angle",

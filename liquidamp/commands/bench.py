@@ -31,7 +31,8 @@ def register(sub) -> None:
                    help="comma list of cases (default all: steady_state_loop, calibration, "
                         "floquet_sweep, coupled_rotor, diagnosis, stiffness_sweep, "
                         "diagnosis_hidden_effects, diagnosis_3khz_20s, "
-                        "diagnosis_200hz_10_cycles, dual_frequency)")
+                        "diagnosis_200hz_10_cycles, dual_frequency, stability_map, "
+                        "stability_map_dask)")
     add_quiet_argument(p)
     p.set_defaults(func=run)
 
