@@ -43,6 +43,7 @@ COMPILED_SOURCES = (
     "coupled/_kernels.py",
     "coupled/_rotor_kernel.py",
     "analysis/response/_torus.py",
+    "analysis/stability/_map_kernel.py",
 )
 
 

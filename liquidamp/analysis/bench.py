@@ -79,6 +79,12 @@ import time
 import numpy as np
 
 from liquidamp.analysis.bench_cold import FIRST_CALL_CODE, cold_start, first_call, fresh_process
+from liquidamp.analysis.bench_diagnosis import (
+    case_diagnosis,
+    case_hidden_effects,
+    case_real_rates,
+    median_time,
+)
 
 __all__ = ["run_bench", "GOALS", "CASES"]
 
@@ -119,16 +125,6 @@ def _case_stiffness_1um(quick: bool, repeats: int) -> dict:
     from liquidamp.analysis.bench_steady import case_stiffness_1um
 
     return case_stiffness_1um(quick, repeats)
-
-
-def _median_time(fn, repeats: int) -> tuple[float, object]:
-    out = None
-    times = []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        out = fn()
-        times.append(time.perf_counter() - t)
-    return float(np.median(times)), out
 
 
 # ------------------------------------------------------------ steady state
@@ -234,14 +230,14 @@ def _case_steady(quick: bool, repeats: int) -> dict:
         fast_rtol = rtol
         if fast_err[f"{rtol:g}"] <= 0.5 * STEADY_TARGET:
             break
-    seconds, r = _median_time(fast_at(fast_rtol), repeats)
+    seconds, r = median_time(fast_at(fast_rtol), repeats)
     err_fast = abs(dynamic_stiffness(r).value - K_ref) / abs(K_ref)
     # the loosest LSODA tolerance at least as accurate as the fast route
     ladder = (1e-8,) if quick else (1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11)
     chosen, tried = _baseline_at(p, s, K_ref, max(err_fast, 1e-10), ladder)
     # the baseline (~45 ms a run) is timed 10 times: a median of 3 moved by 2x under load
     b_rep = 1 if quick else max(10, repeats // 3)
-    baseline, (K_b, cyc) = _median_time(
+    baseline, (K_b, cyc) = median_time(
         lambda: baseline_steady_state("full", p, s, chosen), b_rep)
     out = {
         "description": "full model (eq. 10), reference design, 3 Hz, 3 mm: periodic steady "
@@ -270,10 +266,10 @@ def _case_steady(quick: bool, repeats: int) -> dict:
     }
     if not quick:  # the default options (rtol 1e-8), baseline again at equal accuracy
         _fast_steady()
-        sec_d, r_d = _median_time(_fast_steady, repeats)
+        sec_d, r_d = median_time(_fast_steady, repeats)
         err_d = abs(dynamic_stiffness(r_d).value - K_ref) / abs(K_ref)
         chosen_d, tried_d = _baseline_at(p, s, K_ref, max(err_d, 1e-10), ladder)
-        base_d, _ = _median_time(lambda: baseline_steady_state("full", p, s, chosen_d), b_rep)
+        base_d, _ = median_time(lambda: baseline_steady_state("full", p, s, chosen_d), b_rep)
         out["default_options"] = {
             "description": "the same with SolverOptions(engine='compiled') defaults (rtol "
                            "1e-8, far tighter than the target)",
@@ -377,12 +373,12 @@ def _case_calibration(quick: bool, repeats: int) -> dict:
         records = _as_record_objects(recs, d)
     calibrate(records, params=base, max_nfev=2)  # warm
     reps = 1 if quick else max(1, min(3, repeats // 10))
-    seconds, res = _median_time(lambda: calibrate(records, params=base), reps)
+    seconds, res = median_time(lambda: calibrate(records, params=base), reps)
     mult = {k: float(res.values[k]) for k in _TRUE_MULT}
     # user-style baseline: the fit preset's tolerances on scipy's LSODA
     py = SolverOptions(method="LSODA", rtol=FIT_OPTIONS.rtol, atol_scale=FIT_OPTIONS.atol_scale,
                        engine="scipy")
-    t_eval, _ = _median_time(lambda: predict("full", base, (), records, options=py),
+    t_eval, _ = median_time(lambda: predict("full", base, (), records, options=py),
                              1 if quick else 3)
     baseline = t_eval * res.nfev
     err = max(abs(mult[k] / v - 1.0) for k, v in _TRUE_MULT.items())
@@ -413,7 +409,7 @@ def _case_calibration_local(recs, quick: bool, repeats: int) -> dict:
     """Fallback when the calibration module is missing: scipy LSQ around simulate."""
     calibrate_multipliers(recs, max_nfev=2)  # warm
     reps = 1 if quick else max(1, min(3, repeats // 10))
-    seconds, (mult, sol, nfev) = _median_time(lambda: calibrate_multipliers(recs), reps)
+    seconds, (mult, sol, nfev) = median_time(lambda: calibrate_multipliers(recs), reps)
     from liquidamp.coupled.testrig import simulate
     from liquidamp.device import preset
     from liquidamp.options import SolverOptions
@@ -425,7 +421,7 @@ def _case_calibration_local(recs, quick: bool, repeats: int) -> dict:
         for stroke, t, _F in recs:
             simulate("full", p, stroke, t[-1], t_eval=t, options=py)
 
-    t_eval, _ = _median_time(one_eval, 1 if quick else 3)
+    t_eval, _ = median_time(one_eval, 1 if quick else 3)
     baseline = t_eval * nfev
     err = max(abs(mult[k] / v - 1.0) for k, v in _TRUE_MULT.items())
     return {
@@ -465,11 +461,11 @@ def _case_floquet(quick: bool, repeats: int) -> dict:
             pass
         return ground_resonance_sweep(rotor, W, method="floquet")
 
-    seconds, sweep = _median_time(run, 1)
+    seconds, sweep = median_time(run, 1)
     reps = 1
     if not quick and seconds < 5.0:  # repeat only when affordable
         reps = 5
-        seconds, sweep = _median_time(run, reps)
+        seconds, sweep = median_time(run, reps)
     return {
         "description": f"Hammond (1974) rotor, one lag damper inoperative, {n} rotor speeds "
                        "150-350 rpm, Floquet analysis "
@@ -520,10 +516,10 @@ def _case_coupled(quick: bool, repeats: int) -> dict:
 
     fast()  # warm (cache load or compilation)
     reps = 3 if quick else max(5, repeats // 3)
-    seconds, run = _median_time(fast, reps)
+    seconds, run = median_time(fast, reps)
     system = rotor_system(rotor, W, dev)
     b_rep = 1
-    baseline, ref = _median_time(
+    baseline, ref = median_time(
         lambda: simulate_coupled(system, t_end, x0, t_eval=run.time, options=opts,
                                  strict=False, energy=False), b_rep)
     nh = system.host.nstates
@@ -552,84 +548,6 @@ def _case_coupled(quick: bool, repeats: int) -> dict:
     }
 
 
-def _case_diagnosis(quick: bool, repeats: int) -> dict:
-    try:
-        from liquidamp.analysis.measured.diagnosis import bundled_records, diagnose
-        from liquidamp.analysis.measured.records import read_record
-    except ImportError as exc:  # pragma: no cover - depends on other modules
-        return {"skipped": f"diagnosis module not available: {exc}"}
-    files = bundled_records()
-    cycles = 1.5 if quick else 3.0
-    cal = read_record(files["demo_3Hz_3mm"]).trimmed(cycles)
-    val = read_record(files["demo_4Hz_2mm"]).trimmed(cycles)
-    kw = dict(top=1, max_nfev=40)
-    if quick:
-        kw = dict(top=1, max_nfev=4, max_steps=1, candidates=("smooth_friction",))
-    seconds, d = _median_time(lambda: diagnose([cal], [val], **kw), 1)
-    return {
-        "description": f"liquidamp.analysis.measured.diagnosis.diagnose of the bundled record "
-                       f"demo_3Hz_3mm (validated on demo_4Hz_2mm), first {cycles:g} cycles, "
-                       + ("one candidate, one step (quick)" if quick else
-                          "whole catalogue, top 1, max_nfev 40 (as demo_loop)"),
-        "seconds": seconds,
-        "repeats": 1,
-        "added_effects": list(d.added),
-        "stop_reason": d.stop_reason,
-        "first_call_seconds": None,
-        "first_call_note": "not measured separately: diagnosis runs the compiled engine "
-                           "through calibrate (see calibration.first_call_seconds)",
-    }
-
-
-#: Hidden-effect records of the diagnosis tests (issue #11 item 3): effect -> (preset, truth,
-#: (f [Hz], Y [m]) calibration, (f, Y) validation, seed, diagnose keywords of the test).
-HIDDEN_EFFECT_RECORDS = {
-    "series_compliance": ("paper_calibrated", {"series_compliance": {"stiffness_N_per_m": 5e5}},
-                          (3.0, 0.003), (4.0, 0.002), 54, {"max_steps": 2}),
-    "freeplay": ("paper_calibrated", {"freeplay": {"gap_m": 1.0e-4}},
-                 (3.0, 0.003), (4.0, 0.002), 53, {"max_steps": 2}),
-    "cavitation": ("paper_calibrated", {"cavitation": {"vapour_pressure_Pa": 40e3}},
-                   (3.0, 0.003), (4.0, 0.003), 61,
-                   {"max_steps": 1, "candidates": ("cavitation",)}),
-}
-
-
-def _case_hidden_effects(quick: bool, repeats: int) -> dict:
-    """Diagnosis of synthetic records holding series compliance, freeplay or cavitation.
-
-    The records and the calls are those of ``tests/analysis/measured/test_diagnosis.py``
-    (top 1, max_nfev 40; the whole catalogue over two steps for compliance and freeplay,
-    the cavitation candidate alone for cavitation, as its test); the records are made before
-    timing.  ``seconds_cavitation_whole_catalogue`` times the cavitation record with the
-    whole catalogue over two steps as well (no goal).
-    """
-    from liquidamp.analysis.measured.diagnosis import diagnose
-    from liquidamp.analysis.measured.synthetic import synthetic_record
-
-    out = {"description": "liquidamp.analysis.measured.diagnosis.diagnose of 3-cycle synthetic "
-                          "records "
-                          "(200 Hz, noise) holding an undeclared effect, validated on a second "
-                          "record, as the diagnosis tests call it (top 1, max_nfev 40)"
-                          + (" (quick: one candidate, one step, max_nfev 4)" if quick else ""),
-           "repeats": 1}
-    runs = [(name, name, kw) for name, (*_, kw) in HIDDEN_EFFECT_RECORDS.items()]
-    if not quick:
-        runs.append(("cavitation_whole_catalogue", "cavitation", {"max_steps": 2}))
-    for label, name, kw in runs:
-        preset_name, truth, (fc, Yc), (fv, Yv), seed, _ = HIDDEN_EFFECT_RECORDS[name]
-        cal = synthetic_record(preset=preset_name, frequency=fc, amplitude=Yc, cycles=3,
-                               seed=seed, effects=truth)
-        val = synthetic_record(preset=preset_name, frequency=fv, amplitude=Yv, cycles=3,
-                               seed=seed + 100, effects=truth)
-        kw = dict(top=1, max_nfev=40, **kw)
-        if quick:
-            kw = dict(top=1, max_nfev=4, max_steps=1, candidates=(name,))
-        seconds, d = _median_time(lambda: diagnose([cal], [val], **kw), 1)  # noqa: B023
-        out[f"seconds_{label}"] = seconds
-        out[f"added_{label}"] = list(d.added)
-    return out
-
-
 def _case_stiffness(quick: bool, repeats: int) -> dict:
     import warnings
 
@@ -648,7 +566,7 @@ def _case_stiffness(quick: bool, repeats: int) -> dict:
             return nonlinear_stiffness(p, f, a, options=options, on_error="skip")
 
     run()  # compile or load the cached kernels
-    seconds, r = _median_time(run, repeats)
+    seconds, r = median_time(run, repeats)
     out = {
         "description": "nonlinear_stiffness, reference design, full model, 30 frequencies "
                        "0.5-20 Hz x amplitudes 1 and 3 mm (as `liquidamp stiffness`), engine "
@@ -674,8 +592,6 @@ def _real_rates(name: str):
     """Runner of a real-sampling-rate diagnosis case
     (:func:`liquidamp.analysis.bench_diagnosis.case_real_rates`)."""
     def run(quick: bool, repeats: int) -> dict:
-        from liquidamp.analysis.bench_diagnosis import case_real_rates
-
         return case_real_rates(name, quick, repeats)
     return run
 
@@ -690,8 +606,8 @@ def _dual_frequency(method: str = "harmonic_balance"):
 
 def _case_dual_frequency(quick: bool, repeats: int) -> dict:
     _dual_frequency()  # compile or load the cached kernels
-    seconds, r = _median_time(_dual_frequency, repeats)
-    t_time, q = _median_time(lambda: _dual_frequency("time"), 1 if quick else 5)
+    seconds, r = median_time(_dual_frequency, repeats)
+    t_time, q = median_time(lambda: _dual_frequency("time"), 1 if quick else 5)
     return {
         "description": "dual_frequency_stiffness by harmonic balance, compiled: "
                        "paper_calibrated, full model, 1/rev 4.2 Hz at 2 mm, lag 1.26 Hz at "
@@ -709,9 +625,9 @@ def _case_dual_frequency(quick: bool, repeats: int) -> dict:
 
 _RUNNERS = {"steady_state_loop": _case_steady, "calibration": _case_calibration,
             "floquet_sweep": _case_floquet, "coupled_rotor": _case_coupled,
-            "diagnosis": _case_diagnosis, "stiffness_sweep": _case_stiffness,
+            "diagnosis": case_diagnosis, "stiffness_sweep": _case_stiffness,
             "stiffness_1um": _case_stiffness_1um,
-            "diagnosis_hidden_effects": _case_hidden_effects,
+            "diagnosis_hidden_effects": case_hidden_effects,
             "diagnosis_3khz_20s": _real_rates("diagnosis_3khz_20s"),
             "diagnosis_200hz_10_cycles": _real_rates("diagnosis_200hz_10_cycles"),
             "dual_frequency": _case_dual_frequency,

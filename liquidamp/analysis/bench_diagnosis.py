@@ -11,7 +11,21 @@ from __future__ import annotations
 
 import time
 
-__all__ = ["REAL_RATE_RECORDS", "case_real_rates"]
+__all__ = ["REAL_RATE_RECORDS", "HIDDEN_EFFECT_RECORDS", "case_real_rates", "case_diagnosis",
+           "case_hidden_effects", "median_time"]
+
+
+def median_time(fn, repeats: int) -> tuple[float, object]:
+    """Median wall time [s] of ``repeats`` calls of ``fn()`` and the last call's result."""
+    import numpy as np
+
+    out = None
+    times = []
+    for _ in range(repeats):
+        t = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t)
+    return float(np.median(times)), out
 
 
 #: Records at real sampling rates (issue #12 item 5): case -> (sampling rate [Hz], duration
@@ -110,4 +124,96 @@ def case_real_rates(name: str, quick: bool, repeats: int) -> dict:
             abs(fitted[key] / v - 1.0) for key, v in truth.items()))
         out[f"conditioning_{effect}"] = d.conditioning[0].describe()
         out[f"stop_reason_{effect}"] = d.stop_reason
+    return out
+
+
+def case_diagnosis(quick: bool, repeats: int) -> dict:
+    """Bench case ``diagnosis``: the bundled demo records diagnosed (top 1, max_nfev 40).
+
+    Parameters
+    ----------
+    quick : bool
+        Shorter records (1.5 instead of 3 cycles).
+    repeats : int
+        Unused (one timed run: a diagnosis is long) [-].
+
+    Returns
+    -------
+    dict
+        Wall time [s] and what was added, or ``{"skipped": reason}``.
+    """
+    try:
+        from liquidamp.analysis.measured.diagnosis import bundled_records, diagnose
+        from liquidamp.analysis.measured.records import read_record
+    except ImportError as exc:  # pragma: no cover - depends on other modules
+        return {"skipped": f"diagnosis module not available: {exc}"}
+    files = bundled_records()
+    cycles = 1.5 if quick else 3.0
+    cal = read_record(files["demo_3Hz_3mm"]).trimmed(cycles)
+    val = read_record(files["demo_4Hz_2mm"]).trimmed(cycles)
+    kw = dict(top=1, max_nfev=40)
+    if quick:
+        kw = dict(top=1, max_nfev=4, max_steps=1, candidates=("smooth_friction",))
+    seconds, d = median_time(lambda: diagnose([cal], [val], **kw), 1)
+    return {
+        "description": f"liquidamp.analysis.measured.diagnosis.diagnose of the bundled record "
+                       f"demo_3Hz_3mm (validated on demo_4Hz_2mm), first {cycles:g} cycles, "
+                       + ("one candidate, one step (quick)" if quick else
+                          "whole catalogue, top 1, max_nfev 40 (as demo_loop)"),
+        "seconds": seconds,
+        "repeats": 1,
+        "added_effects": list(d.added),
+        "stop_reason": d.stop_reason,
+        "first_call_seconds": None,
+        "first_call_note": "not measured separately: diagnosis runs the compiled engine "
+                           "through calibrate (see calibration.first_call_seconds)",
+    }
+
+
+#: Hidden-effect records of the diagnosis tests (issue #11 item 3): effect -> (preset, truth,
+#: (f [Hz], Y [m]) calibration, (f, Y) validation, seed, diagnose keywords of the test).
+HIDDEN_EFFECT_RECORDS = {
+    "series_compliance": ("paper_calibrated", {"series_compliance": {"stiffness_N_per_m": 5e5}},
+                          (3.0, 0.003), (4.0, 0.002), 54, {"max_steps": 2}),
+    "freeplay": ("paper_calibrated", {"freeplay": {"gap_m": 1.0e-4}},
+                 (3.0, 0.003), (4.0, 0.002), 53, {"max_steps": 2}),
+    "cavitation": ("paper_calibrated", {"cavitation": {"vapour_pressure_Pa": 40e3}},
+                   (3.0, 0.003), (4.0, 0.003), 61,
+                   {"max_steps": 1, "candidates": ("cavitation",)}),
+}
+
+
+def case_hidden_effects(quick: bool, repeats: int) -> dict:
+    """Diagnosis of synthetic records holding series compliance, freeplay or cavitation.
+
+    The records and the calls are those of ``tests/analysis/measured/test_diagnosis.py``
+    (top 1, max_nfev 40; the whole catalogue over two steps for compliance and freeplay,
+    the cavitation candidate alone for cavitation, as its test); the records are made before
+    timing.  ``seconds_cavitation_whole_catalogue`` times the cavitation record with the
+    whole catalogue over two steps as well (no goal).
+    """
+    from liquidamp.analysis.measured.diagnosis import diagnose
+    from liquidamp.analysis.measured.synthetic import synthetic_record
+
+    out = {"description": "liquidamp.analysis.measured.diagnosis.diagnose of 3-cycle synthetic "
+                          "records "
+                          "(200 Hz, noise) holding an undeclared effect, validated on a second "
+                          "record, as the diagnosis tests call it (top 1, max_nfev 40)"
+                          + (" (quick: one candidate, one step, max_nfev 4)" if quick else ""),
+           "repeats": 1}
+    runs = [(name, name, kw) for name, (*_, kw) in HIDDEN_EFFECT_RECORDS.items()]
+    if not quick:
+        runs.append(("cavitation_whole_catalogue", "cavitation", {"max_steps": 2}))
+    for label, name, kw in runs:
+        preset_name, truth, (fc, Yc), (fv, Yv), seed, _ = HIDDEN_EFFECT_RECORDS[name]
+        cal = synthetic_record(preset=preset_name, frequency=fc, amplitude=Yc, cycles=3,
+                               seed=seed, effects=truth)
+        val = synthetic_record(preset=preset_name, frequency=fv, amplitude=Yv, cycles=3,
+                               seed=seed + 100, effects=truth)
+        kw = dict(top=1, max_nfev=40, **kw)
+        if quick:
+            kw = dict(top=1, max_nfev=4, max_steps=1, candidates=(name,))
+        seconds, d = median_time(lambda: diagnose([cal], [val], **kw), 1)  # noqa: B023
+        out[f"seconds_{label}"] = seconds
+        out[f"added_{label}"] = list(d.added)
     return out

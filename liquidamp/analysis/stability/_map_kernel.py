@@ -20,10 +20,14 @@ import math
 import numpy as np
 from numba import njit, prange
 
+from liquidamp._numba_cache import drop_stale
+
 __all__ = ["LANES", "monodromies", "monodromies_parallel"]
 
 #: Points integrated together (the innermost axis of every work array).
 LANES = 16
+
+drop_stale(__file__)  # before any kernel of this module loads from the cache
 
 
 @njit(cache=True, error_model="numpy")
