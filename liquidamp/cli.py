@@ -107,12 +107,28 @@ class HelpFormatter(argparse.HelpFormatter):
         return "\n\n".join(out) + "\n\n"
 
 
+_USAGE_ERRORS = ("required", "unrecognized", "expected", "invalid choice", "not allowed",
+                 "ignored explicit")
+
+
 class ArgumentParser(argparse.ArgumentParser):
-    """argparse parser with :class:`HelpFormatter` for itself and its sub-parsers."""
+    """argparse parser with :class:`HelpFormatter` for itself and its sub-parsers.
+
+    A value that starts with ``-`` and a digit (``--amplitude -3mm``,
+    ``--offset -.5mm``, ``--rpm -5:3:4``) is a value, never an option; an
+    argument error is one line ``liquidamp COMMAND: error: ...`` on stderr
+    (exit 2), with a pointer to ``--help`` for a usage error.
+    """
 
     def __init__(self, *args, **kwargs):
         kwargs.setdefault("formatter_class", HelpFormatter)
         super().__init__(*args, **kwargs)
+        self._negative_number_matcher = re.compile(r"^-\.?\d")
+
+    def error(self, message):
+        hint = f" (see '{self.prog} --help')" if any(w in message for w in _USAGE_ERRORS) \
+            else ""
+        self.exit(2, f"{self.prog}: error: {message}{hint}\n")
 
     def _check_help(self, action):  # Python >= 3.13 formats help at definition time
         pass
@@ -162,12 +178,14 @@ def _message(exc: BaseException) -> str:
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; return the process exit code.
 
-    Argument errors exit through argparse (SystemExit 2, usage and one
-    error line).  Errors found while running (bad input the library
-    rejects, an unreadable or unwritable file, a solver that did not
-    converge) are printed as ``liquidamp COMMAND: error: ...`` on stderr
-    with exit code 2; an interrupt exits with 130; anything else is a bug
-    and is reported in one line with exit code 3.  ``--traceback`` shows
+    Argument errors (a bad value, unit, bound or name, found at parse time
+    before any numerical import) print one line ``liquidamp COMMAND: error:
+    ...`` and return 2; ``--help`` and ``--version`` return 0.  Errors found
+    while running (bad input the library rejects, an unreadable or
+    unwritable file, a solver that did not converge) are printed as
+    ``liquidamp COMMAND: error: ...`` on stderr with exit code 2; an
+    interrupt exits with 130; anything else is a bug and is reported in
+    one line with exit code 3.  ``--traceback`` shows
     the traceback instead.
 
     Parameters
@@ -181,15 +199,26 @@ def main(argv: list[str] | None = None) -> int:
         Exit code.
     """
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args, extra = parser.parse_known_args(argv)
+        if extra:  # named by the command's own parser
+            sub = parser._subparsers._group_actions[0].choices[args.command]
+            if getattr(args, "sweep_kind", None):
+                sub = sub._subparsers._group_actions[0].choices[args.sweep_kind]
+            sub.error(f"unrecognized arguments: {' '.join(extra)}")
+    except SystemExit as exc:  # argument errors (2), --help and --version (0)
+        return exc.code if isinstance(exc.code, int) else 2
     name = getattr(args, "command_name", None) or args.command
     if not getattr(args, "quiet", False):  # say what numba compiles while it does
         from liquidamp._numba_cache import compile_notices
 
         compile_notices(lambda msg: print(f"liquidamp {name}: {msg}", file=sys.stderr,
                                           flush=True))
+    from liquidamp.commands._args import route_warnings
+
     try:
-        code = args.func(args)
+        with route_warnings(name):
+            code = args.func(args)
     except KeyboardInterrupt:
         if args.traceback:
             raise

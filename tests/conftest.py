@@ -4,10 +4,24 @@ from pathlib import Path
 
 import pytest
 
+
+def _shared_data() -> Path:
+    """The ../shared/data folder beside the repository (or beside a parent folder of it, as
+    for a git worktree), else where it would be beside the repository."""
+    here = Path(__file__).resolve()
+    for parent in here.parents[1:]:
+        if (parent / "shared" / "data").is_dir():
+            return parent / "shared" / "data"
+    return here.parents[1].parent / "shared" / "data"
+
+
+SHARED_DATA = _shared_data()
 #: The real test-machine records of a banded rotary friction damper with backlash
 #: (CC BY-SA 4.0, Coble, Huggins, Cao, Ricles, Downey 2022; see the folder's README).
-FRICTION_DAMPER_DIR = (Path(__file__).resolve().parents[1].parent / "shared" / "data"
-                       / "friction-damper-backlash")
+FRICTION_DAMPER_DIR = SHARED_DATA / "friction-damper-backlash"
+#: Synthetic records with undeclared effects made by an independent simulator (CC0; README
+#: and truth.json in the folder).
+INDEPENDENT_DIR = SHARED_DATA / "independent-records"
 
 
 @pytest.fixture(scope="session")
@@ -18,3 +32,12 @@ def friction_damper_records() -> Path:
                     "beside the repository is not on this machine); synthetic records cover "
                     "the same code paths")
     return FRICTION_DAMPER_DIR
+
+
+@pytest.fixture(scope="session")
+def independent_records() -> Path:
+    """Folder of the independent synthetic records; skips the test where it is absent."""
+    if not (INDEPENDENT_DIR / "truth.json").is_file():
+        pytest.skip(f"independent records not found at {INDEPENDENT_DIR} (the ../shared/ "
+                    "folder beside the repository is not on this machine)")
+    return INDEPENDENT_DIR

@@ -80,7 +80,8 @@ def catalogue(d: Path, rec: Path, dev: Path, rep: Path):
         (sim + ["--model", "ful", "--json", j], "unknown model 'ful'"),
         (sim + ["--device", str(dev), "--json", str(dev)], "is the input --device"),
         (["simulate", "--frequency", "3", "--amplitude"], "expected one argument"),
-        (["simulate", "--frequency", "x", "--amplitude", "1mm"], "invalid float value"),
+        (["simulate", "--frequency", "x", "--amplitude", "1mm"],
+         "frequency must be a number with an optional unit (Hz, kHz, rpm, rad/s), got 'x'"),
         # --- stiffness
         (["stiffness", "--frequency", "1", "--amplitude", "1mm", "--out", str(d / "a" / "b")],
          "does not exist"),
@@ -93,7 +94,7 @@ def catalogue(d: Path, rec: Path, dev: Path, rep: Path):
         (["stiffness", "--frequency", "a:10:3", "--amplitude", "1mm", "--out", str(d / "k")],
          "frequency START must be a number, got 'a'"),
         (["stiffness", "--frequency", "0:10:3", "--amplitude", "1mm", "--out", str(d / "k")],
-         "log-spaced and needs START, STOP > 0"),
+         "frequency START must be > 0 and at most 10000 [Hz]"),
         (["stiffness", "--frequency", "1", "--amplitude", "1mm", "--out", str(d / "k"),
           "--effect", "nope"], "unknown effect 'nope'"),
         # --- calibrate
@@ -134,15 +135,16 @@ def catalogue(d: Path, rec: Path, dev: Path, rep: Path):
          "k COUNT must lie in [1, 100000]"),
         # --- lco
         (["lco", "--damper", "device_a", "--rpm", "230", "--t-end", "1e5", "--json", j],
-         "argument --t-end: must be a finite number in (0, 600] [s] (the run keeps every sample"),
+         "argument --t-end: t-end must be > 0 and at most 600 [s] (the run keeps every sample"),
         (["lco", "--damper", "device_a", "--rpm", "-3", "--json", j],
-         "argument --rpm: must be a finite number > 0 [rpm], got '-3'"),
+         "argument --rpm: rpm must be > 0 and at most 10000 [rpm] (167 Hz: faster than any "
+         "rotor), got '-3'"),
         (["lco", "--damper", "device_a", "--rpm", "nan", "--json", j], "--rpm"),
         (["lco", "--damper", "device_a", "--rpm", "230", "--json", j, "--plot",
           str(d / "l.bad")], "unknown figure format"),
         # --- dual-frequency
         (df + ["--lag-amplitude", "0", "--json", j, "--plot", png],
-         "--lag-amplitude must be > 0 [m], got 0"),
+         "--lag-amplitude: lag-amplitude entry must be > 0 and at most 1 [m]"),
         (df + ["--lag-amplitude", "0.5mm", "--json", j, "--plot", str(d / "p.bad")],
          "unknown figure format '.bad'"),
         (df + ["--lag-amplitude", "12mm", "--json", j, "--plot", png],
@@ -151,7 +153,8 @@ def catalogue(d: Path, rec: Path, dev: Path, rep: Path):
          "does not conserve mass"),
         (["dual-frequency", "--rev-frequency", "-4", "--lag-frequency", "1", "--rev-amplitude",
           "1mm", "--lag-amplitude", "1mm", "--json", j, "--plot", png],
-         "argument --rev-frequency: must be a finite number in (0, 10000] [Hz], got '-4'"),
+         "argument --rev-frequency: rev-frequency must be > 0 and at most 10000 [Hz] (the "
+         "highest frequency of a lumped device model), got '-4'"),
         # --- bench, demo
         (["bench", "--repeats", "0"], "argument --repeats: must be an integer in [1, 1000] "
          "(repeats of the fast routes), got '0'"),
@@ -222,7 +225,7 @@ def test_report_index_is_kept_unless_force(files, capsys, monkeypatch):
     out = d / "cal.json"
     code, _, err = run(["calibrate", str(rec), "--json", str(out), "--report", str(rep)], capsys)
     assert code == 2
-    assert f"--report {str(rep)!r} already holds index.html" in err and "--force" in err
+    assert f"--report {str(rep)!r} already holds index.html" in err and "--overwrite" in err
     assert (rep / "index.html").read_text() == "<html>old report</html>"
     assert not out.exists()  # refused before any work
     # with --force the check passes: the (too short) record is what fails now
@@ -530,3 +533,239 @@ def test_rotating_frame_effect_from_the_command_line_equals_the_library(tmp_path
     k = dynamic_stiffness(steady_state(m, preset("reference"), HarmonicStroke(1e-3, 10.0))).value
     assert d["dynamic_stiffness"]["storage [N/m]"] == pytest.approx(k.real, rel=1e-9)
     assert d["dynamic_stiffness"]["loss [N/m]"] == pytest.approx(k.imag, rel=1e-9)
+
+
+# --------------------------------------------------------------------------------------------
+# issue #21: nothing lost, nothing silent; one set of conventions; fast argument errors
+
+
+def catalogue21(d: Path, rec: Path):
+    j = str(d / "o.json")
+    sim = ["simulate", "--frequency", "3", "--amplitude", "1mm"]
+    gr = ["sweep", "ground-resonance", "--rpm", "100,200"]
+    lco = ["lco", "--damper", "device_a", "--rpm", "230", "--json", j]
+    df = ["dual-frequency", "--rev-frequency", "4.2", "--lag-frequency", "1.26",
+          "--rev-amplitude", "0,1mm", "--lag-amplitude", "1mm"]
+    return [
+        (["simulate", "--frequency", "3", "--amplitude", "3parsecs"],
+         "amplitude has unknown unit 'parsecs' in '3parsecs'; valid: m, mm, cm, um"),
+        (["simulate", "--frequency", "3", "--amplitude", "-3mm"],  # a value, not an option
+         "argument --amplitude: amplitude must be > 0 and at most 1 [m]"),
+        (["simulate", "--frequency", "3parsecs", "--amplitude", "1mm"],
+         "frequency has unknown unit 'parsecs'"),
+        (["simulate", "--frequency", "1e5", "--amplitude", "1mm"],
+         "frequency must be > 0 and at most 10000 [Hz] (the highest frequency of a lumped"),
+        (["stiffness", "--frequency", "1e5", "--amplitude", "1mm", "--out", str(d / "k")],
+         "frequency entry must be > 0 and at most 10000 [Hz]"),
+        (["stiffness", "--frequency", "log:0.5:1e5:3", "--amplitude", "1mm", "--out",
+          str(d / "k")], "frequency STOP must be > 0 and at most 10000 [Hz]"),
+        (sim + ["--effect", "coulomb_friction:force_N=30parsecs"],
+         "--effect coulomb_friction: force_N has unknown unit 'parsecs'"),
+        (sim + ["--effect", "coulomb_friction:location=seal"],
+         "unknown location 'seal'; valid: rod, piston"),
+        (["sweep", "ground-resonance", "--rpm", "1e300"],
+         "rpm entry must be > 0 and at most 10000 [rpm] (167 Hz: faster than any rotor)"),
+        (gr + ["--arm", "1e300", "--damper", "device_a"],
+         "arm must be > 0 and at most 10 [m] (a damper arm is a fraction of the blade radius)"),
+        (["lco", "--damper", "device_a", "--rpm", "1e300", "--json", j],
+         "rpm must be > 0 and at most 10000 [rpm]"),
+        (lco + ["--arm", "1e300"], "arm must be > 0 and at most 10 [m]"),
+        (["sweep", "flutter", "--damper", "device_a", "--zeta", "1e300"],
+         "zeta must be > 0 and at most 1 (a damping ratio to size for; 1 is critical)"),
+        (["sweep", "flutter", "--speeds", "0.05:3.5:100000"],
+         "100000 reduced speeds (flutter pk) would take about 200 s"),
+        (["sweep", "ground-resonance", "--rpm", "100:400:100000", "--method", "floquet"],
+         "100000 rotor speeds (floquet) would take about 600 s"),
+        (["sweep", "flutter", "--aero", "nope"], "unknown aerodynamics 'nope'"),
+        (["calibrate", str(rec), "--json", j, "--force-filter", "1e300"],
+         "force-filter must be > 0 and at most 100000 [Hz]"),
+        (df + ["--offset", "2"], "offset must be >= -1 and at most 1 [m]"),
+        (df + ["--json", j, "--plot", str(d / "p.png"), "--quiet", "--overwrite"],
+         "unrecognized arguments: --overwrite"),
+    ]
+
+
+def test_catalogue_issue21_argument_errors(files, capsys):
+    d, rec, dev, rep = files
+    before = snapshot(d)
+    for argv, message in catalogue21(d, rec):
+        code, out, err = run(argv, capsys)
+        assert code == 2, (argv, code, err)
+        lines = err.strip().splitlines()
+        assert len(lines) == 1 and lines[0].startswith("liquidamp "), (argv, err)
+        assert ": error: " in lines[0] and message in lines[0], (argv, err)
+        assert snapshot(d) == before, argv
+
+
+def test_argument_errors_come_before_any_numerical_import():
+    """Bad unit, bound, name, grid: exit 2 with numpy, scipy, matplotlib, numba unimported
+    (each answers in about 0.15 s; ``liquidamp bench`` measures the times)."""
+    code = (
+        "import sys, contextlib, io\n"
+        "from liquidamp.cli import main\n"
+        "cases = [['simulate', '--frequency', '3', '--amplitude', '3parsecs'],\n"
+        "         ['simulate', '--frequency', '3', '--amplitude', '-3mm'],\n"
+        "         ['simulate', '--preset', 'nosuch', '--frequency', '3', '--amplitude', '1mm'],\n"
+        "         ['simulate', '--model', 'ful', '--frequency', '3', '--amplitude', '1mm'],\n"
+        "         ['simulate', '--effect', 'vapour', '--frequency', '3', '--amplitude', '1mm'],\n"
+        "         ['lco', '--damper', 'device_a', '--rpm', '1e300'],\n"
+        "         ['sweep', 'flutter', '--speeds', '0.05:3.5:100000'],\n"
+        "         ['sweep', 'ground-resonance', '--rotor', 'nope', '--rpm', '100']]\n"
+        "with contextlib.redirect_stderr(io.StringIO()):\n"
+        "    codes = [main(c) for c in cases]\n"
+        "print(codes, sorted(m for m in ('numpy', 'scipy', 'matplotlib', 'numba', 'control')\n"
+        "                    if m in sys.modules))\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         env=_env(), check=True)
+    assert out.stdout.strip() == "[2, 2, 2, 2, 2, 2, 2, 2] []", out.stdout + out.stderr
+
+
+def _device_file(d: Path, tables: str) -> Path:
+    f = d / "withfx.toml"
+    f.write_text('preset = "damper"\n' + tables)
+    return f
+
+
+def test_device_file_effects_reach_simulate_and_refuse_a_second_copy(tmp_path, capsys):
+    dev = _device_file(tmp_path, "[effects.force_offset]\noffset_N = 25.0\n")
+    a, b = tmp_path / "a.json", tmp_path / "b.json"
+    base = ["simulate", "--model", "inertial_2state", "--frequency", "3", "--amplitude", "1mm",
+            "--engine", "python", "--quiet"]
+    assert main(base + ["--preset", "damper", "--json", str(a)]) == 0
+    assert main(base + ["--device", str(dev), "--json", str(b)]) == 0
+    da, db = json.loads(a.read_text()), json.loads(b.read_text())
+    assert db["model"] == "inertial_2state+force_offset"
+    assert db["effects"] == {"force_offset": {"offset_N": 25.0}}
+    for side in ("max", "min"):
+        assert db["peak_force [N]"][side] == pytest.approx(da["peak_force [N]"][side] + 25,
+                                                           abs=1e-3)
+    code, _, err = run(base + ["--device", str(dev), "--effect", "force_offset:offset_N=1kN"],
+                       capsys)
+    assert code == 2 and "already has [effects.force_offset]; give it once" in err
+
+
+def test_device_file_effects_reach_calibrate_and_round_trip_through_params(tmp_path, capsys):
+    from liquidamp.commands import calibrate
+    from liquidamp.device import load_device_file
+
+    dev = _device_file(tmp_path, "[effects.coulomb_friction]\nforce_N = 30.0\n"
+                       'location = "piston"\n')
+    recs = sorted(Path(calibrate.__file__).parents[1].joinpath(
+        "analysis", "measured", "data").glob("demo_*.csv"))
+    args = build_parser().parse_args(["calibrate", str(recs[0]), "--device", str(dev)])
+    _, _, params, effects, spec = calibrate.load(args)
+    assert [(e.name, e.as_dict()) for e in effects] == [
+        ("coulomb_friction", {"force_N": 30.0, "reverse_ratio": 1.0, "location": "piston"})]
+    assert "coulomb_friction.force_N" in spec.varying  # fitted like an --effect
+    saved, js = tmp_path / "again.toml", tmp_path / "p.json"
+    assert main(["params", "--device", str(dev), "--save-device", str(saved), "--json",
+                 str(js)]) == 0
+    back = load_device_file(saved)
+    assert back.effects == load_device_file(dev).effects and back.params == params
+    assert json.loads(js.read_text())["effects"] == {
+        "coulomb_friction": {"force_N": 30.0, "reverse_ratio": 1.0, "location": "piston"}}
+
+
+@pytest.mark.parametrize(("tables", "warning"), [
+    ("[effects.freeplay]\ngap_m = 0.1\n",
+     "freeplay gap_m = 0.1 m is beyond the chamber: the stroke limit min(V01, V02)/A_p is"),
+    ("[effects.end_stops]\nstiffness_N_per_m = 1e7\nclearance_m = 0.2\n",
+     "end_stops centre_m + clearance_m = 0.2 m lies beyond the chamber"),
+])
+def test_geometry_beyond_the_device_is_flagged(tmp_path, capsys, tables, warning):
+    dev = _device_file(tmp_path, tables)
+    code, _, err = run(["params", "--device", str(dev), "--json", str(tmp_path / "p.json")],
+                       capsys)
+    assert code == 0
+    assert f"liquidamp params: warning: {warning}" in err
+    assert err.count("warning:") == 1
+
+
+def test_make_effect_refuses_a_string_number():
+    from liquidamp.device.effects import make_effect
+    from liquidamp.errors import ParameterError
+
+    with pytest.raises(ParameterError, match=r"force_N must be a number \(SI\), got '30'"):
+        make_effect("coulomb_friction", force_N="30")
+    assert make_effect("coulomb_friction", force_N=30).force_N == 30.0
+
+
+def test_json_dash_is_standard_output(tmp_path, capsys):
+    code, out, err = run(["params", "--preset", "damper", "--json", "-"], capsys)
+    assert code == 0 and json.loads(out)["name"] == "damper"
+    code, out, err = run(["sweep", "ground-resonance", "--rpm", "100,200,300", "--json", "-",
+                          "--quiet"], capsys)
+    assert code == 0
+    assert json.loads(out)["method"] == "coleman"  # stdout is one JSON document
+    assert "unstable ranges [rpm]" in err  # the summary line moved to stderr
+
+
+def test_calibrate_saves_the_fitted_device_with_its_covariance(tmp_path, capsys):
+    """calibrate --save-device: parameters (p0, n), effects and the fit's covariance, read
+    back by simulate --device; the warnings are printed once, without a source line."""
+    import numpy as np
+
+    from liquidamp.device import load_device_file
+
+    recs = sorted(Path(__file__).resolve().parents[1].joinpath(
+        "liquidamp", "analysis", "measured", "data").glob("demo_*.csv"))
+    js, dev = tmp_path / "c.json", tmp_path / "fitted.toml"
+    code, out, err = run(["calibrate", str(recs[0]), "--validate", str(recs[1]), "--json",
+                          str(js), "--save-device", str(dev), "--effect",
+                          "smooth_friction:force_N=20N", "--max-nfev", "6", "--quiet"], capsys)
+    assert code in (0, 1), err
+    d = json.loads(js.read_text())
+    f = load_device_file(dev)
+    assert f.params.p0 == d["parameters"]["device"]["p0"] == 101325.0
+    assert f.params.n == d["parameters"]["device"]["n"]
+    assert [e.name for e in f.effects] == ["smooth_friction"]
+    assert f.effects[0].force_N == pytest.approx(d["parameters"]["effects"]["smooth_friction"]
+                                                 ["force_N"], rel=1e-12)
+    names = d["correlation"]["names"]
+    assert f.fit["varied"] == names and "smooth_friction.force_N" in names
+    cov = np.array(f.fit["covariance"])
+    se = np.array([d["parameters"]["stderr"][n] for n in names])
+    corr = np.array(d["correlation"]["matrix"])
+    assert np.allclose(np.sqrt(np.diag(cov)), se, rtol=1e-12)
+    assert np.allclose(cov / np.outer(se, se), corr, atol=6e-5)  # the JSON rounds to 1e-4
+    lines = [ln for ln in err.splitlines() if "warning:" in ln]
+    assert len(lines) == len(set(lines)) and "LiquidampWarning" not in err
+    assert "calibrate(" not in err  # no source line
+    code, out, err = run(["simulate", "--device", str(dev), "--frequency", "3", "--amplitude",
+                          "3mm", "--json", "-", "--quiet"], capsys)
+    assert code == 0, err
+    assert json.loads(out)["effects"]["smooth_friction"]["force_N"] == f.effects[0].force_N
+
+
+def test_sweep_and_lco_read_a_device_file_as_measured(tmp_path, capsys):
+    """``--device`` is the device as measured (not sized): the sized device written to a
+    file gives the sweep of ``--damper`` (two routes); its effects are used; a ``--damper``
+    file with effects is refused, never sized without them."""
+    from liquidamp.analysis.stability.sizing import lag_damper_device
+    from liquidamp.device import write_device_file
+    from liquidamp.device.effects import make_effect
+    from liquidamp.structure.hostio import load_rotor
+
+    device, rotor, _ = lag_damper_device("device_a", load_rotor("hammond1974"))
+    sized = write_device_file(tmp_path / "sized.toml", device.params)
+    a, b = tmp_path / "a.json", tmp_path / "b.json"
+    base = ["sweep", "ground-resonance", "--rpm", "150:350:11", "--quiet"]
+    assert main(base + ["--damper", "device_a", "--json", str(a)]) == 0
+    assert main(base + ["--device", str(sized), "--json", str(b)]) == 0
+    da, db = json.loads(a.read_text()), json.loads(b.read_text())
+    assert db["sized"] is False and db["effects"] == {}
+    (a0, a1), = da["unstable_ranges [rpm]"]
+    (b0, b1), = db["unstable_ranges [rpm]"]
+    assert (b0, b1) == pytest.approx((a0, a1), abs=1e-6)
+    fx = write_device_file(tmp_path / "fx.toml", device.params,
+                           [make_effect("series_compliance", stiffness_N_per_m=2e5)])
+    c = tmp_path / "c.json"
+    assert main(base + ["--device", str(fx), "--json", str(c)]) == 0
+    dc = json.loads(c.read_text())
+    assert dc["effects"] == {"series_compliance": {"stiffness_N_per_m": 2e5}}
+    assert dc["unstable_ranges [rpm]"] != db["unstable_ranges [rpm]"]  # the effect acts
+    code, _, err = run(base + ["--damper", str(fx), "--json", str(c)], capsys)
+    assert code == 2 and "has effects (series_compliance)" in err
+    code, _, err = run(["lco", "--damper", "device_a", "--device", str(fx), "--rpm", "230"],
+                       capsys)
+    assert code == 2 and "not allowed with argument" in err

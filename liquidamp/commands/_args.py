@@ -14,18 +14,12 @@ import argparse
 import json
 import math
 import os
-import re
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from liquidamp.commands._units import MAX_POINTS, parse_grid, parse_quantity
 from liquidamp.errors import ParameterError
-
-#: Largest number of points a sweep option (``START:STOP:COUNT`` or a comma
-#: list) may hold; a larger grid is a typo, not a job for one command.
-MAX_POINTS = 100_000
-
-_LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "cm": 1e-2, "um": 1e-6}
 
 
 def parse_length(text: str, name: str = "length") -> float:
@@ -47,61 +41,42 @@ def parse_length(text: str, name: str = "length") -> float:
     --------
     >>> parse_length("3mm")
     0.003
-    >>> parse_length("0.002")
-    0.002
+    >>> parse_length("-0.002")
+    -0.002
     """
-    m = re.fullmatch(r"\s*([-+0-9.eE]+)\s*([a-z]*)\s*", str(text))
-    if not m:
-        raise ParameterError(f"{name} must be a number with an optional unit (m, mm), got {text!r}")
-    unit = m.group(2) or "m"
-    if unit not in _LENGTH_UNITS:
-        raise ParameterError(
-            f"{name} has unknown unit {unit!r} in {text!r}; valid: {', '.join(_LENGTH_UNITS)}"
-        )
+    if isinstance(text, (int, float)):
+        return float(text)
     try:
-        value = float(m.group(1)) * _LENGTH_UNITS[unit]
-    except ValueError:
-        raise ParameterError(f"{name} must be a number, got {text!r}") from None
+        value = parse_quantity(text, "length", name)
+    except ValueError as exc:
+        raise ParameterError(str(exc)) from None
     if not math.isfinite(value):
         raise ParameterError(f"{name} must be finite, got {text!r}")
     return value
 
 
-def _number(item, text: str, name: str, what: str) -> float:
-    """``item(text)``; a ParameterError naming ``name`` and ``what`` if it fails."""
-    try:
-        value = item(text.strip())
-    except ParameterError:
-        raise
-    except (ValueError, TypeError):
-        raise ParameterError(f"{name} {what} must be a number, got {text!r}") from None
-    if not math.isfinite(value):
-        raise ParameterError(f"{name} {what} must be finite, got {text!r}")
-    return value
-
-
-def parse_list(text: str, name: str, *, log: bool = False, item=float,
+def parse_list(text, name: str, *, dimension: str = "reduced", bound=None,
                max_count: int = MAX_POINTS):
-    """Parse ``a,b,c`` or ``START:STOP:COUNT`` (log-spaced when ``log``, else linear).
+    """Values of a list option: ``a,b,c``, ``START:STOP:COUNT`` (linear), ``lin:``/``log:``.
 
     Parameters
     ----------
-    text : str
-        Comma list or range.
+    text : str or sequence of float
+        The option's text (or values already parsed by
+        :func:`liquidamp.commands._units.grid_type`, returned as they are).
     name : str
         Name of the option in error messages.
-    log : bool
-        ``START:STOP:COUNT`` is geometric (``numpy.geomspace``) when True,
-        linear (``numpy.linspace``) otherwise.
-    item : callable
-        Converts one entry (default ``float``).
+    dimension : str
+        Unit dimension of the entries (:data:`liquidamp.commands._units.UNITS`).
+    bound : Bound or str, optional
+        Allowed range of every value.
     max_count : int
-        Largest number of values (default :data:`MAX_POINTS`).
+        Largest number of values (default 100 000).
 
     Returns
     -------
     numpy.ndarray
-        The values, in the option's unit (``item`` converts).
+        The values in the base unit of ``dimension``.
 
     Raises
     ------
@@ -110,9 +85,9 @@ def parse_list(text: str, name: str, *, log: bool = False, item=float,
 
     Examples
     --------
-    >>> parse_list("1,2,4", "frequency").tolist()
+    >>> parse_list("1,2,4", "frequency", dimension="frequency").tolist()
     [1.0, 2.0, 4.0]
-    >>> parse_list("1:100:3", "frequency", log=True).tolist()
+    >>> parse_list("log:1:100:3", "frequency", dimension="frequency").tolist()
     [1.0, 10.0, 100.0]
     >>> parse_list("100:400:10000000", "rpm")
     Traceback (most recent call last):
@@ -122,35 +97,12 @@ got 10000000
     """
     import numpy as np
 
-    text = str(text).strip()
-    if ":" in text:
-        parts = text.split(":")
-        if len(parts) != 3:
-            raise ParameterError(f"{name} range must be START:STOP:COUNT, got {text!r}")
-        start = _number(item, parts[0], name, "START")
-        stop = _number(item, parts[1], name, "STOP")
-        try:
-            count = int(parts[2])
-        except ValueError:
-            raise ParameterError(
-                f"{name} COUNT must be an integer in [1, {max_count}], got {parts[2]!r}"
-            ) from None
-        if not 1 <= count <= max_count:
-            raise ParameterError(
-                f"{name} COUNT must lie in [1, {max_count}] (points of one sweep), got {count}")
-        if log:
-            if start <= 0 or stop <= 0:
-                raise ParameterError(
-                    f"{name} START:STOP:COUNT is log-spaced and needs START, STOP > 0, "
-                    f"got {text!r}")
-            return np.geomspace(start, stop, count)
-        return np.linspace(start, stop, count)
-    entries = [v for v in text.split(",") if v.strip()]
-    if not entries:
-        raise ParameterError(f"{name} is empty: {text!r}")
-    if len(entries) > max_count:
-        raise ParameterError(f"{name} holds {len(entries)} values; at most {max_count}")
-    values = [_number(item, v, name, "entry") for v in entries]
+    if not isinstance(text, str):
+        return np.asarray(list(text), dtype=float)
+    try:
+        values = parse_grid(text, name, dimension, bound, max_count=max_count)
+    except ValueError as exc:
+        raise ParameterError(str(exc)) from None
     return np.asarray(values, dtype=float)
 
 
@@ -413,7 +365,7 @@ def _check_dir(out: Output, path: Path, inputs, force: bool) -> None:
     if existing and not force:
         raise ParameterError(
             f"{out.flag} {str(path)!r} already holds {', '.join(existing)}; "
-            "refusing to replace it: give a new folder or --force")
+            "refusing to replace it: give a new folder or --overwrite")
 
 
 def file_inputs(*pairs) -> list:
@@ -446,17 +398,77 @@ def file_inputs(*pairs) -> list:
     return out
 
 
-def add_force_argument(parser) -> None:
-    """Add ``--force`` to ``parser``: allow replacing the files of an existing output folder."""
-    parser.add_argument("--force", action="store_true",
-                        help="replace the files of an existing output folder (without it an "
-                        "existing report or index is never overwritten)")
+def add_overwrite_argument(parser) -> None:
+    """Add ``--overwrite`` (old spelling ``--force`` kept as a hidden alias).
+
+    Allows replacing an existing output folder's files.
+    """
+    parser.add_argument("--overwrite", action="store_true", dest="overwrite",
+                        help="replace an existing output folder's report (without it an "
+                        "existing report or index is never overwritten); the new folder is "
+                        "built beside it and swapped in whole")
+    parser.add_argument("--force", action="store_true", dest="overwrite",
+                        help=argparse.SUPPRESS)
+
+
+add_force_argument = add_overwrite_argument  # the old name
 
 
 def add_quiet_argument(parser) -> None:
-    """Add ``--quiet``: no progress bar."""
+    """Add ``--quiet``: no progress bar or progress lines on stderr."""
     parser.add_argument("--quiet", action="store_true",
-                        help="no progress bar (there is none when stderr is not a terminal)")
+                        help="no progress bar or progress lines (there is no bar when stderr is "
+                        "not a terminal); warnings and errors are still printed")
+
+
+def add_json_argument(parser, what: str = "results") -> None:
+    """Add ``--json FILE`` (``-``: standard output)."""
+    parser.add_argument("--json", default=None, metavar="FILE",
+                        help=f"write the {what} as JSON to FILE (.json), or to standard output "
+                        "with '-' (the default when no other output is asked for)")
+
+
+def add_plot_argument(parser, what: str) -> None:
+    """Add the optional ``--plot FILE``."""
+    parser.add_argument("--plot", default=None, metavar="FILE",
+                        help=f"{what} (.png, .pdf, .svg, ...; optional, written after the JSON)")
+
+
+def json_path(args) -> str | None:
+    """The ``--json`` file to check and write (None: standard output or none)."""
+    j = getattr(args, "json", None)
+    return None if j in (None, "-") else j
+
+
+def json_to_stdout(args, *others: str) -> bool:
+    """True if the JSON goes to standard output: ``--json -``, or no output option at all.
+
+    ``others`` are the names of the command's other output options
+    (``"plot"``, ``"report"``, ``"save_device"``, ``"out"``).
+    """
+    j = getattr(args, "json", None)
+    if j == "-":
+        return True
+    return j is None and not any(getattr(args, o, None) for o in others)
+
+
+def emit(args, command: str, data: dict, summary: str | None = None, *others: str) -> None:
+    """Write ``data`` where ``--json`` says, print the warnings once, then ``summary``.
+
+    The summary goes to standard output, or to stderr when the JSON does (so
+    that standard output stays one JSON document).
+    """
+    if json_to_stdout(args, *others):
+        sys.stdout.write(json.dumps(data, indent=2, default=_json_default, allow_nan=False)
+                         + "\n")
+        stream = sys.stderr
+    else:
+        if json_path(args):
+            write_json(args.json, data)
+        stream = sys.stdout
+    print_warnings(command, data)
+    if summary:
+        print(summary, file=stream)
 
 
 # ---------------------------------------------------------------------------
@@ -464,10 +476,14 @@ def add_quiet_argument(parser) -> None:
 
 
 def add_effect_argument(parser, extra: str = "") -> None:
-    """Add the repeatable ``--effect NAME[:key=value,...]`` option."""
+    """Add the repeatable ``--effect NAME[:key=value,...]`` option (checked at parse time)."""
+    from liquidamp.commands._units import effect_type
+
     parser.add_argument(
         "--effect", action="append", default=[], metavar="NAME[:KEY=VALUE,...]",
-        help="add a catalogue effect to the device model; repeatable, values in SI, e.g. "
+        type=effect_type,
+        help="add a catalogue effect to the device model (beside those of a --device "
+        "file); repeatable, values in SI or with a unit (force_N=30N, gap_m=0.1mm), e.g. "
         "cavitation, coulomb_friction:force_N=30 or coulomb_friction:force_N=30,"
         "location=piston (friction behind freeplay). Effects: {effects}." + extra)
 
@@ -547,120 +563,39 @@ def effects_from_args(args) -> tuple:
     return tuple(parse_effect(t) for t in getattr(args, "effect", None) or ())
 
 
-# ---------------------------------------------------------------------------
-# stderr: warnings and progress
-
-
-def collect_warnings(data) -> list[str]:
-    """Every string of every ``"warnings"`` list in a nested JSON-ready ``data``, in order.
-
-    Parameters
-    ----------
-    data : dict or list
-        JSON-ready result (dicts, lists, scalars).
-
-    Returns
-    -------
-    list of str
-        Each warning once, in the order met.
-
-    Examples
-    --------
-    >>> collect_warnings({"warnings": ["a"], "steps": [{"warnings": ["b", "a"]}]})
-    ['a', 'b']
-    """
-    out: list[str] = []
-
-    def walk(obj):
-        if isinstance(obj, dict):
-            for key, value in obj.items():
-                if key == "warnings" and isinstance(value, (list, tuple)):
-                    out.extend(str(w) for w in value if str(w) not in out)
-                else:
-                    walk(value)
-        elif isinstance(obj, (list, tuple)):
-            for value in obj:
-                walk(value)
-
-    walk(data)
-    return list(dict.fromkeys(out))
-
-
-def print_warnings(command: str, data) -> None:
-    """Print each warning of ``data`` (see :func:`collect_warnings`) as one stderr line.
-
-    Parameters
-    ----------
-    command : str
-        Command name for the ``liquidamp COMMAND: warning: ...`` prefix.
-    data : dict
-        JSON-ready result.
-    """
-    for w in collect_warnings(data):
-        print(f"liquidamp {command}: warning: {w}", file=sys.stderr)
-
-
-class _NoBar:
-    def update(self, n: int = 1) -> None:
-        pass
-
-    def set_postfix_str(self, text: str) -> None:
-        pass
-
-    def close(self) -> None:
-        pass
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc) -> None:
-        self.close()
-
-
-def progress_bar(total: int, desc: str, quiet: bool = False):
-    """A tqdm progress bar on stderr, or a do-nothing bar.
-
-    The bar is shown only when stderr is a terminal, ``quiet`` is False and
-    tqdm is installed.  Use as a context manager; ``update(n)`` advances it.
-
-    Parameters
-    ----------
-    total : int
-        Number of steps.
-    desc : str
-        Label of the bar.
-    quiet : bool
-        Never show the bar (``--quiet``).
-
-    Returns
-    -------
-    tqdm.tqdm or a do-nothing object with the same ``update``/``close``
-
-    Examples
-    --------
-    >>> with progress_bar(3, "points", quiet=True) as bar:
-    ...     bar.update()
-    """
-    tty = bool(getattr(sys.stderr, "isatty", lambda: False)())
-    if quiet or not tty:
-        return _NoBar()
-    try:
-        from tqdm import tqdm
-    except ImportError:  # pragma: no cover - tqdm is a dependency
-        return _NoBar()
-    return tqdm(total=total, desc=desc, file=sys.stderr, leave=False, dynamic_ncols=True)
-
+from liquidamp.commands._stderr import (  # noqa: E402,F401  (re-exported)
+    collect_warnings,
+    print_warnings,
+    progress_bar,
+    progress_lines,
+    route_warnings,
+    show_progress,
+    warn_once,
+    working,
+)
 
 # ---------------------------------------------------------------------------
 # JSON
 
 
+def _json_default(o):
+    import numpy as np
+
+    if isinstance(o, np.ndarray):
+        return o.tolist()
+    if isinstance(o, np.generic):
+        return o.item()
+    if isinstance(o, Path):
+        return str(o)
+    raise TypeError(f"cannot write {type(o).__name__} to JSON")
+
+
 def write_json(path: str | Path, data: dict) -> Path:
-    """Write ``data`` as indented JSON (numpy arrays and scalars converted).
+    """Write ``data`` as indented JSON (numpy arrays and scalars converted), atomically.
 
     The text is built first and written to a temporary file beside ``path``,
-    then renamed, so a failure never leaves a half-written file or destroys
-    the previous one.
+    then renamed (:func:`liquidamp.atomic.write_text`), so a failure never
+    leaves a half-written file or destroys the previous one.
 
     Parameters
     ----------
@@ -674,27 +609,17 @@ def write_json(path: str | Path, data: dict) -> Path:
     Path
         ``path``.
     """
-
-    def default(o):
-        import numpy as np
-
-        if isinstance(o, np.ndarray):
-            return o.tolist()
-        if isinstance(o, np.generic):
-            return o.item()
-        if isinstance(o, Path):
-            return str(o)
-        raise TypeError(f"cannot write {type(o).__name__} to JSON")
+    from liquidamp.atomic import write_text
 
     path = Path(path)
-    text = json.dumps(data, indent=2, default=default, allow_nan=False) + "\n"
+    text = json.dumps(data, indent=2, default=_json_default, allow_nan=False) + "\n"
     if str(path.parent) and not path.parent.exists():
         path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        tmp.write_text(text)
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-    return path
+    return write_text(path, text)
+
+
+def save_figure(fig, path, dpi: int = 110) -> None:
+    """Save ``fig`` to ``path`` atomically (:func:`liquidamp.atomic.save_figure`)."""
+    from liquidamp.atomic import save_figure as _save
+
+    _save(fig, path, dpi=dpi)

@@ -2,9 +2,16 @@
 
 from __future__ import annotations
 
-import sys
-
-from liquidamp.commands._args import Output, check_outputs, count_type, write_json
+from liquidamp.commands._args import (
+    Output,
+    add_json_argument,
+    add_quiet_argument,
+    check_outputs,
+    count_type,
+    emit,
+    json_path,
+    progress_lines,
+)
 
 
 def register(sub) -> None:
@@ -14,7 +21,7 @@ def register(sub) -> None:
         description="Median wall times of the fast routes (compiled engine), of a user-style "
                     "scipy LSODA baseline at the same accuracy, their ratio and the first "
                     "call's time (compilation included) in fresh processes; JSON output.")
-    p.add_argument("--json", default=None, help="output JSON file (.json; default stdout)")
+    add_json_argument(p, "timings")
     p.add_argument("--quick", action="store_true",
                    help="tiny configuration (seconds, for tests); numbers not representative")
     p.add_argument("--repeats", type=count_type("--repeats", 1, 1000, "repeats of the fast "
@@ -25,27 +32,23 @@ def register(sub) -> None:
                         "floquet_sweep, coupled_rotor, diagnosis, stiffness_sweep, "
                         "diagnosis_hidden_effects, diagnosis_3khz_20s, "
                         "diagnosis_200hz_10_cycles, dual_frequency)")
+    add_quiet_argument(p)
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
     """Run the benchmark and write the JSON."""
-    import json
-
-    check_outputs([Output("--json", args.json, "json")])
+    check_outputs([Output("--json", json_path(args), "json")])
     from liquidamp.analysis.bench import run_bench
 
     cases = None
     if args.cases:
         cases = [c.strip() for c in args.cases.split(",") if c.strip()]
-
-    def progress(name):
-        print(f"bench: {name} ...", file=sys.stderr, flush=True)
-
-    data = run_bench(quick=args.quick, repeats=args.repeats, cases=cases, progress=progress)
-    if args.json:
-        write_json(args.json, data)
-    else:
-        json.dump(data, sys.stdout, indent=2)
-        print()
+    bar = progress_lines(args.quiet, "bench")
+    try:
+        data = run_bench(quick=args.quick, repeats=args.repeats, cases=cases,
+                         progress=lambda name: bar(str(name)))
+    finally:
+        bar.close()
+    emit(args, "bench", data)
     return 0

@@ -7,17 +7,21 @@ import sys
 from liquidamp.commands._args import (
     Output,
     add_effect_argument,
-    add_force_argument,
+    add_json_argument,
+    add_overwrite_argument,
+    add_quiet_argument,
     check_outputs,
     count_type,
-    effects_from_args,
+    emit,
     file_inputs,
-    float_type,
-    print_warnings,
-    write_json,
+    json_path,
+    json_to_stdout,
+    warn_once,
 )
 from liquidamp.commands._solver import add_solver_arguments, solver_options
-from liquidamp.commands.params import add_device_arguments, device_inputs
+from liquidamp.commands._units import quantity_type
+from liquidamp.commands.params import add_device_arguments, device_and_effects, device_inputs
+from liquidamp.commands.simulate import add_model_argument
 
 #: Files the HTML report writes into ``--report DIR``.
 REPORT_FILES = ("index.html", "records.png", "loops_calibration.png",
@@ -32,10 +36,9 @@ def add_fit_arguments(p) -> None:
     p.add_argument("--validate", action="append", default=[], metavar="FILE",
                    help="held-out record CSV file; repeat the option for several")
     add_device_arguments(p, default="paper_initial")
-    p.add_argument("--model", default="full",
-                   help="device model (default %(default)s): {models}")
+    add_model_argument(p)
     add_effect_argument(p, " Their default fit keys are fitted, starting from the values "
-                        "given.")
+                        "given (so are those of the --device file's effects).")
     p.add_argument("--vary", default="inv_gamma1,inv_gamma2,c1,c2",
                    help="comma list of multipliers to fit (default %(default)s)")
     p.add_argument("--window", type=count_type("--window", 3, 10_001,
@@ -48,11 +51,24 @@ def add_fit_arguments(p) -> None:
                    default=80,
                    help="model evaluations per fit, 1-100000 (default %(default)s)")
     add_conditioning_arguments(p)
-    p.add_argument("--json", required=True, help="output JSON file (.json)")
-    p.add_argument("--report", default=None,
+    p.add_argument("--outliers", choices=("refuse", "drop", "keep"), default="refuse",
+                   help="spikes found in the records as read (a sample that leaves its "
+                   "neighbours and comes back by more than the record's own local rates): "
+                   "refuse (default) the records, listing every spike with its file line; "
+                   "drop the force spikes (a displacement spike is still refused: the stroke "
+                   "drives the model); keep every spike, fitted as recorded")
+    add_json_argument(p, "fit")
+    p.add_argument("--report", default=None, metavar="DIR",
                    help="folder for an HTML report (index.html and PNGs, written after the "
-                   "JSON); an existing report is replaced only with --force")
-    add_force_argument(p)
+                   "JSON, built beside DIR and swapped in whole); an existing report is "
+                   "replaced only with --overwrite")
+    p.add_argument("--save-device", default=None, metavar="FILE",
+                   help="write the fitted device as a device file (.toml or .json): "
+                   "parameters with p0 and n, effects, and a [fit] table with the varied "
+                   "parameters' names, values, standard errors and covariance; every "
+                   "command's --device reads it back")
+    add_overwrite_argument(p)
+    add_quiet_argument(p)
     add_solver_arguments(p, "fit")
 
 
@@ -74,16 +90,16 @@ def _decimate(text: str):
 
 def add_conditioning_arguments(p) -> None:
     """Record conditioning before the fit (liquidamp.analysis.measured.conditioning)."""
-    p.add_argument("--force-filter", type=float_type("--force-filter", "Hz"), default=None,
-                   metavar="HZ", help="zero-phase Butterworth low-pass of the force at HZ "
+    p.add_argument("--force-filter", default=None, metavar="HZ",
+                   type=quantity_type("--force-filter", "frequency", "filter"),
+                   help="zero-phase Butterworth low-pass of the force at HZ (Hz or with a unit) "
                    "(order 4, forward and backward) before fitting; the model's force is "
                    "filtered the same way; the JSON states what it removed (default: none)")
     p.add_argument("--decimate", type=_decimate, default="auto",
                    help="decimation factor of each record after a zero-phase anti-alias "
                    "low-pass at 0.8 x the new Nyquist frequency: auto (default) keeps "
                    "--harmonics harmonics of the stroke frequency; 1: none")
-    p.add_argument("--harmonics", type=float_type("--harmonics", "-", low=2.0, high=1e4,
-                                                  low_open=False),
+    p.add_argument("--harmonics", type=quantity_type("--harmonics", "reduced", "harmonics"),
                    default=30.0, help="harmonics of the stroke frequency kept by --decimate "
                    "auto (default %(default)s)")
     p.add_argument("--average", choices=("auto", "yes", "no"), default="auto",
@@ -120,15 +136,15 @@ def check_fit_outputs(args, command: str) -> None:
 
     inputs = file_inputs(("RECORD", args.records), ("--validate", args.validate))
     inputs += device_inputs(args)
-    check_outputs([Output("--json", args.json, "json"),
-                   Output("--report", args.report, "dir", REPORT_FILES)],
-                  inputs, force=args.force)
+    check_outputs([Output("--json", json_path(args), "json"),
+                   Output("--report", args.report, "dir", REPORT_FILES),
+                   Output("--save-device", args.save_device, "device")],
+                  inputs, force=args.overwrite)
     cal = {Path(f).resolve() for f in args.records}
     for f in args.validate:
         if Path(f).resolve() in cal:
-            print(f"liquidamp {command}: warning: validation record {f!r} is also a "
-                  "calibration record: its validation error is not held-out",
-                  file=sys.stderr)
+            warn_once(command, f"validation record {f!r} is also a calibration record: its "
+                      "validation error is not held-out")
 
 
 def _read(path, window: int, order: int):
@@ -143,15 +159,28 @@ def _read(path, window: int, order: int):
                             f"byte {exc.start})") from None
 
 
+def checked(cal, val, args, params, command: str):
+    """The records after the data checks, as read, with ``--outliers``
+    (:func:`~liquidamp.analysis.measured.checks.check_records`): refused with every problem
+    and file line, or with their force spikes dropped, or their spikes kept, before any
+    conditioning."""
+    from liquidamp.analysis.measured.checks import check_records, drop_outliers, keep_outliers
+
+    recs = tuple(cal) + tuple(val)
+    quality, _ = check_records(recs, params, outliers=args.outliers, what=command, cli=True)
+    if args.outliers != "refuse":
+        how = drop_outliers if args.outliers == "drop" else keep_outliers
+        recs = tuple(how(r, q) for r, q in zip(recs, quality, strict=True))
+    return list(recs[:len(cal)]), list(recs[len(cal):])
+
+
 def load(args):
     """Records, validation records, start parameters, effects and fit spec from the arguments."""
     from liquidamp.analysis.measured.calibration import FitSpec
-    from liquidamp.commands.params import device_from_args
 
-    effects = effects_from_args(args)
+    params, effects = device_and_effects(args, default="paper_initial")
     cal = [_read(f, args.window, args.order) for f in args.records]
     val = [_read(f, args.window, args.order) for f in args.validate]
-    params = device_from_args(args, default="paper_initial")
     vary = tuple(v.strip() for v in args.vary.split(",") if v.strip())
     return cal, val, params, effects, FitSpec.default(vary=vary, effects=effects)
 
@@ -175,33 +204,80 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
+def fit_table(res, source: str) -> dict:
+    """The ``[fit]`` table of a device file for a CalibrationResult ``res``.
+
+    Covariance of the varied parameters (multipliers [-], effect parameters
+    [SI]) from their standard errors and correlation: C_ij = s_i s_j r_ij.
+    """
+    import math
+
+    names = list(res.varying)
+    se = [float(res.stderr.get(n, math.nan)) for n in names]
+    corr = res.correlation
+    cov = [[se[i] * se[j] * float(corr[i][j]) for j in range(len(names))]
+           for i in range(len(names))]
+    return {"source": source, "model": res.model, "status": res.status,
+            "nrmse_calibration": float(res.nrmse_calibration),
+            "nrmse_validation": (float(res.nrmse_validation)
+                                 if res.nrmse_validation is not None else math.nan),
+            "varied": names, "values": [float(res.values[n]) for n in names],
+            "stderr": se, "covariance": cov}
+
+
+def save_device(path, res, source: str) -> None:
+    """Write the fitted device of ``res`` (parameters, effects, fit table) to ``path``."""
+    from liquidamp.device import write_device_file
+
+    write_device_file(path, res.params, res.effects, fit=fit_table(res, source))
+
+
+def write_report_folder(folder, **kwargs) -> None:
+    """The HTML report, built beside ``folder`` and swapped in whole."""
+    from liquidamp.analysis.reports.report_calibration import write_report
+    from liquidamp.atomic import atomic_folder
+
+    with atomic_folder(folder) as stage:
+        write_report(stage, **kwargs)
+
+
+def fit_progress(args, desc: str):
+    """A tqdm bar of model evaluations (nothing with --quiet or without a terminal)."""
+    from liquidamp.commands._args import progress_bar
+
+    return progress_bar(None, desc, args.quiet)
+
+
 def run(args) -> int:
     """Calibrate; exit 1 if the fit did not converge (the JSON says so)."""
     options = solver_options(args, "fit")  # the arguments first, then the outputs
     check_fit_outputs(args, "calibrate")
-    from liquidamp.analysis.measured.calibration import calibrate, check_records
+    from liquidamp.analysis.measured.calibration import calibrate
     from liquidamp.analysis.measured.conditioning import condition
 
     cal, val, params, effects, spec = load(args)
     # spikes, noise-only records and strokes past the chamber end are found in the records
-    # as given (the conditioned ones are checked again by calibrate)
-    check_records(tuple(cal) + tuple(val), params)
+    # as read, before any conditioning (calibrate checks the same records as read again)
+    cal, val = checked(cal, val, args, params, "calibrate")
     kw = conditioning_options(args)
     cal, cc = zip(*(condition(r, **kw) for r in cal), strict=True)
     val, vc = zip(*(condition(r, **kw) for r in val), strict=True) if val else ((), ())
-    res = calibrate(cal, model=args.model, params=params, effects=effects, spec=spec,
-                    validate=val, max_nfev=args.max_nfev, options=options, sizing=args.sizing)
+    with fit_progress(args, "calibrate: model evaluations") as bar:
+        res = calibrate(cal, model=args.model, params=params, effects=effects, spec=spec,
+                        validate=val, max_nfev=args.max_nfev, options=options,
+                        sizing=args.sizing, progress=bar.update,
+                        outliers=args.outliers)
     d = res.as_dict()
     d["conditioning"] = [c.as_dict() for c in cc + vc]
-    write_json(args.json, d)
-    print_warnings("calibrate", d)
+    if args.save_device:
+        save_device(args.save_device, res, "liquidamp calibrate")
+    wrote = ", ".join(str(f) for f in (json_path(args), args.save_device) if f)
+    emit(args, "calibrate", d, None, "report", "save_device")
     if args.report:
-        from liquidamp.analysis.reports.report_calibration import write_report
-
-        write_report(args.report, result=res, title="liquidamp calibrate")
+        write_report_folder(args.report, result=res, title="liquidamp calibrate")
     if not res.converged:
-        print(f"liquidamp calibrate: warning: calibration did not converge: {res.message}",
-              file=sys.stderr)
+        warn_once("calibrate", f"calibration did not converge: {res.message}")
         return 1
-    print(f"calibrated: {res.summary()}; wrote {args.json}")
+    line = f"calibrated: {res.summary()}" + (f"; wrote {wrote}" if wrote else "")
+    print(line, file=sys.stderr if json_to_stdout(args, "report", "save_device") else sys.stdout)
     return 0

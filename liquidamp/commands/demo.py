@@ -3,11 +3,17 @@
 from __future__ import annotations
 
 import json
-import sys
 import time
 from pathlib import Path
 
-from liquidamp.commands._args import Output, add_force_argument, check_outputs
+from liquidamp.commands._args import (
+    Output,
+    add_overwrite_argument,
+    add_quiet_argument,
+    check_outputs,
+    progress_lines,
+    save_figure,
+)
 from liquidamp.commands._solver import add_solver_arguments, solver_options
 
 
@@ -20,39 +26,44 @@ def register(sub) -> None:
         "index.html with the first-harmonic dynamic stiffness of every case.",
     )
     p.add_argument("--out", default="liquidamp-demo",
-                   help="output folder (default %(default)s); an existing index.html there is "
-                   "replaced only with --force")
-    p.add_argument("--quiet", action="store_true", help="no progress lines")
+                   help="output folder (default %(default)s), built beside it and swapped in "
+                   "whole; an existing index.html there is replaced only with --overwrite")
+    add_quiet_argument(p)
     p.add_argument("--skip-diagnosis", action="store_true",
                    help="only the case study, not the calibrate-and-diagnose loop")
     p.add_argument("--skip-lag-damping", action="store_true",
                    help="leave out the lag damping in forward flight section")
     add_solver_arguments(p, "casestudy")  # the case study; the diagnosis loop uses "fit"
-    add_force_argument(p)
+    add_overwrite_argument(p)
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
     """Run the demo; return the exit code."""
-    check_outputs([Output("--out", args.out, "dir", ("index.html",))], force=args.force)
+    options = solver_options(args, "casestudy")  # the arguments before the numerics
+    check_outputs([Output("--out", args.out, "dir", ("index.html",))], force=args.overwrite)
     from liquidamp.analysis.reports.casestudy import run_case_study, write_case_study
+    from liquidamp.atomic import atomic_folder
 
     start = time.perf_counter()
+    bar = progress_lines(args.quiet, "demo")
 
     def progress(msg: str) -> None:
-        if not args.quiet:
-            print(f"[{time.perf_counter() - start:6.1f} s] {msg}", file=sys.stderr)
+        bar(f"[{time.perf_counter() - start:.0f} s] {msg}")
 
     out = Path(args.out)
-    study = run_case_study(options=solver_options(args, "casestudy"), progress=progress)
-    extra = ""
-    if not args.skip_diagnosis:
-        extra = _diagnosis_section(out, progress)
-    if not args.skip_lag_damping:
-        extra += _lag_section(out, progress)
-    index = write_case_study(study, out, extra_html=extra)
-    progress(f"wrote {index}")
-    print(index)
+    try:
+        study = run_case_study(options=options, progress=progress)
+        with atomic_folder(out) as stage:
+            extra = ""
+            if not args.skip_diagnosis:
+                extra = _diagnosis_section(stage, progress)
+            if not args.skip_lag_damping:
+                extra += _lag_section(stage, progress)
+            write_case_study(study, stage, extra_html=extra)
+    finally:
+        bar.close()
+    print(out / "index.html")
     return 0
 
 
@@ -102,7 +113,7 @@ def _lag_section(out: Path, progress) -> str:
                              progress=progress)
     out.mkdir(parents=True, exist_ok=True)
     fig = plot_lag_sweep(data, title="Hammond blade, 4.2 Hz: lag damping under 1/rev motion")
-    fig.savefig(out / "lag_damping.png", dpi=110)
+    save_figure(fig, out / "lag_damping.png", dpi=110)
     (out / "lag_damping.json").write_text(json.dumps(data, indent=1))
     (p, f) = (data["devices"][k] for k in devs)
     zp, zf = p["floquet_damping_ratio [-]"], f["floquet_damping_ratio [-]"]

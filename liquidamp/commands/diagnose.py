@@ -4,13 +4,18 @@ from __future__ import annotations
 
 import sys
 
-from liquidamp.commands._args import count_type, print_warnings, write_json
+from liquidamp.commands._args import count_type, emit, json_path, json_to_stdout, warn_once
 from liquidamp.commands._solver import solver_options
+from liquidamp.commands._units import COMPOSITE_NAMES, EFFECT_UNITS, name_type
 from liquidamp.commands.calibrate import (
     add_fit_arguments,
     check_fit_outputs,
+    checked,
     conditioning_options,
+    fit_progress,
     load,
+    save_device,
+    write_report_folder,
 )
 
 
@@ -35,6 +40,8 @@ def register(sub) -> None:
     p.add_argument("--top", type=count_type("--top", 1, 8, "candidates refitted per step"),
                    default=2, help="candidates refitted per step, 1-8 (default %(default)s)")
     p.add_argument("--candidate", action="append", default=None, metavar="NAME",
+                   type=name_type("--candidate", tuple(EFFECT_UNITS) + COMPOSITE_NAMES,
+                                  "candidate effect"),
                    help="consider only the named candidates (repeat the flag): catalogue "
                    "effects, including those screened only on request (relief_valve, "
                    "asymmetric_loss, elastomer, end_stops), and the composites backlash, "
@@ -60,26 +67,32 @@ def run(args) -> int:
         check_choice("candidate effect", name, {**EFFECTS, **COMPOSITES})
 
     cal, val, params, effects, spec = load(args)
-    d = diagnose(cal, val, model=args.model, params=params, effects=effects, spec=spec,
-                 candidates=args.candidate, max_steps=args.max_steps, top=args.top,
-                 max_nfev=args.max_nfev,
-                 options=options, sizing=args.sizing, **conditioning_options(args))
+    # the data checks first, as read, naming the command-line options (diagnose repeats
+    # them on the same records)
+    cal, val = checked(cal, val, args, params, "diagnose")
+    with fit_progress(args, "diagnose: model evaluations") as bar:
+        d = diagnose(cal, val, model=args.model, params=params, effects=effects, spec=spec,
+                     candidates=args.candidate, max_steps=args.max_steps, top=args.top,
+                     max_nfev=args.max_nfev, outliers=args.outliers, options=options,
+                     sizing=args.sizing,
+                     progress=bar.update, **conditioning_options(args))
     nr = d.as_dict()
-    write_json(args.json, nr)
-    print_warnings("diagnose", nr)
+    if args.save_device:
+        save_device(args.save_device, d.final, "liquidamp diagnose")
+    emit(args, "diagnose", nr, None, "report", "save_device")
     if d.unexplained:
         print(f"liquidamp diagnose: note: {d.unexplained}", file=sys.stderr)
     if args.report:
-        from liquidamp.analysis.reports.report_calibration import write_report
-
-        write_report(args.report, diagnosis=d, title="liquidamp diagnose")
+        write_report_folder(args.report, diagnosis=d, title="liquidamp diagnose")
     if d.final.flags:
-        print(f"liquidamp diagnose: warning: final fit: {d.final.flags.short()}",
-              file=sys.stderr)
+        warn_once("diagnose", f"final fit: {d.final.flags.short()}")
     added = ", ".join(d.added) or "nothing"
     raw = (f", {d.nrmse_raw['validation']:.4g} on the records as given"
            if d.nrmse_raw else "")
+    wrote = ", ".join(str(f) for f in (json_path(args), args.save_device) if f)
     print(f"added: {added}; validation NRMSE {nr['baseline']['nrmse']['validation']:.4g} -> "
           f"{nr['final']['nrmse']['validation']:.4g}{raw} ({d.stop_reason}); noise floor "
-          f"{d.noise_nrmse:.3g}; final fit {d.final.summary()}; wrote {args.json}")
+          f"{d.noise_nrmse:.3g}; final fit {d.final.summary()}"
+          + (f"; wrote {wrote}" if wrote else ""),
+          file=sys.stderr if json_to_stdout(args, "report", "save_device") else sys.stdout)
     return 0

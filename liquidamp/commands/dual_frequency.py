@@ -22,23 +22,23 @@ A failed point keeps its amplitudes, holds null values and its reason in
 
 from __future__ import annotations
 
-import sys
-
 from liquidamp.commands._args import (
     Output,
     add_effect_argument,
+    add_json_argument,
+    add_plot_argument,
     add_quiet_argument,
     check_outputs,
-    effects_from_args,
-    float_type,
-    parse_length,
-    parse_list,
-    print_warnings,
+    emit,
+    json_path,
     progress_bar,
-    write_json,
+    save_figure,
+    warn_once,
 )
 from liquidamp.commands._solver import add_solver_arguments, solver_options
-from liquidamp.commands.params import add_device_arguments, device_from_args, device_inputs
+from liquidamp.commands._units import Bound, grid_type, quantity_type
+from liquidamp.commands.params import add_device_arguments, device_and_effects, device_inputs
+from liquidamp.commands.simulate import add_model_argument
 from liquidamp.errors import ParameterError
 
 #: Largest number of points (1/rev amplitudes x lag amplitudes).
@@ -60,22 +60,27 @@ def register(sub) -> None:
         "harmonic balance (default) or a time-domain run. Writes JSON and a plot of K' and "
         "K'' against the 1/rev amplitude, one line per lag amplitude.")
     add_device_arguments(p)
-    p.add_argument("--model", default="full",
-                   help="device model (default %(default)s): {models}")
+    add_model_argument(p)
     add_effect_argument(p)
     p.add_argument("--rev-frequency", required=True, metavar="HZ",
-                   type=float_type("--rev-frequency", "Hz", high=1e4),
-                   help="1/rev frequency f_rev = Omega / 2 pi [Hz]")
+                   type=quantity_type("--rev-frequency", "frequency", "frequency"),
+                   help="1/rev frequency f_rev = Omega / 2 pi [Hz], or with a unit (4.2Hz, "
+                   "252rpm)")
     p.add_argument("--lag-frequency", required=True, metavar="HZ",
-                   type=float_type("--lag-frequency", "Hz", high=1e4),
-                   help="lag frequency f_lag = omega / 2 pi [Hz]")
+                   type=quantity_type("--lag-frequency", "frequency", "frequency"),
+                   help="lag frequency f_lag = omega / 2 pi [Hz], or with a unit")
     p.add_argument("--rev-amplitude", required=True, metavar="LIST",
+                   type=grid_type("--rev-amplitude", "length",
+                                  Bound(0.0, 1.0, low_open=False,
+                                        why=" (longer than any device's stroke)")),
                    help="1/rev stroke amplitudes A1 >= 0: comma list in SI metres or with a "
                    "unit (0,1mm,2mm) or START:STOP:COUNT (COUNT points linearly spaced)")
     p.add_argument("--lag-amplitude", required=True, metavar="LIST",
+                   type=grid_type("--lag-amplitude", "length", "amplitude"),
                    help="lag stroke amplitudes A2 > 0: comma list in SI metres or with a unit "
                    "(0.5mm) or START:STOP:COUNT (COUNT points linearly spaced)")
-    p.add_argument("--offset", default="0", metavar="LEN",
+    p.add_argument("--offset", default=0.0, metavar="LEN",
+                   type=quantity_type("--offset", "length", "offset"),
                    help="mean stroke, SI metres or with a unit (default 0)")
     p.add_argument("--method", default="harmonic_balance",
                    choices=("harmonic_balance", "time"),
@@ -83,27 +88,21 @@ def register(sub) -> None:
                    "(periodic steady state over the common period where f_rev/f_lag is "
                    "rational)")
     add_solver_arguments(p, "default")
-    p.add_argument("--json", required=True, help="output JSON file (.json)")
-    p.add_argument("--plot", required=True,
-                   help="figure of K' and K'' against the 1/rev amplitude (.png, .pdf, .svg, "
-                   "...; written after the JSON)")
+    add_json_argument(p, "points")
+    add_plot_argument(p, "figure of K' and K'' against the 1/rev amplitude")
     add_quiet_argument(p)
     p.set_defaults(func=run, command_name="dual-frequency")
 
 
 def run(args) -> int:
     """Compute every point; write the JSON, then the figure."""
-    check_outputs([Output("--json", args.json, "json"), Output("--plot", args.plot, "plot")],
-                  device_inputs(args))
-    rev = parse_list(args.rev_amplitude, "rev-amplitude",
-                     item=lambda t: parse_length(t, "rev-amplitude"))
-    lag = parse_list(args.lag_amplitude, "lag-amplitude",
-                     item=lambda t: parse_length(t, "lag-amplitude"))
-    offset = parse_length(args.offset, "offset")
-    if (rev < 0).any():
-        raise ParameterError(f"--rev-amplitude must be >= 0 [m], got {float(rev.min()):g}")
-    if (lag <= 0).any():
-        raise ParameterError(f"--lag-amplitude must be > 0 [m], got {float(lag.min()):g}")
+    options = solver_options(args, "default")  # every argument before the numerics
+    check_outputs([Output("--json", json_path(args), "json"),
+                   Output("--plot", args.plot, "plot")], device_inputs(args))
+    import numpy as np
+
+    rev, lag = np.asarray(args.rev_amplitude, float), np.asarray(args.lag_amplitude, float)
+    offset = args.offset
     if rev.size * lag.size > MAX_POINTS:
         raise ParameterError(f"--rev-amplitude x --lag-amplitude gives {rev.size} x {lag.size}"
                              f" = {rev.size * lag.size} points; at most {MAX_POINTS}")
@@ -114,10 +113,8 @@ def run(args) -> int:
     from liquidamp.device.models import get_model
     from liquidamp.errors import ConvergenceError, LiquidampWarning, PressureError
 
-    options = solver_options(args, "default")
-    params = device_from_args(args)
+    params, effects = device_and_effects(args)
     model = get_model(args.model)
-    effects = effects_from_args(args)
     if effects:
         model = with_effects(model, *effects)
     # every input is checked before the first point: the largest stroke, the model
@@ -159,15 +156,15 @@ def run(args) -> int:
     }
     if effects:
         data["effects"] = {e.name: e.parameters for e in effects}
-    write_json(args.json, data)
-    print_warnings("dual-frequency", {"warnings": data["warnings"]})
+    wrote = ", ".join(str(f) for f in (json_path(args), args.plot) if f)
+    emit(args, "dual-frequency", data, f"wrote {wrote}" if wrote else None, "plot")
     for msg in failures:
-        print(f"liquidamp dual-frequency: warning: point failed: {msg}", file=sys.stderr)
-    from liquidamp.analysis.reports.dual_frequency_plots import plot_dual_frequency
+        warn_once("dual-frequency", f"point failed: {msg}")
+    if args.plot:
+        from liquidamp.analysis.reports.dual_frequency_plots import plot_dual_frequency
 
-    fig = plot_dual_frequency(points, title=(
-        f"{params.name or 'device'}, model {model.name}: lag {args.lag_frequency:g} Hz under "
-        f"1/rev {args.rev_frequency:g} Hz"))
-    fig.savefig(args.plot, dpi=110)
-    print(f"wrote {args.json}, {args.plot}")
+        fig = plot_dual_frequency(points, title=(
+            f"{params.name or 'device'}, model {model.name}: lag {args.lag_frequency:g} Hz "
+            f"under 1/rev {args.rev_frequency:g} Hz"))
+        save_figure(fig, args.plot, dpi=110)
     return 0

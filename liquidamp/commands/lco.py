@@ -16,17 +16,24 @@ import math
 
 from liquidamp.commands._args import (
     Output,
+    add_json_argument,
+    add_plot_argument,
     add_quiet_argument,
     check_outputs,
+    emit,
     file_inputs,
-    float_type,
-    parse_length,
-    print_warnings,
+    json_path,
     progress_bar,
-    write_json,
+    save_figure,
 )
 from liquidamp.commands._solver import add_solver_arguments, solver_options
-from liquidamp.errors import ParameterError
+from liquidamp.commands._units import MODEL_NAMES, name_type, preset_names, quantity_type
+from liquidamp.commands.params import (
+    add_measured_device_argument,
+    measured_device,
+    measured_entries,
+)
+from liquidamp.commands.sweep import _blade, _damper_names
 
 #: Longest limit-cycle run [s]: the run keeps every sample (at least 200 per
 #: second) and a limit cycle settles in 10-60 s.
@@ -41,25 +48,32 @@ def register(subparsers) -> None:
         "lco", help="limit cycle of a rotor with liquid lag dampers (linear, DF, time domain)",
         description=__doc__.split("\n\n", 1)[1])
     p.add_argument("--rotor", default="hammond1974",
+                   type=name_type("--rotor", lambda: preset_names("rotor"), "rotor preset",
+                                  files=True),
                    help="rotor preset ({rotors}) or .toml/.json file (default hammond1974)")
-    p.add_argument("--damper", required=True,
-                   help="viscous, maxwell, a device preset ({presets}) or a device file")
-    p.add_argument("--rpm", required=True, type=float_type("--rpm", "rpm"),
-                   help="rotor speed [rpm], > 0")
-    p.add_argument("--inoperative", action="append", default=[], metavar="K",
+    g = p.add_mutually_exclusive_group(required=True)
+    g.add_argument("--damper",
+                   type=name_type("--damper", _damper_names, "damper", files=True),
+                   help="viscous, maxwell, a device preset ({presets}) or a device file, sized "
+                   "to the rotor's lag damper")
+    add_measured_device_argument(g)
+    p.add_argument("--rpm", required=True, metavar="RPM",
+                   type=quantity_type("--rpm", "rotor_speed", "rpm"),
+                   help="rotor speed, rpm or with a unit (4Hz), > 0 and at most 10000 rpm")
+    p.add_argument("--inoperative", action="append", default=[], metavar="K", type=_blade,
                    help="blade whose damper has failed (1-based; repeatable)")
-    p.add_argument("--arm", default=None, help="damper arm, metres or with unit (250mm)")
-    p.add_argument("--model", default="full", help="device model (default full): {models}")
-    p.add_argument("--t-end", dest="t_end", default=None,
-                   type=float_type("--t-end", "s", high=MAX_T_END,
-                                   why=" (the run keeps every sample, at least 200 per "
-                                   "second; a limit cycle settles in 10-60 s)"),
-                   help="simulated time of the limit-cycle run [s], at most 600 s: the run "
-                   "keeps every sample, at least 200 per second (default from the growth "
-                   "rate, 10-60 s)")
-    p.add_argument("--json", required=True, help="output JSON (.json)")
-    p.add_argument("--plot", default=None,
-                   help="time-history figure (.png, .pdf, .svg, ...), written after the JSON")
+    p.add_argument("--arm", default=None, metavar="LEN",
+                   type=quantity_type("--arm", "length", "arm"),
+                   help="damper arm, metres or with unit (250mm), at most 10 m")
+    p.add_argument("--model", default="full", type=name_type("--model", MODEL_NAMES, "model"),
+                   help="device model (default full): {models}")
+    p.add_argument("--t-end", dest="t_end", default=None, metavar="S",
+                   type=quantity_type("--t-end", "time", "t_end"),
+                   help="simulated time of the limit-cycle run, s or with a unit (2min), at "
+                   "most 600 s: the run keeps every sample, at least 200 per second (default "
+                   "from the growth rate, 10-60 s)")
+    add_json_argument(p, "results")
+    add_plot_argument(p, "time-history figure")
     add_quiet_argument(p)
     add_solver_arguments(p, "rotor")
     p.set_defaults(func=run)
@@ -133,36 +147,39 @@ def analyse(rotor, Omega, device, inoperative=(), t_end=None, bar=None, options=
 def run(args) -> int:
     """Run the analysis and write the JSON (then the figure)."""
     options = solver_options(args, "rotor")
-    check_outputs([Output("--json", args.json, "json"), Output("--plot", args.plot, "plot")],
-                  file_inputs(("--rotor", args.rotor), ("--damper", args.damper)))
-    if not (math.isfinite(args.rpm) and args.rpm > 0):
-        raise ParameterError(f"--rpm must be finite and > 0 [rpm], got {args.rpm}")
+    check_outputs([Output("--json", json_path(args), "json"),
+                   Output("--plot", args.plot, "plot")],
+                  file_inputs(("--rotor", args.rotor), ("--damper", args.damper),
+                              ("--device", args.device)))
     from liquidamp.analysis.stability.ground_resonance import rpm_to_rad_s
     from liquidamp.analysis.stability.sizing import lag_damper_device
     from liquidamp.structure.hostio import load_rotor
 
     rotor = load_rotor(args.rotor)
-    inop = []
-    for text in args.inoperative:
-        try:
-            inop.append(rotor.check_blade(int(text)))
-        except ValueError:
-            raise ParameterError(f"--inoperative must be a blade number, got {text!r}") from None
-    arm = parse_length(args.arm, "arm") if args.arm else None
-    device, rotor, sizing = lag_damper_device(args.damper, rotor, arm=arm, model=args.model)
+    inop = [rotor.check_blade(k) for k in args.inoperative]
+    dev = None
+    if args.device:
+        device, dev = measured_device(args)
+        if args.arm is not None:
+            rotor = rotor.replace(blade=rotor.blade.replace(damper_arm=args.arm))
+        sizing = None
+    else:
+        device, rotor, sizing = lag_damper_device(args.damper, rotor, arm=args.arm,
+                                                  model=args.model)
     with progress_bar(4, "lco stages", args.quiet) as bar:
         data, sim = analyse(rotor, rpm_to_rad_s(args.rpm), device, inop, args.t_end, bar,
                             options)
     if sizing is not None:
         data["sizing"] = sizing.as_dict()
-    write_json(args.json, data)
-    print_warnings("lco", data)
+    if dev is not None:
+        data.update(measured_entries(dev))
     amp = data["time_domain_amplitude [rad]"]
-    print(f"{rotor.name} + {device.label} at {args.rpm:g} rpm: linear rate "
-          f"{data['linear_growth_rate [1/s]']:+.4f} 1/s; predicted LCO "
-          f"{data['predicted_amplitude [rad]']} rad; simulated {amp} rad")
+    emit(args, "lco", data,
+         f"{rotor.name} + {device.label} at {args.rpm:g} rpm: linear rate "
+         f"{data['linear_growth_rate [1/s]']:+.4f} 1/s; predicted LCO "
+         f"{data['predicted_amplitude [rad]']} rad; simulated {amp} rad", "plot")
     if args.plot:
-        plot_lco(sim, data).savefig(args.plot, dpi=120)
+        save_figure(plot_lco(sim, data), args.plot, dpi=120)
     return 0
 
 

@@ -2,19 +2,27 @@
 
 from __future__ import annotations
 
-import sys
-
 from liquidamp.commands._args import (
     Output,
     add_effect_argument,
+    add_json_argument,
+    add_plot_argument,
+    add_quiet_argument,
     check_outputs,
-    effects_from_args,
-    parse_length,
-    print_warnings,
-    write_json,
+    emit,
+    json_path,
+    save_figure,
+    working,
 )
 from liquidamp.commands._solver import add_solver_arguments, solver_options
-from liquidamp.commands.params import add_device_arguments, device_from_args, device_inputs
+from liquidamp.commands._units import MODEL_NAMES, name_type, quantity_type
+from liquidamp.commands.params import add_device_arguments, device_and_effects, device_inputs
+
+
+def add_model_argument(p, what: str = "device model") -> None:
+    """Add ``--model NAME`` (checked at parse time)."""
+    p.add_argument("--model", default="full", type=name_type("--model", MODEL_NAMES, "model"),
+                   help=f"{what} (default %(default)s): {{models}}")
 
 
 def register(sub) -> None:
@@ -25,16 +33,18 @@ def register(sub) -> None:
         "state; write the first-harmonic dynamic stiffness, peak forces, lowest chamber "
         "pressure, mass-conservation error and steady-state residual as JSON.")
     add_device_arguments(p)
-    p.add_argument("--model", default="full",
-                   help="device model (default %(default)s): {models}")
+    add_model_argument(p)
     add_effect_argument(p)
-    p.add_argument("--frequency", required=True, type=float, help="excitation frequency [Hz]")
-    p.add_argument("--amplitude", required=True,
-                   help="stroke amplitude, SI metres or with unit (3mm)")
+    p.add_argument("--frequency", required=True, metavar="HZ",
+                   type=quantity_type("--frequency", "frequency", "frequency"),
+                   help="excitation frequency, Hz or with a unit (3Hz, 180rpm), at most 10 kHz")
+    p.add_argument("--amplitude", required=True, metavar="LEN",
+                   type=quantity_type("--amplitude", "length", "amplitude"),
+                   help="stroke amplitude, SI metres or with a unit (3mm)")
     add_solver_arguments(p, "default")
-    p.add_argument("--json", default=None, help="output JSON (default stdout)")
-    p.add_argument("--plot", default=None,
-                   help="three-panel loop figure (.png, .pdf, .svg, ...; written after the JSON)")
+    add_json_argument(p, "summary")
+    add_plot_argument(p, "three-panel loop figure")
+    add_quiet_argument(p)
     p.set_defaults(func=run)
 
 
@@ -65,32 +75,25 @@ def summary(response) -> dict:
 
 def run(args) -> int:
     """Run the simulation and write its summary (JSON first, then the figure)."""
-    import json
-
-    check_outputs([Output("--json", args.json, "json"), Output("--plot", args.plot, "plot")],
-                  device_inputs(args))
+    options = solver_options(args, "default")  # every argument before any numerical import
+    check_outputs([Output("--json", json_path(args), "json"),
+                   Output("--plot", args.plot, "plot")], device_inputs(args))
     from liquidamp.coupled.testrig import steady_state
     from liquidamp.device.effects import with_effects
     from liquidamp.device.models import get_model
     from liquidamp.structure.testmachine import HarmonicStroke
 
-    options = solver_options(args, "default")
-    params = device_from_args(args)
+    params, effects = device_and_effects(args)
     model = get_model(args.model)
-    effects = effects_from_args(args)
     if effects:
         model = with_effects(model, *effects)
-    stroke = HarmonicStroke(parse_length(args.amplitude, "amplitude"), args.frequency)
-    response = steady_state(model, params, stroke, options=options)
+    stroke = HarmonicStroke(args.amplitude, args.frequency)
+    with working("simulate: periodic steady state", args.quiet):
+        response = steady_state(model, params, stroke, options=options)
     data = summary(response)
     if effects:
         data["effects"] = {e.name: e.as_dict() for e in effects}
-    if args.json:
-        write_json(args.json, data)
-    else:
-        json.dump(data, sys.stdout, indent=2)
-        print()
-    print_warnings("simulate", data)
+    emit(args, "simulate", data, None, "plot")
     if args.plot:
         from liquidamp.analysis.reports.plots import plot_loops
 
@@ -98,5 +101,5 @@ def run(args) -> int:
             params.name, ("spring", "damper", "inerter"))
         fig = plot_loops([response], ideal=ideal,
                          title=f"{params.name or 'device'}: model {model.name}")
-        fig.savefig(args.plot, dpi=110)
+        save_figure(fig, args.plot, dpi=110)
     return 0

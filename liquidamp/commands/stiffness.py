@@ -25,27 +25,31 @@ strings, e.g. ``"0.001"``.
 from __future__ import annotations
 
 import csv
+import json
 import math
-import sys
 from pathlib import Path
 
 from liquidamp.commands._args import (
     Output,
     add_effect_argument,
-    add_force_argument,
+    add_json_argument,
+    add_overwrite_argument,
     add_quiet_argument,
     check_outputs,
-    effects_from_args,
-    parse_length,
-    parse_list,
-    print_warnings,
+    emit,
+    json_path,
     progress_bar,
-    write_json,
+    save_figure,
+    warn_once,
 )
 from liquidamp.commands._solver import add_solver_arguments, solver_options
-from liquidamp.commands.params import add_device_arguments, device_from_args, device_inputs
+from liquidamp.commands._units import grid_type
+from liquidamp.commands.params import add_device_arguments, device_and_effects, device_inputs
+from liquidamp.commands.simulate import add_model_argument
 from liquidamp.errors import ParameterError
 
+#: Default ``--frequency``: 13 log-spaced points from 0.5 to 20 Hz.
+DEFAULT_FREQUENCY = "log:0.5:20:13"
 LINEAR_MODELS = ("full", "maxwell", "dashpot_inerter", "inertial_2state")
 #: Largest number of nonlinear points (frequencies x amplitudes); each is a
 #: periodic steady state of 0.01-1 s.
@@ -63,23 +67,25 @@ def register(sub) -> None:
         "first harmonic of the nonlinear periodic steady state and the equivalent "
         "linearization at each stroke amplitude overlaid. Writes PNG, CSV and JSON.")
     add_device_arguments(p)
-    p.add_argument("--frequency", required=True,
-                   help="frequencies [Hz]: comma list or START:STOP:COUNT (COUNT points "
-                   "log-spaced from START to STOP)")
-    p.add_argument("--amplitude", required=True,
+    p.add_argument("--frequency", default=DEFAULT_FREQUENCY, metavar="LIST",
+                   type=grid_type("--frequency", "frequency", "frequency"),
+                   help="frequencies, Hz or with a unit: comma list, START:STOP:COUNT (COUNT "
+                   "points linearly spaced) or log:START:STOP:COUNT (log-spaced) (default "
+                   f"{DEFAULT_FREQUENCY})")
+    p.add_argument("--amplitude", required=True, metavar="LIST",
+                   type=grid_type("--amplitude", "length", "amplitude"),
                    help="stroke amplitudes: comma list (SI metres or with unit, 1mm) or "
                    "START:STOP:COUNT (COUNT points linearly spaced from START to STOP)")
     p.add_argument("--out", required=True,
-                   help="output folder: stiffness.json, stiffness.csv, then stiffness.png; an "
-                   "existing one is replaced only with --force")
-    p.add_argument("--json", default=None, help="also write the JSON here (.json)")
-    p.add_argument("--model", default="full",
-                   help="nonlinear model for the first-harmonic points (default %(default)s): "
-                   "{models}")
+                   help="output folder: stiffness.json, stiffness.csv, stiffness.png, built "
+                   "beside it and swapped in whole; an existing one is replaced only with "
+                   "--overwrite")
+    add_json_argument(p, "JSON (also written into --out)")
+    add_model_argument(p, "nonlinear model for the first-harmonic points")
     add_effect_argument(p, " The effects apply to the nonlinear first-harmonic points only; "
                         "the linear and equivalent curves are of the model without them.")
     add_solver_arguments(p, "default")
-    add_force_argument(p)
+    add_overwrite_argument(p)
     add_quiet_argument(p)
     p.set_defaults(func=run)
 
@@ -98,7 +104,7 @@ def amplitude_key(value: float) -> str:
 
     Examples
     --------
-    >>> amplitude_key(parse_length("1mm"))
+    >>> amplitude_key(1e-3)
     '0.001'
     """
     return repr(float(value))
@@ -133,26 +139,32 @@ def _nonlinear(params, model, freqs, amps, quiet: bool, options=None):
 
 
 def run(args) -> int:
-    """Compute the sweep; write JSON, CSV, then PNG (data before the figure)."""
+    """Compute the sweep; write JSON, CSV, then PNG (data before the figure) into a folder
+    built beside ``--out`` and swapped in whole."""
+    from liquidamp.atomic import atomic_folder
+
+    options = solver_options(args, "default")  # every argument before the numerics
     out = Path(args.out)
-    check_outputs([Output("--out", args.out, "dir", FILES), Output("--json", args.json, "json")],
-                  device_inputs(args), force=args.force)
-    freqs = parse_list(args.frequency, "frequency", log=True)
-    amps = parse_list(args.amplitude, "amplitude", item=lambda t: parse_length(t, "amplitude"))
-    if freqs.size * amps.size > MAX_GRID:
+    check_outputs([Output("--out", args.out, "dir", FILES),
+                   Output("--json", json_path(args), "json")],
+                  device_inputs(args), force=args.overwrite)
+    n_f, n_a = len(args.frequency), len(args.amplitude)
+    if n_f * n_a > MAX_GRID:
         raise ParameterError(
-            f"frequency x amplitude grid has {freqs.size} x {amps.size} = "
-            f"{freqs.size * amps.size} nonlinear points; at most {MAX_GRID} (each is a periodic "
-            "steady state of 0.01-1 s)")
+            f"frequency x amplitude grid has {n_f} x {n_a} = {n_f * n_a} nonlinear points; at "
+            f"most {MAX_GRID} (each is a periodic steady state of 0.01-1 s, about "
+            f"{n_f * n_a * 0.05:.0f} s in all)")
+    import numpy as np
+
+    freqs = np.asarray(args.frequency, float)
+    amps = np.asarray(args.amplitude, float)
     from liquidamp.analysis.response.linear import linearize, transfer_function
     from liquidamp.analysis.response.stiffness import equivalent_sweep, linear_stiffness
     from liquidamp.device.effects import with_effects
     from liquidamp.device.models import get_model
 
-    options = solver_options(args, "default")
-    params = device_from_args(args)
+    params, effects = device_and_effects(args)
     model = get_model(args.model).name
-    effects = effects_from_args(args)
     nl_model = with_effects(get_model(model), *effects) if effects else model
 
     # the equivalent sweep is cheap and checks every frequency and amplitude first
@@ -164,7 +176,6 @@ def run(args) -> int:
         else:
             linear.append(linear_stiffness(transfer_function(name, params), freqs, label=name))
     nl = _nonlinear(params, nl_model, freqs, amps, args.quiet, options)
-    out.mkdir(exist_ok=True)
 
     data = {
         "preset": params.name,
@@ -191,7 +202,27 @@ def run(args) -> int:
         e["min_pressure [Pa]"] = _clean(eq.min_pressure[i])
         data["equivalent"][amplitude_key(Y)] = e
 
-    with open(out / "stiffness.csv", "w", newline="") as fh:
+    from liquidamp.analysis.reports.stiffness_plots import plot_dynamic_stiffness
+
+    fig = plot_dynamic_stiffness(linear, nl, eq,
+                                 title=f"{params.name or 'device'}: dynamic stiffness, "
+                                 f"nonlinear model {nl.model}")
+    with atomic_folder(out) as stage:
+        _write_csv(stage / "stiffness.csv", linear, nl, eq, amps, model)
+        (stage / "stiffness.json").write_text(json.dumps(data, indent=2, allow_nan=False)
+                                              + "\n")
+        save_figure(fig, stage / "stiffness.png", dpi=110)
+    emit(args, "stiffness", data,
+         f"wrote {out / 'stiffness.json'}, {out / 'stiffness.csv'}, {out / 'stiffness.png'}",
+         "out")
+    for msg in nl.failures:
+        warn_once("stiffness", f"point failed: {msg}")
+    return 0
+
+
+def _write_csv(path, linear, nl, eq, amps, model) -> None:
+    """One row per curve and frequency (SI)."""
+    with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["curve", "amplitude [m]", "frequency [Hz]", "magnitude [N/m]",
                     "phase [deg]", "storage [N/m]", "loss [N/m]"])
@@ -205,17 +236,3 @@ def run(args) -> int:
                 vals = [c.magnitude[k], c.phase_deg[k], c.storage[k], c.loss[k]]
                 w.writerow([label, amp, f"{fk:.10g}"]
                            + ["" if not math.isfinite(v) else f"{v:.10g}" for v in vals])
-    write_json(out / "stiffness.json", data)
-    if args.json:
-        write_json(args.json, data)
-    print_warnings("stiffness", data)
-    for msg in nl.failures:
-        print(f"liquidamp stiffness: warning: point failed: {msg}", file=sys.stderr)
-    from liquidamp.analysis.reports.stiffness_plots import plot_dynamic_stiffness
-
-    fig = plot_dynamic_stiffness(linear, nl, eq,
-                                 title=f"{params.name or 'device'}: dynamic stiffness, "
-                                 f"nonlinear model {nl.model}")
-    fig.savefig(out / "stiffness.png", dpi=110)
-    print(f"wrote {out / 'stiffness.json'}, {out / 'stiffness.csv'}, {out / 'stiffness.png'}")
-    return 0

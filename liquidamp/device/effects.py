@@ -220,6 +220,11 @@ def make_effect(name: str, **parameters) -> Effect:
     ...
     liquidamp.errors.ParameterError: coulomb_friction location must be one of 'rod', \
 'piston', got 'seal'
+    >>> make_effect("coulomb_friction", force_N="30")
+    Traceback (most recent call last):
+    ...
+    liquidamp.errors.ParameterError: coulomb_friction force_N must be a number (SI), got '30' \
+(str)
     >>> make_effect("stiction")
     Traceback (most recent call last):
     ...
@@ -241,6 +246,9 @@ relief_valve, asymmetric_loss, elastomer, end_stops, rotating_frame
                                      f"{', '.join(map(repr, comp[k]))}, got {v!r}")
             values[k] = v
         else:
+            if isinstance(v, (str, bytes, bool)):  # never converted silently
+                raise ParameterError(f"{name} {k} must be a number (SI), got {v!r} "
+                                     f"({type(v).__name__})")
             try:
                 values[k] = float(v)
             except (TypeError, ValueError):

@@ -138,7 +138,7 @@ _UNITS = {
 }
 _TEXT_KEYS = ("name", "bulk_law", "preset")
 #: Top-level keys of a device file besides the :data:`INPUT_NAMES`.
-FILE_KEYS = ("preset", "multipliers", "effects", "derived", "bore_m", "rod_m")
+FILE_KEYS = ("preset", "multipliers", "effects", "derived", "fit", "bore_m", "rod_m")
 _REQUIRED = ("mu", "rho_l", "B_l", "V01", "V02", "A_p", "A_t", "l_t", "p0", "n",
              "inv_gamma1", "inv_gamma2")
 
@@ -156,11 +156,19 @@ class DeviceFile:
         (compose them with :func:`liquidamp.device.effects.with_effects`).
     source : str
         Path of the file.
+    fit : dict or None
+        The ``[fit]`` table of a fitted device (written by ``liquidamp
+        calibrate/diagnose --save-device``): ``varied`` (names of the varied
+        parameters: multipliers [-] or ``effect.key`` [SI]), ``values``,
+        ``stderr`` and ``covariance`` (a list of rows, same order), plus
+        free-form text such as ``source`` and numbers such as ``nrmse``.
+        Read and checked, never applied to the parameters.
     """
 
     params: DeviceParams
     effects: tuple = ()
     source: str = ""
+    fit: dict | None = None
 
 
 def _type_error(where: str, key: str, value, allowed: str) -> DataFileError:
@@ -216,8 +224,40 @@ def _check_inputs(where: str, raw: dict) -> None:
                 raise _type_error(where, key, value, "a string")
         elif key in DERIVABLE and value is None:
             continue  # JSON null: derive it (clears a preset's explicit value)
-        elif key not in ("multipliers", "effects", "derived"):
+        elif key not in ("multipliers", "effects", "derived", "fit"):
             _number(where, key, value)
+
+
+def _fit(where: str, raw) -> dict | None:
+    """Check a ``[fit]`` table: names, values, standard errors, a square covariance."""
+    if raw is None:
+        return None
+    if not isinstance(raw, dict):
+        raise _type_error(where, "fit", raw, "a table with varied, values, stderr, covariance")
+    varied = raw.get("varied", [])
+    if not isinstance(varied, list) or not all(isinstance(v, str) for v in varied):
+        raise _type_error(where, "fit.varied", varied, "a list of parameter names")
+    n = len(varied)
+    for key in ("values", "stderr"):
+        vals = raw.get(key, [])
+        if not isinstance(vals, list) or len(vals) != n:
+            raise DataFileError(f"{where}: fit.{key} must be a list of {n} numbers (one per "
+                                f"fit.varied name), got {vals!r}")
+        for v in vals:
+            _number(where, f"fit.{key}", v, "a number")
+    cov = raw.get("covariance", [])
+    if not isinstance(cov, list) or len(cov) != n or any(
+            not isinstance(r, list) or len(r) != n for r in cov):
+        raise DataFileError(f"{where}: fit.covariance must be a {n} x {n} list of rows "
+                            "(one per fit.varied name)")
+    for i, row in enumerate(cov):
+        for j, v in enumerate(row):
+            _number(where, "fit.covariance", v, "a number")
+            if math.isfinite(v) and math.isfinite(cov[j][i]) and not math.isclose(
+                    v, cov[j][i], rel_tol=1e-9, abs_tol=1e-300):
+                raise DataFileError(f"{where}: fit.covariance is not symmetric at "
+                                    f"({varied[i]}, {varied[j]})")
+    return dict(raw)
 
 
 def _multipliers(where: str, raw) -> dict:
@@ -349,6 +389,7 @@ def load_device_file(path: str | Path) -> DeviceFile:
     _check_inputs(where, raw)
     multipliers = _multipliers(where, raw.pop("multipliers", {}))
     effects = _effects(where, raw.pop("effects", {}))
+    fit = _fit(where, raw.pop("fit", None))
     derived_table = raw.pop("derived", None)
     base_name = raw.pop("preset", None)
     raw = _geometry(raw, path.name)
@@ -366,7 +407,7 @@ def load_device_file(path: str | Path) -> DeviceFile:
         raise ParameterError(f"{where}: {exc}") from None
     if derived_table is not None:
         _check_derived(where, derived_table, params)
-    return DeviceFile(params=params, effects=effects, source=str(path))
+    return DeviceFile(params=params, effects=effects, source=str(path), fit=fit)
 
 
 def load_device(path: str | Path) -> DeviceParams:
@@ -399,7 +440,8 @@ def load_device(path: str | Path) -> DeviceParams:
     return load_device_file(path).params
 
 
-def device_file_dict(params: DeviceParams, effects=(), *, derived: bool = False) -> dict:
+def device_file_dict(params: DeviceParams, effects=(), *, derived: bool = False,
+                     fit: dict | None = None) -> dict:
     """A device file's table for ``params`` and ``effects``: what :func:`load_device_file` reads.
 
     Every input of :class:`DeviceParams` is written in SI (no preset), the
@@ -414,6 +456,9 @@ def device_file_dict(params: DeviceParams, effects=(), *, derived: bool = False)
     derived : bool
         Add ``derived = params.derived()`` (output for readers; checked
         against the inputs when the file is read back).
+    fit : dict, optional
+        The ``[fit]`` table (:class:`DeviceFile`): the fit's varied
+        parameters with their values, standard errors and covariance.
 
     Returns
     -------
@@ -450,6 +495,8 @@ def device_file_dict(params: DeviceParams, effects=(), *, derived: bool = False)
         out["effects"] = tables
     if derived:
         out["derived"] = params.derived()
+    if fit is not None:
+        out["fit"] = dict(fit)
     return out
 
 
@@ -470,6 +517,8 @@ def _toml_value(v) -> str:
         return repr(v)
     if isinstance(v, str):
         return _toml_str(v)
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
     raise ParameterError(f"cannot write {type(v).__name__} {v!r} to TOML")
 
 
@@ -489,7 +538,7 @@ def _toml_lines(table: dict, prefix: str, lines: list) -> None:
 
 
 def device_file_text(params: DeviceParams, effects=(), *, fmt: str = "toml",
-                     derived: bool = False) -> str:
+                     derived: bool = False, fit: dict | None = None) -> str:
     """:func:`device_file_dict` as TOML or JSON text (no dependency beyond the stdlib).
 
     Examples
@@ -501,7 +550,7 @@ def device_file_text(params: DeviceParams, effects=(), *, fmt: str = "toml",
     B_l = 1551300000.0
     """
     check_choice("device file format", fmt, ("toml", "json"))
-    data = device_file_dict(params, effects, derived=derived)
+    data = device_file_dict(params, effects, derived=derived, fit=fit)
     if fmt == "json":
         return json.dumps(data, indent=2) + "\n"  # inf (e.g. a rigid compliance) as Infinity
     lines: list = []
@@ -510,10 +559,13 @@ def device_file_text(params: DeviceParams, effects=(), *, fmt: str = "toml",
 
 
 def write_device_file(path: str | Path, params: DeviceParams, effects=(), *,
-                      derived: bool = False) -> Path:
+                      derived: bool = False, fit: dict | None = None) -> Path:
     """Write ``params`` and ``effects`` as a device file (``.toml`` or ``.json`` by suffix).
 
-    :func:`load_device_file` reads it back to equal parameters and effects.
+    :func:`load_device_file` reads it back to equal parameters and effects
+    (and the ``fit`` table, see :class:`DeviceFile`).  The file is written
+    atomically (:func:`liquidamp.atomic.write_text`): a failure leaves the
+    previous file.
 
     Examples
     --------
@@ -527,5 +579,7 @@ def write_device_file(path: str | Path, params: DeviceParams, effects=(), *,
     suffix = path.suffix.lower().lstrip(".")
     if suffix not in ("toml", "json"):
         raise ParameterError(f"device file {path.name!r}: suffix must be .toml or .json")
-    path.write_text(device_file_text(params, effects, fmt=suffix, derived=derived))
-    return path
+    from liquidamp.atomic import write_text
+
+    return write_text(path, device_file_text(params, effects, fmt=suffix, derived=derived,
+                                             fit=fit))

@@ -18,6 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
+from liquidamp.atomic import save_figure, write_text
+
 PARAMETERS = {"air ratio 1/gamma": ("inv_gamma1", "inv_gamma2"), "c1": ("c1",),
               "S_t": ("S_t",)}
 
@@ -74,7 +76,7 @@ def main(argv=None) -> int:
             "speed_unit": "U/(b omega_theta)",
             "flutter_speed": {name: [None if not np.isfinite(v) else float(v) for v in row]
                               for name, row in zip(PARAMETERS, table, strict=True)}}
-    (out / "flutter_map.json").write_text(json.dumps(data, indent=1))
+    write_text(out / "flutter_map.json", json.dumps(data, indent=1))
 
     import matplotlib
 
@@ -92,7 +94,7 @@ def main(argv=None) -> int:
                  f"(zeta = {args.zeta:g})")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(out / "flutter_map.png", dpi=120)
+    save_figure(fig, out / "flutter_map.png", dpi=120)
     print(f"bare {v_bare:.4f}, viscous {v_visc:.4f}; device: "
           + "; ".join(f"{n}: {np.nanmin(r):.3f}-{np.nanmax(r):.3f}"
                       for n, r in zip(PARAMETERS, table, strict=True)))

@@ -24,6 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
+from liquidamp.atomic import save_figure, write_text
+
 #: Rotor speed [rad/s] (Hammond 1974: 4.2 Hz).
 OMEGA = 2.0 * math.pi * 4.2
 #: Lag amplitude at which the friction damper matches ``paper_calibrated`` [m].
@@ -91,9 +93,9 @@ def main(argv=None) -> int:
                     "4 Fc / (pi omega Y) to paper_calibrated x2 at the lag frequency and "
                     f"{1e3 * MATCH_AMPLITUDE:g} mm; Floquet = infinitesimal lag motion")
     data["friction_force [N]"] = Fc
-    (out / "forward_flight_lag_damping.json").write_text(json.dumps(data, indent=1))
+    write_text(out / "forward_flight_lag_damping.json", json.dumps(data, indent=1))
     fig = plot_lag_sweep(data, title="Hammond blade, 4.2 Hz: lag damping under 1/rev motion")
-    fig.savefig(out / "forward_flight_lag_damping.png", dpi=120)
+    save_figure(fig, out / "forward_flight_lag_damping.png", dpi=120)
     return 0
 
 

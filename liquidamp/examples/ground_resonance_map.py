@@ -25,6 +25,8 @@ from pathlib import Path
 
 import numpy as np
 
+from liquidamp.atomic import save_figure, write_text
+
 
 def _point(item):
     """Largest real part [1/s] of one (device spec, multiplier, rpm, inoperative) point."""
@@ -91,7 +93,7 @@ def main(argv=None) -> int:
                                 "unstable_ranges [rpm]": ranges(curves[i, j])}
                             for j, c in enumerate(cases)} for i, s in enumerate(specs)},
             "map": {c: {"max_real_part [1/s]": grid[j].tolist()} for j, c in enumerate(cases)}}
-    (out / "ground_resonance_map.json").write_text(json.dumps(data, indent=1))
+    write_text(out / "ground_resonance_map.json", json.dumps(data, indent=1))
 
     import matplotlib
 
@@ -119,7 +121,7 @@ def main(argv=None) -> int:
         ax.set_title(f"reference design, {c}")
         fig.colorbar(cs, ax=ax, label="largest real part [1/s]")
     fig.tight_layout()
-    fig.savefig(out / "ground_resonance_map.png", dpi=120)
+    save_figure(fig, out / "ground_resonance_map.png", dpi=120)
     for s in specs:
         print(s, {c: data["dampers"][s][c]["unstable_ranges [rpm]"] for c in cases})
     return 0

@@ -58,10 +58,12 @@ Data quality comes first: every record is checked by
 record whose force shows no first harmonic above the noise, whose loop delivers
 energy (a flipped force sign), whose sampling is too coarse for the velocity,
 or whose stroke reaches the chamber end of the starting device, is refused;
-isolated spikes (a Hampel filter) in the displacement are refused (the stroke
-drives the model), and in the force either refused (default) or, with
-``outliers="drop"``, left out of the residual and of every error measure and
-listed in ``CalibrationResult.dropped``.
+isolated spikes, judged against each record's own local rates, in the displacement
+are refused (the stroke drives the model), and in the force either refused
+(default) or, with ``outliers="drop"``, left out of the residual and of every
+error measure and listed in ``CalibrationResult.dropped`` (``outliers="keep"``
+fits every spike as recorded).  The checks run on each record as read, never on the
+samples a conditioning made (:func:`check_records`).
 
 References
 ----------
@@ -72,7 +74,10 @@ References
 
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import dataclasses
+import functools
 import math
 import warnings
 
@@ -83,6 +88,14 @@ from liquidamp.analysis.measured.calibration_result import (
     RecordError,
     parameter_flags,
 )
+from liquidamp.analysis.measured.checks import (
+    OUTLIER_CHOICES,
+    _listed,
+    check_records,
+    drop_outliers,
+    dropped_outliers,
+    keep_outliers,
+)
 from liquidamp.analysis.measured.fit_spec import (
     PAPER_FOUR,
     FitSpec,
@@ -91,11 +104,7 @@ from liquidamp.analysis.measured.fit_spec import (
     scale_effect_bounds,
 )
 from liquidamp.analysis.measured.record_model import nrmse, simulate_record
-from liquidamp.analysis.measured.record_quality import (
-    DataQuality,
-    check_record,
-    check_record_stroke,
-)
+from liquidamp.analysis.measured.record_quality import as_read, check_record_stroke
 from liquidamp.analysis.measured.records import Record
 from liquidamp.analysis.measured.start import (
     NEAR_FORCE_RATIO,
@@ -125,7 +134,8 @@ from liquidamp.errors import (
 from liquidamp.options import PRESETS, SolverOptions, resolve_options
 
 __all__ = ["Parameter", "FitSpec", "CalibrationResult", "RecordError", "calibrate",
-           "predict", "physics_start", "check_records", "linear_fit", "FIT_OPTIONS",
+           "predict", "physics_start", "check_records", "drop_outliers", "OUTLIER_CHOICES",
+           "linear_fit", "FIT_OPTIONS",
            "PAPER_FOUR"]
 
 
@@ -174,64 +184,6 @@ def predict(model, params: DeviceParams, effects, records, *, options=None,
     return [simulate_record(m, params, r, options=opts, preroll=preroll).force for r in records]
 
 
-def check_records(records, params: DeviceParams | None = None, *, outliers: str = "raise",
-                  what: str = "calibrate") -> tuple[tuple[DataQuality, ...], tuple]:
-    """Check records before a fit; raise on what cannot be fitted honestly.
-
-    Parameters
-    ----------
-    records : sequence of Record
-        Every record of the fit (calibration and validation).
-    params : DeviceParams, optional
-        Device whose chamber end bounds the stroke.
-    outliers : {'raise', 'drop'}
-        Force spikes: refuse (default) or return them to be left out.
-    what : str
-        Name of the caller in the messages.
-
-    Returns
-    -------
-    (tuple of DataQuality, tuple of (label, Outlier))
-        The checks and the force samples to drop (empty unless ``'drop'``).
-
-    Raises
-    ------
-    DataFileError
-        A record holds no force response above its noise, a stroke past the
-        chamber end, a displacement spike, or (``outliers='raise'``) a force
-        spike; the record, the line and the values are named.
-    """
-    check_choice("outliers", outliers, ("raise", "drop"))
-    records = tuple(records)
-    qs = tuple(check_record(r, params) for r in records)
-    problems = [p for q in qs for p in q.problems]
-    if problems:
-        raise DataFileError(f"{what}: " + "; ".join(problems))
-    disp = [(q, o) for q in qs for o in q.outliers if o.column == "displacement"]
-    if disp:
-        raise DataFileError(
-            f"{what}: {len(disp)} displacement spike(s) (Hampel filter, check_record): "
-            + _listed([f"{q.source}, {o.describe()}" for q, o in disp])
-            + "; the recorded stroke drives the model, so these samples cannot be dropped: "
-            "correct or remove them in the file")
-    force = [(r.label, o) for r, q in zip(records, qs, strict=True) for o in q.outliers
-             if o.column == "force"]
-    if force and outliers == "raise":
-        raise DataFileError(
-            f"{what}: {len(force)} force outlier(s) (Hampel filter, check_record): "
-            + _listed([f"{q.source}, {o.describe()}" for q in qs for o in q.outliers
-                       if o.column == "force"])
-            + "; correct the file, or pass outliers='drop' to leave these samples out of the "
-            "fit and the error measures (the result lists them)")
-    return qs, tuple(force)
-
-
-def _listed(items: list[str], first: int = 5) -> str:
-    """The first ``first`` items joined by '; ', then how many more there are."""
-    more = len(items) - first
-    return "; ".join(items[:first]) + (f"; and {more} more" if more > 0 else "")
-
-
 # ---------------------------------------------------------------------------
 # physics start
 
@@ -278,12 +230,14 @@ def _pair_groups(var):
     return groups
 
 
-def _keep_masks(records, dropped) -> list[np.ndarray]:
-    """Per record: True where the sample is fitted (False at dropped outliers)."""
+def _keep_masks(records) -> list[np.ndarray]:
+    """Per record: True where the sample is fitted (False at dropped outliers of a record
+    whose samples are those read, not conditioned)."""
     masks = []
     for r in records:
         k = np.ones(r.time.size, bool)
-        k[[o.index for lab, o in dropped if lab == r.label]] = False
+        if r.meta.get("conditioning") is None:
+            k[[o.index for o in r.meta.get("dropped", ())]] = False
         masks.append(k)
     return masks
 
@@ -291,6 +245,43 @@ def _keep_masks(records, dropped) -> list[np.ndarray]:
 def _nrmse_kept(preds, records, masks) -> float:
     return nrmse([p[k] for p, k in zip(preds, masks, strict=True)],
                  [r.force[k] for r, k in zip(records, masks, strict=True)])
+
+
+_PROGRESS = contextvars.ContextVar("liquidamp_fit_progress", default=None)
+
+
+@contextlib.contextmanager
+def fit_progress(progress):
+    """Context manager: every model evaluation of the fits inside calls ``progress(1)``.
+
+    Parameters
+    ----------
+    progress : callable or None
+        E.g. a tqdm bar's ``update``; None does nothing.
+    """
+    if progress is None:
+        yield
+        return
+    token = _PROGRESS.set(progress)
+    try:
+        yield
+    finally:
+        _PROGRESS.reset(token)
+
+
+def with_progress(func):
+    """Decorator: ``func(..., progress=None)`` runs inside :func:`fit_progress`.
+
+    ``progress`` (optional callable) is called as ``progress(1)`` after every
+    model evaluation (every run of the model over all the records of one fit).
+    """
+
+    @functools.wraps(func)
+    def wrapper(*args, progress=None, **kwargs):
+        with fit_progress(progress):
+            return func(*args, **kwargs)
+
+    return wrapper
 
 
 class _Objective:
@@ -327,6 +318,9 @@ class _Objective:
 
     def __call__(self, x):
         self.nfev += 1
+        report = _PROGRESS.get()
+        if report is not None:
+            report(1)
         try:
             _, _, F = self.forces(self.values(x))
         except (PressureError, ConvergenceError, ParameterError) as exc:
@@ -484,20 +478,22 @@ def _start_device(obj: _Objective, records, validate, sizing: str) -> Sizing:
 
 
 def _with_stroke_limit(quality, records, params: DeviceParams):
-    """The checks with the starting device's chamber end; a stroke past it is refused."""
+    """The checks with the starting device's chamber end; a stroke past it (as read) is
+    refused."""
     problems = [p for r in records
-                for p in check_record_stroke(r, params)]
+                for p in check_record_stroke(as_read(r), params)]
     if problems:
         raise DataFileError("calibrate: " + "; ".join(problems))
     return tuple(dataclasses.replace(q, stroke_limit=float(params.stroke_limit))
                  for q in quality)
 
 
+@with_progress
 def calibrate(records, *, model="full", params: DeviceParams | None = None, effects=(),
               spec: FitSpec | None = None, validate=(), options: SolverOptions | None = None,
               start: str = "physics", max_nfev: int = 80, preroll: int = 1,
               tol: float = 1e-6, strict: bool = False,
-              outliers: str = "raise", warn: bool = True,
+              outliers: str = "refuse", warn: bool = True,
               sizing: str = "auto") -> CalibrationResult:
     """Fit ``spec`` to the calibration ``records``; report errors on ``validate`` too.
 
@@ -539,15 +535,20 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
     strict : bool
         Raise ConvergenceError instead of returning a result with
         ``converged = False``.
-    outliers : {'raise', 'drop'}
-        Isolated force spikes found by
-        :func:`~liquidamp.analysis.measured.record_quality.check_record`:
-        refuse the records (default) or leave those samples out of the
-        residual and of every NRMSE, listed in ``CalibrationResult.dropped``
-        and in a warning.
+    outliers : {'refuse', 'drop', 'keep'}
+        Spikes found by :func:`check_records` in the records as read:
+        ``'refuse'`` the records (default); ``'drop'`` the force spikes
+        (:func:`drop_outliers`: replaced by the line between their neighbours
+        before any conditioning, and left out of the residual and of every NRMSE
+        where the record is fitted as read; listed in ``CalibrationResult.dropped``
+        and in a warning; a displacement spike is still refused); ``'keep'``:
+        fit every spike as recorded (a warning lists them).
     warn : bool
         Issue ``CalibrationResult.warnings`` as :class:`LiquidampWarning` (default;
         :func:`~liquidamp.analysis.measured.diagnosis.diagnose` reports its own).
+    progress : callable, optional
+        Called as ``progress(1)`` after every model evaluation (e.g. a tqdm
+        bar's ``update``); keyword only (:func:`with_progress`).
 
     Returns
     -------
@@ -562,8 +563,8 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
         delivers energy (the force or displacement sign flipped: the message
         names it), whose sampling leaves the velocity more than 10 % low, a
         stroke past the chamber end of the starting device, a displacement
-        spike, or a force spike with ``outliers='raise'``; the record and
-        line are named.
+        spike (unless ``outliers='keep'``), or a force spike with
+        ``outliers='refuse'``; every record, problem and line is named at once.
     ConvergenceError
         If no start can be used (the message lists each start tried, its
         NRMSE, peak forces and energy sign, and the likely cause), or
@@ -593,14 +594,20 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
     check_spec_uses(base, spec)
     check_choice("start", start, ("physics", "spec"))
     check_choice("sizing", sizing, SIZING_CHOICES)
-    quality, dropped = check_records(records + validate, base if sizing == "preset" else None,
-                                     outliers=outliers)
+    quality, found = check_records(records + validate, base if sizing == "preset" else None,
+                                   outliers=outliers)
+    if outliers != "refuse":  # dropped (the force) or kept, in every later check too
+        how = drop_outliers if outliers == "drop" else keep_outliers
+        nc = len(records)
+        records = tuple(how(r, q) for r, q in zip(records, quality[:nc], strict=True))
+        validate = tuple(how(r, q) for r, q in zip(validate, quality[nc:], strict=True))
+    dropped = dropped_outliers(records + validate)
     for r in records + validate:
         if sum(1 for q in records + validate if q.label == r.label) > 1 and dropped:
             raise ParameterError(f"calibrate: two records share the label {r.label!r}; "
                                  "outliers='drop' needs distinct labels")
-    keep_c = _keep_masks(records, dropped)
-    keep_v = _keep_masks(validate, dropped)
+    keep_c = _keep_masks(records)
+    keep_v = _keep_masks(validate)
     options = resolve_options(options, "fit")
     spec = scale_effect_bounds(spec, records)
     obj = _Objective(model, base, effects, spec, records, options, preroll, keep=keep_c)
@@ -701,7 +708,13 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
         warns.append(f"{obj.failures} trial point(s) could not be run ({obj.last_error})")
     if dropped:
         warns.append(f"{len(dropped)} force outlier(s) dropped from the fit and the error "
-                     "measures: " + _listed([f"{lab}, {o.describe()}" for lab, o in dropped]))
+                     "measures (replaced by the line between their neighbours before any "
+                     "conditioning): "
+                     + _listed([f"{lab}, {o.describe()}" for lab, o in dropped]))
+    if outliers == "keep" and any(q.outliers for q in quality):
+        kept = [(q.source, o) for q in quality for o in q.outliers]
+        warns.append(f"{len(kept)} spike(s) kept in the fit as recorded (outliers='keep'): "
+                     + _listed([f"{lab}, {o.describe()}" for lab, o in kept]))
     warns += [n for q in quality for n in q.notes]
     spec_fit = spec.with_values(values)
     flags = parameter_flags(spec_fit, tuple(p.name for p in obj.var), values, stderr, J,

@@ -288,8 +288,9 @@ class CalibrationResult:
         out = []
         for p, r in zip(preds, recs, strict=True):
             res = p - r.force
-            idx = [o.index for lab, o in self.dropped if lab == r.label]
-            res[idx] = 0.0
+            if r.meta.get("conditioning") is None:  # indices of the record as read
+                idx = [o.index for lab, o in self.dropped if lab == r.label]
+                res[idx] = 0.0
             out.append(res)
         return out
 
@@ -453,7 +454,7 @@ class CalibrationResult:
             "model": self.model,
             "start_parameters": self.start_params.name or "custom",
             "multipliers": mult,
-            "device": {k: getattr(self.params, k) for k in SCALABLE
+            "device": {k: getattr(self.params, k) for k in (*SCALABLE, "p0", "n")
                        if getattr(self.params, k) is not None},
             "effects": {e.name: e.as_dict() for e in self.effects},
             "stderr": dict(self.stderr),

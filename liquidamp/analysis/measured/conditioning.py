@@ -81,8 +81,8 @@ from liquidamp.analysis.measured.record_quality import NoiseFloor, noise_floor
 from liquidamp.analysis.measured.records import Record
 from liquidamp.errors import ParameterError, check_choice, check_finite
 
-__all__ = ["Conditioning", "condition", "decimation_factor", "lowpass", "HARMONICS",
-           "AVERAGE_MIN_CYCLES"]
+__all__ = ["Conditioning", "condition", "recondition", "decimation_factor", "lowpass",
+           "HARMONICS", "AVERAGE_MIN_CYCLES"]
 
 #: Default number of harmonics of the stroke frequency kept below the anti-alias cut-off.
 HARMONICS = 30.0
@@ -145,6 +145,10 @@ class Conditioning:
         Noise floor of the conditioned record
         (:func:`~liquidamp.analysis.measured.record_quality.noise_floor` before averaging,
         its standard deviations divided by sqrt(``cycles_averaged``) after).
+    record : Record or None
+        The record as given to :func:`condition` (as read): the data checks
+        (:func:`~liquidamp.analysis.measured.calibration.check_records`) run on it, never
+        on the samples the conditioning made.
     """
 
     source: str
@@ -163,6 +167,7 @@ class Conditioning:
     noise: NoiseFloor | None = None
     trimmed: int = 0
     samples: int = 0
+    record: Record | None = field(default=None, repr=False, compare=False)
     _stroke: tuple | None = field(default=None, repr=False, compare=False)
     _average: dict | None = field(default=None, repr=False, compare=False)
 
@@ -468,6 +473,11 @@ def condition(record: Record, *, force_cutoff: float | None = None, filter_order
         stages["force filter"] = _removed(F0, force)
     channels = {k: getattr(record, k)[:n] for k in ("displacement", "smoothed", "velocity",
                                                        "acceleration")}
+    # measured channels (temperature, voltage, ...) are filtered and decimated as the force is
+    measured = {k: v[:n] for k, v in record.channels.items()}
+    if force_cutoff is not None:
+        measured = {k: lowpass(v, fs, force_cutoff, filter_order, pad="even")
+                    for k, v in measured.items()}
     aa = None
     if q > 1:
         aa = 0.4 * fs / q
@@ -475,6 +485,7 @@ def condition(record: Record, *, force_cutoff: float | None = None, filter_order
         force = lowpass(force, fs, aa, _AA_ORDER, pad="even")
         stages["anti-alias"] = _removed(before, force)
         channels = {k: lowpass(v, fs, aa, _AA_ORDER) for k, v in channels.items()}
+        measured = {k: lowpass(v, fs, aa, _AA_ORDER, pad="even") for k, v in measured.items()}
     sl = slice(None, None, q)
     cut = min(c for c in (force_cutoff, aa) if c is not None) if stages else 0.5 * fs / q
     rms, share = _removed(F0[sl], force[sl]) if stages else (0.0, 0.0)
@@ -484,9 +495,12 @@ def condition(record: Record, *, force_cutoff: float | None = None, filter_order
     ch = {k: v[sl] for k, v in channels.items()}
     # dataclasses.replace keeps every other attribute of the record (frequency, amplitude,
     # source, ...) as it was
+    # the file lines of the samples kept (a filtered sample is made of its neighbours too)
     dec = replace(record, time=record.time[:n][sl], displacement=ch["displacement"],
                   force=force[sl], velocity=ch["velocity"], acceleration=ch["acceleration"],
-                  smoothed=ch["smoothed"], meta=meta)
+                  smoothed=ch["smoothed"], meta=meta,
+                  channels={k: v[sl] for k, v in measured.items()},
+                  lines=np.array([record.line(i) for i in range(0, n, q)]))
     nf = noise_floor(dec)
     drive = dec.stroke()
     # the ends where the zero-phase filters' start-up transients bend the force are not
@@ -503,11 +517,13 @@ def condition(record: Record, *, force_cutoff: float | None = None, filter_order
         dec = replace(dec, **{k: getattr(dec, k)[keep] for k in
                               ("time", "displacement", "force", "velocity", "acceleration",
                                "smoothed")},
+                      channels={k: v[keep] for k, v in dec.channels.items()},
+                      lines=dec.lines[keep], first_line=dec.line(e),
                       meta={k: (v[keep] if isinstance(v, np.ndarray) and v.shape == (m,)
                                 else v) for k, v in dec.meta.items()})
     cycles = int(math.floor((dec.time[-1] - dec.time[0]) * f + 1e-9))
     check_choice("average", average, ("auto", True, False))
-    periodic = nf.method == "cycle scatter"
+    periodic = nf.method.startswith("cycle scatter")
     if average is True and (not periodic or cycles < 2):
         raise ParameterError(
             f"{record.label} cannot be averaged over cycles: "
@@ -521,7 +537,7 @@ def condition(record: Record, *, force_cutoff: float | None = None, filter_order
         force_cutoff=None if force_cutoff is None else float(force_cutoff),
         filter_order=int(filter_order), factor=q, anti_alias_cutoff=aa,
         fitted_rate=fs / q, harmonics_kept=float(cut / f), removed_rms=rms,
-        removed_share=share, removed_by_stage=stages, noise=nf, trimmed=e,
+        removed_share=share, removed_by_stage=stages, noise=nf, trimmed=e, record=record,
         _stroke=(drive.time, drive.displacement, drive.velocity, drive.acceleration))
     if avg:
         return _average(dec, cond, cycles, dict(dec.meta), record.time[:n])
@@ -530,6 +546,14 @@ def condition(record: Record, *, force_cutoff: float | None = None, filter_order
     cond = replace(cond, samples=dec.time.size)
     return replace(dec, meta={**dec.meta, "conditioning": cond}), cond
 
+
+
+def recondition(record: Record, cond: Conditioning) -> Record:
+    """``record`` conditioned as ``cond`` says another record was (same force filter,
+    decimation factor and averaging); e.g. a record as read whose force spikes were dropped
+    (:func:`~liquidamp.analysis.measured.checks.drop_outliers`) after it was conditioned."""
+    return condition(record, force_cutoff=cond.force_cutoff, filter_order=cond.filter_order,
+                     decimate=cond.factor, average=cond.cycles_averaged > 1)[0]
 
 
 def _average(dec: Record, cond: Conditioning, cycles: int, meta: dict, t_orig):
@@ -599,9 +623,11 @@ def _average(dec: Record, cond: Conditioning, cycles: int, meta: dict, t_orig):
     meta = {k: (at_tau(v).mean(axis=0) if isinstance(v, np.ndarray) and v.shape == td.shape
                 else v) for k, v in meta.items()}
     meta["conditioning"] = cond
+    # the averaged samples come from every cycle: no line of the file holds them
     out = replace(dec, time=ts + np.arange(M) / M * T, displacement=ch["displacement"],
                   force=F, velocity=ch["velocity"], acceleration=ch["acceleration"],
-                  smoothed=ch["smoothed"], meta=meta)
+                  smoothed=ch["smoothed"], meta=meta, lines=None,
+                  channels={k: at_tau(v).mean(axis=0) for k, v in dec.channels.items()})
     return out, cond
 
 

@@ -119,8 +119,9 @@ from liquidamp.analysis.measured.calibration import (
     CalibrationResult,
     FitSpec,
     calibrate,
-    check_records,
+    with_progress,
 )
+from liquidamp.analysis.measured.checks import check_records, drop_outliers, keep_outliers
 from liquidamp.analysis.measured.conditioning import HARMONICS, condition
 from liquidamp.analysis.measured.diagnosis_evidence import (
     COMPOSITES,
@@ -246,10 +247,15 @@ class Diagnosis:
                 "noise_floors": [{"record": c.source, "force_std [N]": f.force_std,
                                   "rate_force_std [N]": f.rate_force_std,
                                   "nrmse": f.nrmse, "method": f.method,
-                                  "harmonics": f.harmonics}
+                                  "harmonics": f.harmonics,
+                                  "drift_std [N]": f.drift_std,
+                                  "drift_nrmse": f.drift_nrmse,
+                                  "nonstationary": bool(f.drift is not None
+                                                        and f.drift.nonstationary)}
                                  for c, f in zip(self.conditioning[:len(self.noise_floors)],
                                                  self.noise_floors, strict=True)],
                 "conditioning": [c.as_dict() for c in self.conditioning],
+                "data_quality": [q.as_dict() for q in self.baseline.data_quality],
                 "nrmse_raw": dict(self.nrmse_raw),
                 "signatures": self.signatures, "stop_reason": self.stop_reason,
                 "unexplained": self.unexplained, "warnings": list(self.warnings),
@@ -334,6 +340,7 @@ def _converge(result, validation, options, preroll, max_nfev, tol, sizing):
                      tol=tol, warn=False, sizing=sizing)
 
 
+@with_progress
 def diagnose(calibration, validation, *, model="full", params=None, effects=(),
              candidates=None, spec: FitSpec | None = None, options=None, max_steps: int = 3,
              top: int = 2, bic_threshold: float = 10.0, validation_tolerance: float = 0.02,
@@ -341,7 +348,7 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
              structure_factor: float = 2.0, score_ratio: float = 3.0, max_nfev: int = 60,
              preroll: int = 1, tol: float = 1e-5, force_cutoff: float | None = None,
              decimate="auto", harmonics: float = HARMONICS, average="auto",
-             sizing: str = "auto",
+             sizing: str = "auto", outliers: str = "refuse",
              baseline: CalibrationResult | None = None) -> Diagnosis:
     """Calibrate, then add catalogue effects the evidence asks for (module doc).
 
@@ -373,6 +380,9 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
         Largest relative rise of the held-out NRMSE an added effect may cause [-].
     tie_tolerance, noise_factor, structure_factor : float
         Decision thresholds (module doc).
+    progress : callable, optional
+        Called as ``progress(1)`` after every model evaluation of every fit
+        (keyword only; :func:`~liquidamp.analysis.measured.calibration.with_progress`).
     max_nfev : int
         Evaluation budget of each fit.
     tol : float
@@ -393,6 +403,10 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
         :func:`~liquidamp.analysis.measured.calibration.calibrate`; each refit starts
         from the baseline's device, sized again only where calibrate's ``'auto'`` rule
         finds the model with the candidate far from the records.
+    outliers : {'refuse', 'drop', 'keep'}
+        Spikes in the records as read (:func:`~liquidamp.analysis.measured.checks.check_records`):
+        refuse the records (default), drop the force spikes before conditioning
+        (:func:`~liquidamp.analysis.measured.checks.drop_outliers`), or keep them.
     baseline : CalibrationResult, optional
         A calibration already done on the records it holds (``baseline.calibration``);
         those records and ``validation`` are used as they are (no conditioning: condition
@@ -408,10 +422,9 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
         Before any model run, as :func:`~liquidamp.analysis.measured.calibration.check_records`:
         a record with no force response above its noise, a stroke past the
         chamber end (``params.stroke_limit``), or a spike in the force or the
-        displacement (record and line named).  Drop force spikes with
-        ``calibrate(..., outliers="drop")`` and pass that result as ``baseline``
-        only after correcting the file: the diagnosis scores effects on the
-        whole record.
+        displacement (every record, count and file line named at once; force spikes
+        pass with ``outliers='drop'`` or ``'keep'``, displacement spikes with
+        ``'keep'``).
     ParameterError
         Bad conditioning options (as :func:`~.conditioning.condition`).
 
@@ -436,7 +449,13 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
         check_params = params
     # before any model run: noise-only records, spikes (a 30 mm displacement spike made
     # the integration crawl for minutes) and a stroke past the chamber end are refused
-    check_records(calibration + validation, check_params, what="diagnose")
+    quality, _ = check_records(calibration + validation, check_params, what="diagnose",
+                               outliers=outliers)
+    if outliers != "refuse" and baseline is None:  # before any conditioning
+        nc = len(calibration)
+        how = drop_outliers if outliers == "drop" else keep_outliers
+        fixed = [how(r, q) for r, q in zip(calibration + validation, quality, strict=True)]
+        calibration, validation = tuple(fixed[:nc]), tuple(fixed[nc:])
     names = (tuple(n for n, c in EFFECTS.items() if c.screened and c.fit_keys)
              if candidates is None
              else tuple(candidates))
@@ -461,7 +480,7 @@ def diagnose(calibration, validation, *, model="full", params=None, effects=(),
         baseline = calibrate(calibration, model=model, params=params, effects=effects,
                              spec=spec, validate=validation, options=options,
                              max_nfev=max_nfev, preroll=preroll, tol=tol, warn=False,
-                             sizing=sizing)
+                             sizing=sizing, outliers=outliers)
     else:
         calibration = baseline.calibration
         conditioning = tuple(r.meta.get("conditioning")

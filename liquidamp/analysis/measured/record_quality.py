@@ -3,9 +3,13 @@
 :func:`noise_floor` estimates the force a model driven by the stroke cannot reproduce
 (cycle-to-cycle scatter; load-cell noise from the high-frequency content where the
 stroke is not periodic) and the NRMSE a perfect model would reach;
-:func:`check_record` finds isolated force spikes and other outliers
-(:class:`Outlier`), checks the loop's energy sign, the sampling and the stroke
-against the chamber, and summarizes them (:class:`DataQuality`).
+:func:`check_record` finds isolated force and displacement spikes judged against the
+record's own local rates (:func:`~liquidamp.analysis.measured.spikes.find_spikes`,
+:class:`Outlier`), tests the force for a drift over the record
+(:func:`~liquidamp.analysis.measured.drift.record_drift`), checks the loop's energy sign,
+the sampling and the stroke against the chamber, and summarizes them
+(:class:`DataQuality`).  Run it on the record as read (:func:`as_read`), never on samples
+the conditioning made.
 
 Periodic and non-periodic strokes (:attr:`Record.periodic
 <liquidamp.analysis.measured.records.Record.periodic>`): the checks that rest on
@@ -27,12 +31,21 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from liquidamp.analysis.measured.records import Record
+from liquidamp.analysis.measured.drift import Drift, drift_columns, record_drift
+from liquidamp.analysis.measured.records import CHANNEL_SI, Record
+from liquidamp.analysis.measured.spikes import (
+    SPIKE_LOCAL,
+    SPIKE_NOISE,
+    SPIKE_WIDTH,
+    Outlier,
+    find_spikes,
+)
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ParameterError
 
 __all__ = ["NoiseFloor", "noise_floor", "Outlier", "DataQuality", "check_record",
-           "check_record_stroke", "velocity_gain", "loop_power"]
+           "check_record_stroke", "velocity_gain", "loop_power", "find_spikes", "as_read",
+           "channel_summary", "Drift"]
 
 
 @dataclass(frozen=True)
@@ -50,7 +63,8 @@ class NoiseFloor:
         The NRMSE a perfect model driven by the recorded stroke would reach,
         hypot(force_std, rate_force_std) over the force's RMS about its mean [-].
     method : str
-        ``"cycle scatter"``: the force less its best periodic fit (all harmonics of
+        ``"cycle scatter"`` (``"cycle scatter, drift removed (degree D in time)"`` for a
+        drifting record): the force less its best periodic fit (all harmonics of
         the stroke frequency up to 0.45 x the sampling rate, at most 64), robust
         scale: the cycle-to-cycle scatter at the same phase plus what lies above the
         harmonics fitted; ``"high band"``: the
@@ -63,6 +77,14 @@ class NoiseFloor:
         driven by it (:func:`noise_floor`; 0 for ``"high band"``).
     rate_std : float
         That scatter of the stroke rate [m/s] (0 for ``"high band"``).
+    drift : Drift or None
+        The record's non-stationarity test
+        (:func:`~liquidamp.analysis.measured.drift.record_drift`).
+    drift_std : float
+        RMS of the force drift kept out of ``force_std`` [N] (0 when stationary).
+    drift_nrmse : float
+        ``drift_std`` over the force's RMS about its mean [-]: the NRMSE a model of a
+        stationary device would keep from the drift alone (0 when stationary).
     """
 
     force_std: float
@@ -72,6 +94,9 @@ class NoiseFloor:
     harmonics: int = 0
     rate_force_std: float = 0.0
     rate_std: float = 0.0
+    drift: Drift | None = None
+    drift_std: float = 0.0
+    drift_nrmse: float = 0.0
 
     @property
     def std(self) -> float:
@@ -95,8 +120,9 @@ def _hf_std(t, s, f, harmonics=12, periodic=True):
     return 1.4826 * mad / math.sqrt(70.0)
 
 
-def _periodic_scatter(record: Record, max_harmonics: int = 64):
-    """(force scatter [N], rate-driven force scatter [N], harmonics) or None (noise_floor)."""
+def _periodic_scatter(record: Record, max_harmonics: int = 64, drift: Drift | None = None):
+    """(force scatter [N], rate-driven force scatter [N], harmonics, rate scatter [m/s],
+    drift std [N]) or None (noise_floor)."""
     t = record.time - record.time[0]
     f, n = record.frequency, record.time.size
     H = min(int(0.45 * record.sampling_rate / f), max_harmonics)
@@ -114,6 +140,19 @@ def _periodic_scatter(record: Record, max_harmonics: int = 64):
     # the stroke must repeat: a tapered or broadband stroke has no phase to compare at
     if dof < max(20, n // 4) or np.sqrt(np.mean(res[:, 0] ** 2)) > 0.05 * record.amplitude:
         return None
+    drift_std = 0.0
+    if drift is not None and drift.nonstationary:
+        # the drift is not noise: every harmonic holding more than 0.2 % of the largest
+        # (at most 32), modulated by Legendre polynomials of time up to the drift's degree
+        amp = np.hypot(coef[1::2, 1], coef[2::2, 1])
+        big = [k for k in range(1, H + 1) if amp[k - 1] >= 2e-3 * amp.max()][:32]
+        cols = [0] + [c for k in big for c in (2 * k - 1, 2 * k)]
+        B = np.hstack((A, drift_columns(A[:, cols], t, drift.degree)))
+        cf, _, rk, _ = np.linalg.lstsq(B, record.force, rcond=None)
+        rf = record.force - B @ cf
+        drift_std = float(np.std(B[:, A.shape[1]:] @ cf[A.shape[1]:]))
+        if n - int(rk) >= max(20, n // 4):
+            res[:, 1] = rf * math.sqrt(dof / (n - int(rk)))  # same scale as the others below
     # robust scale: each residual has variance sigma^2 (1 - h_ii), dof / n on average
     mad = np.median(np.abs(res - np.median(res, axis=0)), axis=0)
     force_std, rate_std = 1.4826 * mad[1:] / math.sqrt(dof / n)
@@ -121,10 +160,10 @@ def _periodic_scatter(record: Record, max_harmonics: int = 64):
     # dynamic stiffness, c_eq = Im(K*) / w (the model's stroke is the integral of the rate)
     K = complex(coef[1, 1], coef[2, 1]) / complex(coef[1, 0], coef[2, 0])
     return (float(force_std), float(abs(K.imag) / (2 * math.pi * f) * rate_std), H,
-            float(rate_std))
+            float(rate_std), drift_std)
 
 
-def noise_floor(record: Record) -> NoiseFloor:
+def noise_floor(record: Record, drift: Drift | None = None) -> NoiseFloor:
     """Estimate the force error a model driven by the recorded stroke cannot avoid.
 
     For a periodic stroke over at least two cycles (``method = "cycle scatter"``)
@@ -155,6 +194,14 @@ def noise_floor(record: Record) -> NoiseFloor:
     band lies well below the sampling rate fs.
     The displacement noise is always the high-band estimate.
 
+    A record whose force drifts (``drift``, by default
+    :func:`~liquidamp.analysis.measured.drift.record_drift` of the record;
+    ``drift.nonstationary``): the cycle-scatter fit also holds every
+    harmonic above 0.2 % of the largest (at most 32) and the constant, modulated by
+    Legendre polynomials of time up to the drift's degree, so that the drift is kept out of
+    the floor (``drift_std``: the RMS force it took; ``method`` says so).  A thermal drift
+    that fades the force 13 % over 30 s raised the floor 20x before.
+
     Examples
     --------
     >>> rng = np.random.default_rng(1)
@@ -167,54 +214,25 @@ def noise_floor(record: Record) -> NoiseFloor:
     """
     t = record.time
     ys = _hf_std(t, record.displacement, record.frequency, periodic=record.periodic)
-    scatter = _periodic_scatter(record) if record.periodic else None
+    drift = record_drift(record) if drift is None else drift
+    scatter = _periodic_scatter(record, drift=drift) if record.periodic else None
     if scatter is None:
-        fs, rs, method, H, vs = (_hf_std(t, record.force, record.frequency,
-                                         periodic=record.periodic), 0.0, "high band", 0, 0.0)
+        fs, rs, method, H, vs, ds = (_hf_std(t, record.force, record.frequency,
+                                             periodic=record.periodic), 0.0, "high band", 0,
+                                     0.0, 0.0)
     else:
-        (fs, rs, H, vs), method = scatter, "cycle scatter"
+        (fs, rs, H, vs, ds), method = scatter, "cycle scatter"
+        if drift.nonstationary:
+            method += f", drift removed (degree {drift.degree} in time)"
     F = record.force
-    return NoiseFloor(force_std=fs, displacement_std=ys,
-                      nrmse=math.hypot(fs, rs) / float(np.sqrt(np.mean((F - F.mean()) ** 2))),
-                      method=method, harmonics=H, rate_force_std=rs, rate_std=vs)
+    rms = float(np.sqrt(np.mean((F - F.mean()) ** 2)))
+    return NoiseFloor(force_std=fs, displacement_std=ys, nrmse=math.hypot(fs, rs) / rms,
+                      method=method, harmonics=H, rate_force_std=rs, rate_std=vs,
+                      drift=drift, drift_std=ds, drift_nrmse=ds / rms)
 
 
 # ---------------------------------------------------------------------------
 # data quality before a fit
-
-
-@dataclass(frozen=True)
-class Outlier:
-    """One sample that stands out of its neighbours (:func:`check_record`).
-
-    Attributes
-    ----------
-    column : str
-        ``"force"`` or ``"displacement"``.
-    index : int
-        Sample index in the record.
-    line : int
-        Line of the source file (header = line 1).
-    time : float
-        Sample time [s].
-    value : float
-        Recorded value [N] or [m].
-    expected : float
-        Median of its ``width`` neighbours that are not spikes themselves [N] or [m].
-    """
-
-    column: str
-    index: int
-    line: int
-    time: float
-    value: float
-    expected: float
-
-    def describe(self) -> str:
-        """'line L (t = ... s): force 5e+04 N, neighbours ~ 312 N'."""
-        unit, k = ("N", 1.0) if self.column == "force" else ("mm", 1e3)
-        return (f"line {self.line} (t = {self.time:.6g} s): {self.column} {self.value * k:.6g} "
-                f"{unit}, its neighbours' median {self.expected * k:.6g} {unit}")
 
 
 @dataclass(frozen=True)
@@ -277,6 +295,16 @@ class DataQuality:
         0.998 for the paper's 21 points at 67 samples per cycle).
     harmonics_resolved : int
         Harmonics of the stroke frequency below 0.8 x Nyquist [-].
+    drift : Drift or None
+        The non-stationarity test (:func:`~liquidamp.analysis.measured.drift.record_drift`):
+        ``drift.nonstationary`` (bool), ``drift.amplitude_trend`` [%/cycle] of the
+        first-harmonic force amplitude with ``drift.amplitude_t`` and
+        ``drift.amplitude_p``, ``drift.amplitude_change`` over the record [-],
+        ``drift.mean_trend`` [N/cycle], ``drift.reason`` (one sentence).
+    channels : dict
+        Measured channels of the record (:attr:`Record.channels
+        <liquidamp.analysis.measured.records.Record.channels>`): name -> {"unit",
+        "min", "max", "mean"} in SI.
     """
 
     source: str
@@ -297,6 +325,13 @@ class DataQuality:
     samples_per_cycle: float = math.inf
     velocity_gain: float = 1.0
     harmonics_resolved: int = 0
+    drift: Drift | None = None
+    channels: dict = field(default_factory=dict)
+
+    @property
+    def nonstationary(self) -> bool:
+        """True when the force drifts over the record (``drift.nonstationary``)."""
+        return self.drift is not None and self.drift.nonstationary
 
     @property
     def ok(self) -> bool:
@@ -328,50 +363,12 @@ class DataQuality:
                 "velocity_gain": self.velocity_gain,
                 "harmonics_resolved": self.harmonics_resolved,
                 "outliers": [dict(o.__dict__) for o in self.outliers],
+                "outlier_counts": {c: sum(1 for o in self.outliers if o.column == c)
+                                   for c in ("force", "displacement")},
+                "nonstationary": self.nonstationary,
+                "drift": None if self.drift is None else self.drift.as_dict(),
+                "channels": {k: dict(v) for k, v in self.channels.items()},
                 "problems": list(self.problems), "notes": list(self.notes)}
-
-
-def _spikes(x, A, width: int, k: float, frac: float, amp: float | None = None):
-    """Isolated spikes of ``x``: (indices, expected values).
-
-    The smooth periodic part (least squares on the columns of ``A``, refitted
-    without the spikes found) is removed, then a Hampel filter runs on what is
-    left: a sample departing from the running median of ``width`` samples by
-    more than max(k * 1.4826 * MAD, frac * first-harmonic amplitude (or ``amp``), 3 * the 98th
-    percentile of those departures) is a spike (the last term keeps a record's own
-    high-frequency texture, e.g. rig ringing on a friction loop, from passing for
-    spikes: a spike is rare by definition);
-    the largest departures are replaced by their median and the filter is rerun
-    (a spike also shifts its neighbours' medians by one sample).
-    """
-    from scipy.ndimage import maximum_filter, median_filter
-
-    bad = np.zeros(x.size, bool)
-    for _ in range(2):  # fit, find the spikes, refit without them, find them again
-        c, *_ = np.linalg.lstsq(A[~bad], x[~bad], rcond=None)
-        r = x - A @ c
-        floor = frac * (float(math.hypot(c[1], c[2])) if amp is None else amp)
-        d = r - median_filter(r, size=width, mode="mirror")
-        sigma = 1.4826 * float(np.median(np.abs(d - np.median(d))))
-        texture = 3.0 * float(np.percentile(np.abs(d), 98.0))
-        thr = max(k * sigma, floor, texture)
-        bad = np.zeros(x.size, bool)
-        rr = r.copy()
-        for _ in range(50):
-            med = median_filter(rr, size=width, mode="mirror")
-            d = np.abs(rr - med)
-            peak = d >= maximum_filter(d, size=width, mode="mirror")  # largest nearby
-            new = np.flatnonzero((d > thr) & peak & ~bad)
-            if not new.size:
-                break
-            bad[new] = True
-            rr[new] = med[new]
-    idx = np.flatnonzero(bad)
-    h = width // 2
-    expected = [float(np.median(np.delete(x[max(i - h, 0):i + h + 1],
-                                          np.flatnonzero(bad[max(i - h, 0):i + h + 1]))))
-                if (~bad[max(i - h, 0):i + h + 1]).any() else math.nan for i in idx]
-    return idx, np.array(expected)
 
 
 #: Least samples per cycle the Savitzky-Golay velocity needs, as the largest loss of its
@@ -468,8 +465,9 @@ def loop_power(record: Record, force, sigma: float = 0.0):
     return E, float(P), float(sP), float(share)
 
 
-def check_record(record: Record, params: DeviceParams | None = None, *, k: float = 10.0,
-                 width: int = 7, min_snr: float = 8.0, min_periodic: float = 0.5,
+def check_record(record: Record, params: DeviceParams | None = None, *,
+                 k: float = SPIKE_NOISE, width: int = SPIKE_WIDTH, k_local: float = SPIKE_LOCAL,
+                 min_snr: float = 8.0, min_periodic: float = 0.5,
                  max_delivered: float = 0.05, energy_sigmas: float = 5.0) -> DataQuality:
     """Check a record before fitting: signal, energy sign, sampling, spikes, stroke, shape.
 
@@ -496,20 +494,21 @@ def check_record(record: Record, params: DeviceParams | None = None, *, k: float
       cycle with the 21-point window); fewer than 10 harmonics of the stroke
       frequency below 0.8 x Nyquist is a note (a friction reversal or a
       dead band needs them).
-    * **Spikes** (a Hampel-type filter): a force or displacement sample that
-      departs from the median of its ``width`` neighbours by more than
-      ``k`` robust standard deviations (1.4826 x the median absolute
-      deviation of those departures over the record), by more than 2 %
-      of the signal's first-harmonic amplitude and by more than three times
-      the 98th percentile of the departures is an outlier (so that a record's
-      own high-frequency content, such as rig ringing, is not taken for
-      spikes).  A running
-      median follows steps (friction reversals) and smooth curves exactly on
-      monotone stretches, so only isolated samples stand out; up to
-      ``width // 2`` adjacent ones are found.  Broadband stroke: the smooth
-      part removed first is the linear regression (force) or the
-      Savitzky-Golay smoothed stroke (displacement), and sqrt(2) x the RMS
-      stands for the amplitude (a tapered stroke is treated as a periodic one).
+    * **Spikes**, judged against the record's own local rates
+      (:func:`find_spikes`): a force or displacement sample (or a run of up to
+      three) that leaves both its neighbours on the same side and comes back, by
+      more than ``k_local`` times the largest sample-to-sample change around it
+      (and than the change across it), more than ``k`` robust standard deviations
+      of the sample noise and more than 2 % of the signal's half range.  A kink
+      on a fast stroke, a friction reversal or an MR fluid's yield step is not a
+      spike; a single 30 mm sample on a 3 mm stroke is.  The samples are read as
+      recorded: run this on the record as read, never on one the tool filtered or
+      decimated (:func:`~liquidamp.analysis.measured.calibration.check_records`
+      does so), where the filter's own ringing is not the file's.
+    * **Drift** (:func:`~liquidamp.analysis.measured.drift.record_drift`): a
+      force whose first-harmonic amplitude or mean changes steadily over the
+      record, beyond the cycle-to-cycle scatter, is a note (non-stationary), with
+      its figures in ``drift``.
     * **Stroke past the chamber end.**  With ``params``, a recorded
       |displacement - mean| at or beyond ``params.stroke_limit`` (V0/A_p) is
       a problem naming the line.
@@ -524,9 +523,12 @@ def check_record(record: Record, params: DeviceParams | None = None, *, k: float
     params : DeviceParams, optional
         Device whose chamber length bounds the stroke.
     k : float
-        Outlier threshold in robust standard deviations [-].
+        Spike threshold in robust standard deviations of the sample noise [-].
     width : int
-        Running-median window [samples], odd.
+        Sample-to-sample changes on each side of a spike that set the local rate
+        [samples], at least 2.
+    k_local : float
+        Spike threshold in local rates [-].
     min_snr, min_periodic : float
         Thresholds of the noise test [-].
     max_delivered, energy_sigmas : float
@@ -541,10 +543,10 @@ def check_record(record: Record, params: DeviceParams | None = None, *, k: float
 
     References
     ----------
-    .. [1] F. R. Hampel, "The influence curve and its role in robust
-       estimation", JASA 69(346), 1974.
-    .. [2] R. K. Pearson, "Outliers in process modeling and identification",
-       IEEE Trans. Control Syst. Technol. 10(1), 2002 (Hampel filter).
+    .. [1] R. K. Pearson, "Outliers in process modeling and identification",
+       IEEE Trans. Control Syst. Technol. 10(1), 2002 (local outlier scales).
+    .. [2] J. S. Bendat, A. G. Piersol, Random Data, 4th ed., Wiley, 2010, Sec. 4.5
+       (stationarity from segment statistics).
 
     Examples
     --------
@@ -558,9 +560,13 @@ def check_record(record: Record, params: DeviceParams | None = None, *, k: float
     >>> print(check_record(flipped).problems[0][:66])
     3 Hz, 3 mm: the force runs against the stroke rate: the loop deliv
     """
-    if width < 3 or width % 2 == 0:
-        raise ParameterError(f"check_record: width must be an odd number >= 3 [samples], got "
-                             f"{width!r}")
+    if isinstance(width, bool) or int(width) != width or not 2 <= width <= 1000:
+        raise ParameterError(f"check_record: width must be an integer from 2 to 1000 "
+                             f"[samples], got {width!r}")
+    for name, val in (("k", k), ("k_local", k_local)):
+        if not (isinstance(val, (int, float)) and math.isfinite(val) and val > 0):
+            raise ParameterError(f"check_record: {name} must be a positive number [-], got "
+                                 f"{val!r}")
     t, F, y = record.time, record.force, record.displacement
     n = t.size
     periodic = record.periodic
@@ -575,22 +581,19 @@ def check_record(record: Record, params: DeviceParams | None = None, *, k: float
             if j == 1 or j * record.frequency < 0.8 * nyq:
                 cols += [np.sin(j * w), np.cos(j * w)]
         A = np.column_stack(cols)
-        A_y, amp_F, amp_y = A, None, None
-    else:  # no harmonics to remove: the linear device (force), the mean (displacement)
+    else:  # no harmonics to remove: the linear device
         A = _regressors(record)
-        A_y = np.ones((n, 1))
-        amp_F = math.sqrt(2.0) * float(np.std(F))
-        amp_y = math.sqrt(2.0) * float(np.std(y))
 
     outliers = []
-    # a broadband stroke's own peaks depart from a running median: search its departure from
-    # the Savitzky-Golay smoothed stroke instead (a spike passes the smoother at ~20 %)
-    base_y = np.zeros(n) if harmonic else record.smoothed
-    for column, x, B, amp, x0 in (("force", F, A, amp_F, np.zeros(n)),
-                                  ("displacement", y, A_y, amp_y, base_y)):
-        idx, expected = _spikes(x - x0, B, width, k, 0.02, amp)
+    for column, x in (("force", F), ("displacement", y)):
+        idx, expected = find_spikes(x, k_local=k_local, k_noise=k, width=int(width))
         outliers += [Outlier(column, int(i), record.line(int(i)), float(t[i]), float(x[i]),
-                             float(e + x0[i])) for i, e in zip(idx, expected, strict=True)]
+                             float(e)) for i, e in zip(idx, expected, strict=True)]
+    # a force that drifts over the record: the drift is not noise (its harmonics modulated
+    # by a polynomial in time are fitted with them)
+    drift = record_drift(record)
+    if drift.nonstationary and periodic:
+        A = np.hstack((A, drift_columns(A, t, drift.degree)))
     # the force's harmonics without its spikes, so that three spikes do not pass for signal
     keep = np.ones(n, bool)
     keep[[o.index for o in outliers if o.column == "force"]] = False
@@ -633,6 +636,8 @@ def check_record(record: Record, params: DeviceParams | None = None, *, k: float
         notes.append(f"{label}: the stroke is not periodic ({record.describe()}): no frequency "
                      "or amplitude summary; the model is driven by the recorded stroke as it "
                      "is, from rest at its first sample (no pre-roll)")
+    if drift.nonstationary:
+        notes.append(f"{label}: {drift.reason}; no model of a stationary device follows it")
     # energy sign: a passive device absorbs energy
     E, P, sP, share = loop_power(record, F, sigma)
     if not problems and share < -max_delivered and P < -energy_sigmas * sP:
@@ -658,11 +663,11 @@ def check_record(record: Record, params: DeviceParams | None = None, *, k: float
           f"is {1 - gain:.1%} low there")
     if 1.0 - gain > VELOCITY_GAIN_PROBLEM and periodic:
         problems.append(f"{label}: {sg} (at most {VELOCITY_GAIN_PROBLEM:.0%} allowed): the "
-                        "model would be driven by a wrong stroke rate; use a shorter window "
-                        "(--window) or a record sampled faster")
+                        "model would be driven by a wrong stroke rate; read the record with a "
+                        "shorter Savitzky-Golay window or use one sampled faster")
     elif 1.0 - gain > VELOCITY_GAIN_NOTE:
         notes.append(f"{label}: {sg}; the damping fitted is biased by about as much (a shorter "
-                     "window, --window, reduces it)")
+                     "Savitzky-Golay window reduces it)")
     if periodic and n_harm < MIN_HARMONICS:
         notes.append(f"{label}: only {n_harm} harmonics of the stroke frequency "
                      f"{record.frequency:.4g} Hz lie below 0.8 x Nyquist "
@@ -679,7 +684,8 @@ def check_record(record: Record, params: DeviceParams | None = None, *, k: float
                        outliers=tuple(outliers), problems=tuple(problems), notes=tuple(notes),
                        stroke=record.summary(), energy_per_cycle=E, dissipated_power=P,
                        dissipated_power_std=sP, loss_share=share, samples_per_cycle=float(spc),
-                       velocity_gain=gain, harmonics_resolved=n_harm)
+                       velocity_gain=gain, harmonics_resolved=n_harm, drift=drift,
+                       channels=channel_summary(record))
 
 
 def check_record_stroke(record: Record, params: DeviceParams) -> list[str]:
@@ -700,3 +706,26 @@ def check_record_stroke(record: Record, params: DeviceParams) -> list[str]:
             f"{(y[i_max] - np.median(y)) * 1e3:+.4g} mm from the mid-position, past the chamber "
             f"end at {limit * 1e3:.4g} mm (V0/A_p; allowed |y| < {limit * 1e3:.4g} mm); "
             f"{beyond.size} sample(s) beyond it, the first on line {record.line(int(beyond[0]))}"]
+
+
+def as_read(record: Record) -> Record:
+    """The record as read: the record a conditioned record was made from (its
+    ``meta["conditioning"].record``, followed back), else the record itself.
+
+    The data checks run on it, never on samples the tool made by filtering,
+    decimating or averaging.
+    """
+    seen = 0
+    while seen < 16:
+        cond = record.meta.get("conditioning")
+        prior = getattr(cond, "record", None)
+        if prior is None or prior is record:
+            return record
+        record, seen = prior, seen + 1
+    return record
+
+
+def channel_summary(record: Record) -> dict:
+    """Measured channels of a record: name -> {"unit", "min", "max", "mean"} (SI)."""
+    return {k: {"unit": CHANNEL_SI[k], "min": float(np.min(v)), "max": float(np.max(v)),
+                "mean": float(np.mean(v))} for k, v in record.channels.items()}

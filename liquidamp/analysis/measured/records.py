@@ -13,11 +13,25 @@ column                 units accepted
 ``force``              ``[N]``, ``[kN]``
 =====================  =====================================
 
+and, optionally, measured channels carried beside them (:data:`CHANNEL_UNITS`; read with
+their units, kept in SI in :attr:`Record.channels`, filtered, decimated and averaged as
+the force is by the conditioning, not used by the device models):
+
+=====================  ==============================================
+channel                units accepted (SI inside)
+=====================  ==============================================
+``temperature``        ``[K]``, ``[C]`` (kept in K)
+``voltage``            ``[V]``, ``[mV]``
+``current``            ``[A]``, ``[mA]``
+``pressure``           ``[Pa]``, ``[kPa]``, ``[MPa]``, ``[bar]``, ``[psi]``
+=====================  ==============================================
+
 Anything that cannot be read honestly (a missing or unknown column or unit,
 a non-numeric or non-finite value, time that does not increase or is not
 uniformly sampled, fewer samples than the filter window, less than one
 excitation cycle) raises :class:`~liquidamp.errors.DataFileError` naming
-the row (line number in the file) or column.
+the row (line number in the file) or column.  Each sample keeps the line of the file it
+was read from (:meth:`Record.line`), so that every message can name it.
 
 The stroke is differentiated as in the paper (Savitzky-Golay, 21 points,
 4th order by default, Sec. IV.B); the excitation frequency, amplitude and
@@ -69,7 +83,8 @@ from liquidamp.errors import DataFileError, ParameterError
 from liquidamp.structure.testmachine import RecordedStroke, savgol_derivatives
 
 __all__ = ["Record", "StrokeShape", "stroke_shape", "read_record", "write_record", "COLUMN_UNITS",
-           "infer_excitation", "PERIODIC_SHARE", "AMPLITUDE_VARIATION", "TAPERED_SHARE"]
+           "CHANNEL_UNITS", "infer_excitation", "PERIODIC_SHARE", "AMPLITUDE_VARIATION",
+           "TAPERED_SHARE"]
 
 
 COLUMN_UNITS: dict[str, dict[str, float]] = {
@@ -78,6 +93,19 @@ COLUMN_UNITS: dict[str, dict[str, float]] = {
     "force": {"N": 1.0, "kN": 1e3},
 }
 """Accepted columns and units: name -> {unit: factor to SI}."""
+
+CHANNEL_UNITS: dict[str, dict[str, tuple[float, float]]] = {
+    "temperature": {"K": (1.0, 0.0), "C": (1.0, 273.15)},
+    "voltage": {"V": (1.0, 0.0), "mV": (1e-3, 0.0)},
+    "current": {"A": (1.0, 0.0), "mA": (1e-3, 0.0)},
+    "pressure": {"Pa": (1.0, 0.0), "kPa": (1e3, 0.0), "MPa": (1e6, 0.0), "bar": (1e5, 0.0),
+                 "psi": (6894.757293168361, 0.0)},
+}
+"""Optional measured channels: name -> {unit: (factor, offset)}, SI value = factor x value +
+offset (temperature in K, voltage in V, current in A, pressure in Pa)."""
+
+#: SI unit of each measured channel.
+CHANNEL_SI = {"temperature": "K", "voltage": "V", "current": "A", "pressure": "Pa"}
 
 _HEADER = re.compile(r"^\s*([A-Za-z_ ]+?)\s*\[\s*([^\]]*?)\s*\]\s*$")
 
@@ -298,8 +326,16 @@ class Record:
     window, order : int
         Savitzky-Golay window [samples] and order used.
     first_line : int
-        Line of the source file that holds ``time[0]`` (header = line 1);
+        Line of the source file that holds ``time[0]`` (header = line 1).
+    lines : ndarray of int or None
+        Line of the source file holding each sample (header = line 1; blank
+        lines skipped by the reader are counted), or None: ``first_line + i``.
         :meth:`line` maps a sample index to its line.
+    channels : dict
+        Measured channels beside the stroke and force, name -> array in SI
+        (:data:`CHANNEL_UNITS`: ``temperature`` [K], ``voltage`` [V], ``current`` [A],
+        ``pressure`` [Pa]), read-only; carried through the conditioning, not used
+        by the device models.
     shape : StrokeShape
         Periodic, tapered or broadband (:func:`stroke_shape`); ``frequency``,
         ``amplitude`` and ``phase`` summarize the stroke only where it is
@@ -323,10 +359,14 @@ class Record:
     meta: dict = field(default_factory=dict, compare=False)
     first_line: int = 2
     shape: StrokeShape | None = None
+    lines: np.ndarray | None = None
+    channels: dict = field(default_factory=dict, compare=False)
 
     def line(self, i: int) -> int:
         """Line of the source file holding sample ``i`` (header = line 1; for arrays: the
         array index + 2, as if written to a file)."""
+        if self.lines is not None:
+            return int(self.lines[i])
         return int(self.first_line + i)
 
     def __post_init__(self) -> None:
@@ -334,17 +374,32 @@ class Record:
             arr = np.array(getattr(self, name), dtype=float)
             arr.setflags(write=False)
             object.__setattr__(self, name, arr)
+        if self.lines is not None:
+            lines = np.array(self.lines, dtype=np.int64)
+            lines.setflags(write=False)
+            object.__setattr__(self, "lines", lines)
+        chans = {}
+        for name, arr in dict(self.channels).items():
+            a = np.array(arr, dtype=float)
+            a.setflags(write=False)
+            chans[name] = a
+        object.__setattr__(self, "channels", chans)
 
     @classmethod
     def from_arrays(cls, time, displacement, force, *, window: int = 21, order: int = 4,
-                    source: str = "", meta: dict | None = None, first_line: int = 2) -> Record:
+                    source: str = "", meta: dict | None = None, first_line: int = 2,
+                    lines=None, channels: dict | None = None) -> Record:
         """Check, differentiate and characterize arrays in SI (time [s], stroke [m], force [N]).
+
+        ``lines`` (optional): the file line of each sample (header = line 1), else
+        ``first_line + index``; ``channels`` (optional): measured channels in SI, name
+        (one of :data:`CHANNEL_UNITS`) -> array as long as ``time``.
 
         Raises
         ------
         DataFileError
             As :func:`read_record` (rows counted from 0 as array indices + 2,
-            i.e. the line a CSV file would hold them on).
+            i.e. the line a CSV file would hold them on, or the ``lines`` given).
 
         Examples
         --------
@@ -358,16 +413,25 @@ class Record:
         t = np.asarray(time, float)
         y = np.asarray(displacement, float)
         F = np.asarray(force, float)
-        for name, arr in (("time", t), ("displacement", y), ("force", F)):
+        chans = {}
+        for name, arr in dict(channels or {}).items():
+            if name not in CHANNEL_UNITS:
+                raise DataFileError(f"unknown measured channel {name!r}{where}; valid: "
+                                    f"{', '.join(CHANNEL_UNITS)}")
+            chans[name] = np.asarray(arr, float)
+        rows = (np.arange(t.size) + int(first_line) if lines is None
+                else np.asarray(lines, dtype=np.int64))
+        for name, arr in (("time", t), ("displacement", y), ("force", F), *chans.items()):
             if arr.ndim != 1:
                 raise DataFileError(f"{name} must be one column{where}")
+            if arr.size != t.size or rows.size != t.size:
+                raise DataFileError(f"columns differ in length{where}: time {t.size}, "
+                                    f"{name} {arr.size}" + ("" if rows.size == t.size else
+                                                           f", lines {rows.size}"))
             bad = np.flatnonzero(~np.isfinite(arr))
             if bad.size:
-                raise DataFileError(f"row {bad[0] + 2}{where}: {name} is not a finite number "
-                                    f"({arr[bad[0]]!r})")
-        if not t.size == y.size == F.size:
-            raise DataFileError(f"columns differ in length{where}: time {t.size}, "
-                                f"displacement {y.size}, force {F.size}")
+                raise DataFileError(f"row {rows[bad[0]]}{where}: {name} is not a finite "
+                                    f"number ({arr[bad[0]]!r})")
         if t.size < 2 * window:
             raise DataFileError(f"record{where} has {t.size} rows, fewer than twice the "
                                 f"Savitzky-Golay window ({window})")
@@ -375,14 +439,14 @@ class Record:
         bad = np.flatnonzero(dt <= 0)
         if bad.size:
             i = int(bad[0]) + 1
-            raise DataFileError(f"row {i + 2}{where}: time {t[i]:.9g} s does not increase "
+            raise DataFileError(f"row {rows[i]}{where}: time {t[i]:.9g} s does not increase "
                                 f"(previous {t[i - 1]:.9g} s)")
         med = float(np.median(dt))
         jitter = np.abs(dt - med) / med
         bad = np.flatnonzero(jitter > 0.01)
         if bad.size:
             i = int(bad[0]) + 1
-            raise DataFileError(f"row {i + 2}{where}: time step {dt[i - 1]:.6g} s differs from "
+            raise DataFileError(f"row {rows[i]}{where}: time step {dt[i - 1]:.6g} s differs from "
                                 f"the median {med:.6g} s by more than 1%; the Savitzky-Golay "
                                 "derivatives need uniform sampling")
         if np.ptp(y) <= 0:
@@ -392,7 +456,8 @@ class Record:
         except ParameterError as exc:
             raise DataFileError(f"record{where}: {exc}") from None
         h = window // 2  # one-sided Savitzky-Golay fits at the ends: drop those samples
-        t, y, F, ys, v, a = (q[h:q.size - h] for q in (t, y, F, ys, v, a))
+        t, y, F, ys, v, a, rows = (q[h:q.size - h] for q in (t, y, F, ys, v, a, rows))
+        chans = {k: q[h:q.size - h] for k, q in chans.items()}
         f, Y, phase, y_mean = infer_excitation(t, y)
         duration = t[-1] - t[0] + med
         if duration * f < 1.0:
@@ -402,7 +467,8 @@ class Record:
         return cls(time=t, displacement=y, force=F, velocity=v, acceleration=a, smoothed=ys,
                    frequency=f, amplitude=Y, phase=phase, offset=y_mean,
                    source=str(source), window=window, order=order, meta=dict(meta or {}),
-                   first_line=int(first_line) + h, shape=stroke_shape(t, y, f))
+                   first_line=int(rows[0]), shape=stroke_shape(t, y, f),
+                   lines=None if lines is None else rows, channels=chans)
 
     @property
     def period(self) -> float:
@@ -511,30 +577,34 @@ class Record:
         n = min(max(n, 2 * self.window), self.time.size)
         return Record.from_arrays(self.time[:n], self.displacement[:n], self.force[:n],
                                   window=self.window, order=self.order, source=self.source,
-                                  meta=self.meta, first_line=self.first_line)
+                                  meta=self.meta, first_line=self.first_line,
+                                  lines=None if self.lines is None else self.lines[:n],
+                                  channels={k: v[:n] for k, v in self.channels.items()})
 
 
 def _parse_header(row, where):
+    """name -> (column index, factor, offset) of the header row (SI = factor x value + offset)."""
     cols = {}
+    valid = ", ".join((*COLUMN_UNITS, *CHANNEL_UNITS))
     for j, cell in enumerate(row):
         m = _HEADER.match(cell)
         if not m:
             raise DataFileError(
                 f"{where}, line 1, column {j + 1}: header {cell!r} must read 'name [unit]' "
-                f"with name one of {', '.join(COLUMN_UNITS)}")
+                f"with name one of {valid}")
         name, unit = m.group(1).strip().lower(), m.group(2).strip()
-        if name not in COLUMN_UNITS:
+        if name not in COLUMN_UNITS and name not in CHANNEL_UNITS:
             raise DataFileError(
-                f"{where}, line 1, column {j + 1}: unknown column {name!r}; valid: "
-                f"{', '.join(COLUMN_UNITS)}")
-        units = COLUMN_UNITS[name]
+                f"{where}, line 1, column {j + 1}: unknown column {name!r}; valid: {valid}")
+        units = ({u: (k, 0.0) for u, k in COLUMN_UNITS[name].items()} if name in COLUMN_UNITS
+                 else CHANNEL_UNITS[name])
         if unit not in units:
             raise DataFileError(
                 f"{where}, line 1, column {j + 1} ({name}): unknown unit [{unit}]; valid: "
                 + ", ".join(f"[{u}]" for u in units))
         if name in cols:
             raise DataFileError(f"{where}, line 1, column {j + 1}: column {name!r} given twice")
-        cols[name] = (j, units[unit])
+        cols[name] = (j, *units[unit])
     missing = [c for c in COLUMN_UNITS if c not in cols]
     if missing:
         raise DataFileError(f"{where}: missing column(s) {', '.join(missing)}; the header must "
@@ -638,10 +708,12 @@ def read_record(path, window: int = 21, order: int = 4) -> Record:
     cols = _parse_header([c.strip() for c in rows[0]], where)
     ncol = len(rows[0])
     data = {name: [] for name in cols}
+    line_of = []
     sep = {",": "','", ";": "';'", "\t": "tab"}[delim]
     for i, row in enumerate(rows[1:], start=2):
         if not row or all(not c.strip() for c in row):
             continue
+        line_of.append(i)
         if len(row) != ncol:
             hint = ""
             if delim == "," and len(row) == 2 * ncol and all(
@@ -650,7 +722,7 @@ def read_record(path, window: int = 21, order: int = 4) -> Record:
                         "separated by ';' (or tabs), as in the header")
             raise DataFileError(f"{where}, line {i}: {len(row)} fields separated by {sep}, "
                                 f"the header has {ncol}{hint}")
-        for name, (j, factor) in cols.items():
+        for name, (j, factor, offset) in cols.items():
             cell = row[j].strip()
             try:
                 value = _number(cell, decimal_comma)
@@ -664,20 +736,24 @@ def read_record(path, window: int = 21, order: int = 4) -> Record:
             if not math.isfinite(value):
                 raise DataFileError(
                     f"{where}, line {i}, column {j + 1} ({name}): {cell!r} is not finite")
-            data[name].append(value * factor)
+            data[name].append(value * factor + offset)
     return Record.from_arrays(data["time"], data["displacement"], data["force"], window=window,
-                              order=order, source=where)
+                              order=order, source=where, lines=line_of,
+                              channels={k: data[k] for k in cols if k in CHANNEL_UNITS})
 
 
 def write_record(path, record=None, *, time=None, displacement=None, force=None,
                  displacement_unit: str = "mm") -> Path:
     """Write a record CSV: ``time [s]``, ``displacement [mm]`` (or [m]), ``force [N]``.
 
-    Give a :class:`Record` or the three SI arrays.  No comment lines (the
+    Give a :class:`Record` or the three SI arrays; a record's measured channels follow
+    in SI (``temperature [K]``, ``voltage [V]``, ...).  No comment lines (the
     format has none); keep a recipe in a README or JSON sidecar.
     """
+    chans = {}
     if record is not None:
         time, displacement, force = record.time, record.displacement, record.force
+        chans = dict(record.channels)
     if time is None or displacement is None or force is None:
         raise ParameterError("write_record needs a Record or time, displacement and force")
     units = COLUMN_UNITS["displacement"]
@@ -685,13 +761,18 @@ def write_record(path, record=None, *, time=None, displacement=None, force=None,
         raise ParameterError(f"displacement_unit must be one of {', '.join(units)}, "
                              f"got {displacement_unit!r}")
     k = units[displacement_unit]
+    from liquidamp.atomic import atomic_path
+
     path = Path(path)
-    with path.open("w", newline="") as fh:
+    with atomic_path(path) as tmp, tmp.open("w", newline="") as fh:  # whole file or none
         w = csv.writer(fh)
-        w.writerow(["time [s]", f"displacement [{displacement_unit}]", "force [N]"])
-        for t, y, f in zip(np.asarray(time, float), np.asarray(displacement, float) / k,
-                           np.asarray(force, float), strict=True):
-            w.writerow([f"{t:.6f}", f"{y:.7g}", f"{f:.6g}"])
+        w.writerow(["time [s]", f"displacement [{displacement_unit}]", "force [N]"]
+                   + [f"{c} [{CHANNEL_SI[c]}]" for c in chans])
+        for i, (t, y, f) in enumerate(zip(np.asarray(time, float),
+                                          np.asarray(displacement, float) / k,
+                                          np.asarray(force, float), strict=True)):
+            w.writerow([f"{t:.6f}", f"{y:.7g}", f"{f:.6g}"]
+                       + [f"{v[i]:.7g}" for v in chans.values()])
     return path
 
 

@@ -338,5 +338,7 @@ def write_synthetic(path, recipe: Recipe | None = None, **changes) -> Path:
     path = Path(path)
     write_record(path, rec)
     side = path.with_suffix(".json")
-    side.write_text(json.dumps(rec.meta["recipe"], indent=2) + "\n")
+    from liquidamp.atomic import write_text
+
+    write_text(side, json.dumps(rec.meta["recipe"], indent=2) + "\n")
     return path

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from liquidamp.analysis.response.harmonics import DynamicStiffness, dynamic_stiffness
+from liquidamp.atomic import save_figure, write_text
 from liquidamp.coupled.testrig import DeviceResponse, steady_state
 from liquidamp.device import preset
 from liquidamp.options import SolverOptions, resolve_options
@@ -165,7 +166,7 @@ def write_case_study(study: CaseStudy, out_dir: str | Path, figures=FIGURES,
                      if (c.response.frequency, c.response.amplitude) in spec.cases]
         fig = plot_loops([c.response for c in cases], reference=reference, ideal=spec.ideal,
                          title=f"{spec.title} (preset {spec.preset})")
-        fig.savefig(out / f"{spec.key}.png", dpi=DPI)
+        save_figure(fig, out / f"{spec.key}.png", dpi=DPI)
         blocks.append(f'<h2>{html.escape(spec.title)}</h2>\n'
                       f'<img src="{spec.key}.png" alt="{html.escape(spec.title)}">')
     rows = []
@@ -205,5 +206,5 @@ full model without the cavitation effect does not represent).</p>
 </body></html>
 """
     index = out / "index.html"
-    index.write_text(page)
+    write_text(index, page)
     return index

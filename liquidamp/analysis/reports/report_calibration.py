@@ -18,6 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
+from liquidamp.atomic import save_figure, write_text
+
 __all__ = ["plot_records", "plot_loops_fit", "plot_residuals", "plot_fit", "write_report",
            "CSS"]
 
@@ -278,6 +280,17 @@ def _start_section(res) -> list[str]:
     return out
 
 
+def _drift_cell(q) -> str:
+    """The data-quality table's drift verdict of one record (DataQuality.drift)."""
+    d = getattr(q, "drift", None)
+    if d is None or not d.tested:
+        return "not tested"
+    unit = "cycle" if d.method == "cycles" else "window"
+    text = (f"{d.amplitude_trend:+.3g} %/{unit} ({100 * d.amplitude_change:+.3g} % over "
+            f"{d.segments}), p = {d.amplitude_p:.2g}")
+    return ("NON-STATIONARY: " if d.nonstationary else "stationary: ") + text
+
+
 def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibration") -> Path:
     """Write ``index.html`` and PNGs for a CalibrationResult or a Diagnosis.
 
@@ -325,11 +338,13 @@ def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibrat
             [[q.source, q.stroke.get("description", ""), q.force_first_harmonic,
               q.force_noise_std, q.force_snr, q.periodic_fraction,
               q.energy_per_cycle, q.loss_share, q.samples_per_cycle, q.max_stroke * 1e3,
-              len(q.outliers)]
+              len(q.outliers), _drift_cell(q),
+              "; ".join(f"{k} {c['min']:.4g}-{c['max']:.4g} {c['unit']}"
+                        for k, c in getattr(q, "channels", {}).items()) or "-"]
              for q in first.data_quality],
             ["record", "stroke", "|F1| [N]", "noise std [N]", "signal / std. error",
              "periodic share", "energy per cycle [J]", "loss share", "samples per cycle",
-             "max |stroke| [mm]", "outliers"]))
+             "max |stroke| [mm]", "outliers", "drift", "measured channels"]))
     parts += _start_section(first)
     figs = [("records.png", plot_records(list(first.calibration) + list(first.validation)),
              "Records")]
@@ -397,10 +412,10 @@ def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibrat
                 ["effect", "score", "signature corr.", "linear estimate", "NRMSE val.",
                  "rel. reduction", "dBIC", "fitted", "accepted", "note"]))
     for fname, fig, caption in figs:
-        fig.savefig(out / fname, dpi=DPI)
+        save_figure(fig, out / fname, dpi=DPI)
         plt.close(fig)
         parts.append(f"<h2>{html.escape(caption)}</h2><img src='{fname}' alt='{fname}'>")
     parts.append("</body></html>")
     path = out / "index.html"
-    path.write_text("\n".join(parts))
+    write_text(path, "\n".join(parts))
     return path

@@ -755,8 +755,10 @@ def write_stiffness_csv(path, linear=(), nonlinear=None, equivalent=None) -> Pat
     if equivalent is not None:
         rows += [(f"equivalent:{equivalent.model}", repr(float(Y)), equivalent.curve(i))
                  for i, Y in enumerate(equivalent.amplitude)]
+    from liquidamp.atomic import atomic_path
+
     path = Path(path)
-    with path.open("w", newline="") as fh:
+    with atomic_path(path) as tmp, tmp.open("w", newline="") as fh:  # whole file or none
         w = csv.writer(fh)
         w.writerow(["curve", "amplitude [m]", "frequency [Hz]", "magnitude [N/m]",
                     "phase [deg]", "storage [N/m]", "loss [N/m]", "status"])

@@ -46,14 +46,16 @@ class _Progress:
 
     def update(self, k: int) -> None:
         self.done += k
-        if self.enabled:
+        if callable(self.enabled):
+            self.enabled(k)
+        elif self.enabled:
             pct = 100.0 * self.done / max(self.total, 1)
             sys.stderr.write(f"\r{self.label}: {self.done}/{self.total} ({pct:5.1f}%) "
                              f"{time.perf_counter() - self.t0:7.1f} s")
             sys.stderr.flush()
 
     def close(self) -> None:
-        if self.enabled:
+        if self.enabled and not callable(self.enabled):
             sys.stderr.write("\n")
             sys.stderr.flush()
 
@@ -76,8 +78,10 @@ def map_batched(fn: Callable, items: Iterable, executor=None, min_task_seconds: 
         left open.
     min_task_seconds : float
         Smallest work per task, estimated from the timed first item [s].
-    progress : bool, optional
+    progress : bool or callable, optional
         Show a progress line on stderr; default: when stderr is a terminal.
+        A callable is called as ``progress(n)`` after every ``n`` items done
+        (e.g. a tqdm bar's ``update``).
     max_workers : int, optional
         Processes of the default pool (default: CPU count).
 
@@ -102,7 +106,7 @@ def map_batched(fn: Callable, items: Iterable, executor=None, min_task_seconds: 
         )
     if progress is None:
         progress = bool(getattr(sys.stderr, "isatty", lambda: False)())
-    bar = _Progress(len(items), bool(progress))
+    bar = _Progress(len(items), progress if callable(progress) else bool(progress))
     if not items:
         return []
     t = time.perf_counter()

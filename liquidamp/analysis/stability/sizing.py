@@ -327,12 +327,19 @@ def size_flutter_damper(params: DeviceParams, section, *, port: str = "plunge",
 def _device_params(spec: str) -> DeviceParams:
     from pathlib import Path
 
-    from liquidamp.device import load_device, preset, preset_names
+    from liquidamp.device import load_device_file, preset, preset_names
 
     if spec in preset_names():
         return preset(spec)
     if Path(spec).suffix.lower() in (".toml", ".json"):
-        return load_device(spec)
+        dev = load_device_file(spec)
+        if dev.effects:  # never dropped silently: sizing scales the fluid device only
+            names = ", ".join(e.name for e in dev.effects)
+            raise ParameterError(
+                f"device file {spec!r} has effects ({names}) that the sizing of a damper "
+                "(parallel copies of the fluid device) cannot carry; give a device file "
+                "without [effects.NAME] tables")
+        return dev.params
     raise ParameterError(f"unknown damper {spec!r}; valid: {', '.join(DAMPER_CHOICES)}, "
                          f"{', '.join(preset_names())} or a .toml/.json device file")
 
