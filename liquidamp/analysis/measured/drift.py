@@ -48,8 +48,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Drift", "record_drift", "drift_columns", "MIN_SEGMENTS", "MIN_CHANGE", "ALPHA",
-           "MAX_DEGREE"]
+__all__ = ["Drift", "record_drift", "drift_columns", "regressors", "MIN_SEGMENTS",
+           "MIN_CHANGE", "ALPHA", "MAX_DEGREE"]
 
 #: Least whole cycles (windows) for the drift test [-].
 MIN_SEGMENTS = 6
@@ -134,6 +134,28 @@ class Drift:
                 "series": dict(self.series or {}), "reason": self.reason}
 
 
+
+def regressors(record) -> np.ndarray:
+    """Columns of the linear-device regression F ~ F0 + k y + c v + m a, scaled to unit RMS.
+
+    Parameters
+    ----------
+    record : Record
+        A record (its smoothed stroke about its offset [m], velocity [m/s], acceleration
+        [m/s^2]).
+
+    Returns
+    -------
+    ndarray, shape (n, 4)
+        Constant, stroke, rate and acceleration columns [-]; index 2 is the rate.
+    """
+    cols = [np.ones_like(record.time)]
+    for q in (record.smoothed - record.offset, record.velocity, record.acceleration):
+        sd = float(np.std(q))
+        cols.append((q - float(np.mean(q))) / sd if sd > 0 else np.zeros_like(q))
+    return np.column_stack(cols)
+
+
 def _trend(s):
     """(slope, t, two-sided p) of the least-squares line through s against 0..N-1."""
     from scipy.stats import t as student
@@ -196,7 +218,6 @@ def _cycles(record):
 
 def _windows(record):
     """Per window of a broadband record: (gain x amplitude [N], mean residual [N])."""
-    from liquidamp.analysis.measured.record_quality import _regressors
 
     n = record.time.size
     span = record.time[-1] - record.time[0]
@@ -205,7 +226,7 @@ def _windows(record):
     W = int(min(20, math.floor(span * fc)))
     if W < MIN_SEGMENTS:
         return None, None
-    X = _regressors(record)
+    X = regressors(record)
     coef, *_ = np.linalg.lstsq(X, record.force, rcond=None)
     fit = X @ coef
     amp = math.sqrt(2.0) * float(np.std(fit))

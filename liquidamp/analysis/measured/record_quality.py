@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from liquidamp.analysis.measured.drift import Drift, drift_columns, record_drift
+from liquidamp.analysis.measured.drift import regressors as _regressors
 from liquidamp.analysis.measured.records import CHANNEL_SI, Record
 from liquidamp.analysis.measured.spikes import (
     SPIKE_LOCAL,
@@ -401,16 +402,6 @@ def velocity_gain(frequency: float, sampling_rate: float, window: int = 21,
     w = 2 * math.pi * frequency / sampling_rate
     kk = np.arange(window) - window // 2
     return float(abs(np.sum(h * np.exp(1j * w * kk))) / w)
-
-
-def _regressors(record: Record):
-    """Columns of the linear-device regression F ~ F0 + k y + c v + m a (scaled to unit RMS);
-    index 2 is the rate."""
-    cols = [np.ones_like(record.time)]
-    for q in (record.smoothed - record.offset, record.velocity, record.acceleration):
-        sd = float(np.std(q))
-        cols.append((q - float(np.mean(q))) / sd if sd > 0 else np.zeros_like(q))
-    return np.column_stack(cols)
 
 
 def loop_power(record: Record, force, sigma: float = 0.0):
