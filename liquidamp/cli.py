@@ -214,7 +214,7 @@ def main(argv: list[str] | None = None) -> int:
 
         compile_notices(lambda msg: print(f"liquidamp {name}: {msg}", file=sys.stderr,
                                           flush=True))
-    from liquidamp.commands._args import route_warnings
+    from liquidamp.commands import route_warnings
 
     try:
         with route_warnings(name):

@@ -5,3 +5,7 @@ sets ``func`` to a callable taking the parsed arguments and returning an exit
 code.  Shared argument parsing (lists, lengths with units) is in
 :mod:`liquidamp.commands._args`.
 """
+
+from liquidamp.commands._stderr import route_warnings
+
+__all__ = ["route_warnings"]
