@@ -183,7 +183,7 @@ class DeviceModel:
         spec[K.S_N] = self.n_states
         spec[K.S_NB] = self.n_base_states
         for slot in (K.S_LEAK, K.S_COUL, K.S_MASS, K.S_OFF, K.S_CPIST, K.S_ZPIST,
-                     K.S_RELIEF, K.S_ASYM, K.S_STOP):  # flags; state indices stay -1
+                     K.S_RELIEF, K.S_ASYM, K.S_STOP, K.S_GAS):  # flags; state indices stay -1
             spec[slot] = 0
         i = self.n_base_states
         for e in self.effects:
