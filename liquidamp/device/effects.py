@@ -186,6 +186,7 @@ __all__ = [
     "effect_names",
     "make_effect",
     "with_effects",
+    "with_stroke_offset",
     "least_pressures",
     "lugre_rate",
     "play_rate",
@@ -356,3 +357,40 @@ states p1, p2; model 'single_state' has states (dp); use 'full', 'no_inertia', \
         uses_acceleration=bare.uses_acceleration or any(e.uses_acceleration for e in ordered),
         effects=ordered,
     )
+
+
+def with_stroke_offset(model: DeviceModel, offset_m: float) -> DeviceModel:
+    """``model`` with its absolute-stroke effects placed at ``offset_m`` (the others as they are).
+
+    An effect whose force depends on where the rod is (``absolute_stroke``:
+    ``gas_charge``) sees y + ``stroke_offset_m``; a record's stroke drives the
+    chambers about its mean, so its mean stroke is given back here
+    (:func:`~liquidamp.analysis.measured.record_model.simulate_record` calls this with
+    :attr:`Record.offset`).  A model without such an effect is returned unchanged.
+
+    Parameters
+    ----------
+    model : DeviceModel
+        Any composed model.
+    offset_m : float
+        Absolute stroke at the model's y = 0 [m].
+
+    Examples
+    --------
+    >>> from liquidamp.device.models import get_model
+    >>> m = with_effects(get_model("dashpot"), GasCharge(1e-4, 1e6, 1e-4))
+    >>> with_stroke_offset(m, 0.01).effect("gas_charge").stroke_offset_m
+    0.01
+    >>> with_stroke_offset(get_model("full"), 0.01).name
+    'full'
+    """
+    from liquidamp.device.models import get_model
+    from liquidamp.errors import check_finite
+
+    model = get_model(model)
+    off = check_finite("stroke offset", offset_m, "m")
+    if not any(getattr(e, "absolute_stroke", False) for e in model.effects):
+        return model
+    effects = tuple(e.replace(stroke_offset_m=off) if getattr(e, "absolute_stroke", False)
+                    else e for e in model.effects)
+    return with_effects(BASES[model.base], *effects)

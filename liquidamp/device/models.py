@@ -307,7 +307,8 @@ use 'no_inertia' (eq. 11) for a channel without inertance
 def _packed(model: DeviceModel, params) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     prm = K.pack_params(params)
     if prm[K.P_CV2] != 0.0:
-        laws = [e.name for e in model.effects if e.name in ("relief_valve", "asymmetric_loss")]
+        laws = [e.name for e in model.effects
+                if e.name in ("relief_valve", "digressive_valve", "asymmetric_loss")]
         if laws:
             raise ParameterError(
                 f"model {model.name!r}: {', '.join(laws)} on the viscous damper is written for "

@@ -3,9 +3,10 @@
 :func:`simulate_record` runs any device model under a record's stroke
 (:class:`~liquidamp.analysis.measured.records.Record`) about its mean (the LVDT
 zero is arbitrary; the mean stroke is taken as the mid-position where the chambers
-hold V01 and V02); :func:`nrmse` is the normalized RMS force error used by the
-calibration; :func:`integrate` is the synthetic generator's LSODA march under
-any scalar stroke.
+hold V01 and V02; an effect on the absolute stroke, ``gas_charge``, is given the mean
+back: :func:`~liquidamp.device.effects.with_stroke_offset`); :func:`nrmse` is the
+normalized RMS force error used by the calibration; :func:`integrate` is the synthetic
+generator's LSODA march under any scalar stroke.
 
 Start-up transients: :func:`simulate_record` pre-rolls the model over the
 record's first cycle ``preroll`` times (each pass restarting at the record's
@@ -33,6 +34,7 @@ import numpy as np
 from liquidamp.analysis.measured.records import Record
 from liquidamp.coupled.engines import TestRig, engine_for
 from liquidamp.coupled.testrig import DeviceResponse
+from liquidamp.device.effects import with_stroke_offset
 from liquidamp.device.models import DeviceModel, get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, ParameterError, PressureError
@@ -155,7 +157,8 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     >>> r.force.shape == rec.time.shape, bool(abs(r.force).max() > 300)
     (True, True)
     """
-    model = get_model(model)
+    # an effect on the absolute stroke (gas_charge) gets the record's mean stroke back
+    model = with_stroke_offset(get_model(model), record.offset)
     options = resolve_options(options, "default")
     if not isinstance(params, DeviceParams):
         raise ParameterError(f"params must be DeviceParams, got {type(params).__name__}")
