@@ -88,9 +88,9 @@ class GasCharge(Effect):
     --------
     >>> g = GasCharge(4.5e-5, 6.894757e5, 1e-4, 1.0)
     >>> round(g.force(0.0), 3), round(g.stiffness(0.0) / 1e3, 6)     # N, N/mm
-    (31.026, 0.000914)
+    (31.026, 0.013962)
     >>> round(g.force(0.05) - g.force(-0.05), 3)   # the gas spring over 100 mm of stroke
-    0.07
+    1.397
     """
 
     rod_area_m2: float = 0.0
