@@ -402,7 +402,7 @@ EFFECT_UNITS = {
     "rotating_frame": {"rotor_speed_rad_per_s": "rad/s", "mounting_radius_m": "m",
                        "axis_angle_rad": "rad"},
     "gas_charge": {"rod_area_m2": "m^2", "charge_pressure_Pa": "Pa", "gas_volume_m3": "m^3",
-                   "polytropic_index": "-", "stroke_offset_m": "m"},
+                   "polytropic_index": "-", "stroke_offset_m": "m", "ambient_pressure_Pa": "Pa"},
     "digressive_valve": {"compression_cracking_Pa": "Pa",
                          "compression_conductance_m3_per_s_Pa": "m^3/(s Pa)",
                          "rebound_cracking_Pa": "Pa",

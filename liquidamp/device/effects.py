@@ -38,10 +38,9 @@ name                    parameters                             states added
                         branch_damping_N_s_per_m               linear solid on the rod)
 ``end_stops``           stiffness_N_per_m, clearance_m,        none: contact beyond centre +/-
                         damping_N_s_per_m, centre_m            clearance (C1 onset)
-``gas_charge``          rod_area_m2, charge_pressure_Pa,       none: preload and gas spring
-                        gas_volume_m3, polytropic_index,       p_c A_r (V_g/(V_g - A_r y))^n on
-                        stroke_offset_m                        the absolute stroke; chamber
-                                                               level raised by p_g(y)
+``gas_charge``          rod_area_m2, charge_pressure_Pa,       none: preload p_c A_r and gas
+                        gas_volume_m3, polytropic_index,       spring (polytropic, absolute
+                        stroke_offset_m, ambient_pressure_Pa   stroke); chamber level + p_g(y)
 ``digressive_valve``    compression_cracking_Pa,               none: relief_valve's path with a
                         compression_conductance_m3_per_s_Pa,   cracking pressure and conductance
                         rebound_cracking_Pa,                   per flow direction (a knee per

@@ -41,14 +41,16 @@ class GasCharge(Effect):
     """Gas charge of a single-rod device: preload and gas spring on the absolute stroke.
 
     The rod (area A_r) entering the body by y_abs displaces A_r y_abs of liquid
-    into an accumulator whose gas, charged to p_c at volume V_g, is compressed
-    polytropically (index n).  The rod carries
+    into an accumulator whose gas, charged to p_c above the ambient p_a at volume
+    V_g, is compressed polytropically (index n); the ambient pressure acts on the
+    rod's outer end.  The rod carries
 
-    F_gas = p_c A_r (V_g / (V_g - A_r y_abs))^n  (:func:`~liquidamp.device.kernels.gas_force`),
+    F_gas = A_r ((p_c + p_a) (V_g / (V_g - A_r y_abs))^n - p_a)
+    (:func:`~liquidamp.device.kernels.gas_force`),
 
-    the preload p_c A_r at y_abs = 0 and the gas spring k_g = n p_c A_r^2 / V_g
+    the preload p_c A_r at y_abs = 0 and the gas spring k_g = n (p_c + p_a) A_r^2 / V_g
     about it; at the stroke ends +/- Y the static force is
-    p_c A_r (V_g / (V_g -/+ A_r Y))^n.  ``y_abs = y + stroke_offset_m``: the
+    A_r ((p_c + p_a) (V_g / (V_g -/+ A_r Y))^n - p_a).  ``y_abs = y + stroke_offset_m``: the
     force depends on where the rod is, not only on how it moves, so the
     record's mean stroke (which :func:`~liquidamp.analysis.measured.record_model.simulate_record`
     takes off the stroke that drives the chambers) is given back to this effect:
@@ -62,15 +64,16 @@ class GasCharge(Effect):
     (cavitation margins move with the charge).  The chamber bulk moduli stay those
     of the states (a stiffer liquid under the charge is not modelled).
 
-    A zero rod area (or zero charge) gives the sealed device exactly: no force, and
-    with p_c = 0 no level either.
+    A zero rod area gives no force at all (the sealed device's force exactly); the
+    level is then p_c, so with a zero charge too the device is the sealed one in
+    every respect.
 
     Parameters
     ----------
     rod_area_m2 : float
         A_r >= 0 [m^2] (a 7.6 mm rod: 4.5e-5 m^2).
     charge_pressure_Pa : float
-        p_c >= 0 [Pa] above the filling pressure (100 psi = 6.895e5 Pa).
+        p_c >= 0 [Pa], gauge: above the ambient (100 psi = 6.895e5 Pa).
     gas_volume_m3 : float
         V_g > 0 [m^3] at y_abs = 0.
     polytropic_index : float
@@ -78,6 +81,8 @@ class GasCharge(Effect):
     stroke_offset_m : float
         Absolute stroke at the model's y = 0 [m] (set from a record's mean stroke
         by :func:`~liquidamp.analysis.measured.record_model.simulate_record`; not fitted).
+    ambient_pressure_Pa : float
+        p_a >= 0 [Pa] on the rod's outer end (101325 Pa; 0: the charge is absolute).
 
     References
     ----------
@@ -88,9 +93,9 @@ class GasCharge(Effect):
     --------
     >>> g = GasCharge(4.5e-5, 6.894757e5, 1e-4, 1.0)
     >>> round(g.force(0.0), 3), round(g.stiffness(0.0) / 1e3, 6)     # N, N/mm
-    (31.026, 0.013962)
+    (31.026, 0.016014)
     >>> round(g.force(0.05) - g.force(-0.05), 3)   # the gas spring over 100 mm of stroke
-    1.397
+    1.602
     """
 
     rod_area_m2: float = 0.0
@@ -98,15 +103,17 @@ class GasCharge(Effect):
     gas_volume_m3: float = 1.0e-4
     polytropic_index: float = 1.0
     stroke_offset_m: float = 0.0
+    ambient_pressure_Pa: float = 101325.0
     name: ClassVar[str] = "gas_charge"
     units: ClassVar[dict] = {"rod_area_m2": "m^2", "charge_pressure_Pa": "Pa",
                              "gas_volume_m3": "m^3", "polytropic_index": "-",
-                             "stroke_offset_m": "m"}
+                             "stroke_offset_m": "m", "ambient_pressure_Pa": "Pa"}
     fit_keys: ClassVar[tuple] = ("charge_pressure_Pa", "gas_volume_m3")
     bounds: ClassVar[dict] = {"rod_area_m2": (1e-7, 1e-2), "charge_pressure_Pa": (1e3, 1e8),
                               "gas_volume_m3": (1e-8, 1e-1),
                               "polytropic_index": POLYTROPIC_BOUNDS,
-                              "stroke_offset_m": (-1.0, 1.0)}
+                              "stroke_offset_m": (-1.0, 1.0),
+                              "ambient_pressure_Pa": (0.0, 2e5)}
     order: ClassVar[int] = 48
     description: ClassVar[str] = "gas charge: preload p_c A_r and gas spring (absolute stroke)"
     slot: ClassVar[int] = K.S_GAS
@@ -124,11 +131,12 @@ class GasCharge(Effect):
             raise ParameterError(f"gas_charge polytropic_index must be in [{lo:g}, {hi:.4g}] "
                                  f"[-] (1: isothermal, 1.4: adiabatic nitrogen), got {n:g}")
         check_finite("gas_charge stroke_offset_m", self.stroke_offset_m, "m")
+        check_nonnegative("gas_charge ambient_pressure_Pa", self.ambient_pressure_Pa, "Pa")
 
     def pack(self, ep):
         ep[K.E_AR], ep[K.E_PCH] = self.rod_area_m2, self.charge_pressure_Pa
         ep[K.E_VG], ep[K.E_NG] = self.gas_volume_m3, self.polytropic_index
-        ep[K.E_Y0G] = self.stroke_offset_m
+        ep[K.E_Y0G], ep[K.E_PAT] = self.stroke_offset_m, self.ambient_pressure_Pa
 
     @property
     def travel_m(self) -> float:
@@ -139,15 +147,17 @@ class GasCharge(Effect):
         """Gas force at model stroke ``y`` [m] (absolute: y + stroke_offset_m) [N]."""
         ya = np.asarray(y, float) + self.stroke_offset_m
         args = (self.rod_area_m2, self.charge_pressure_Pa, self.gas_volume_m3,
-                self.polytropic_index)
+                self.polytropic_index, self.ambient_pressure_Pa)
         out = np.vectorize(lambda q: gas_force(q, *args))(ya)
         return float(out) if np.ndim(out) == 0 else out
 
     def stiffness(self, y=0.0):
-        """Gas spring dF/dy = n p_g A_r^2 / (V_g - A_r y_abs) at model stroke ``y`` [N/m]."""
+        """Gas spring dF/dy = n (p_g + p_a) A_r^2 / (V_g - A_r y_abs) at model stroke ``y``
+        [N/m]."""
         ya = np.asarray(y, float) + self.stroke_offset_m
         V = self.gas_volume_m3 - self.rod_area_m2 * ya
-        out = self.polytropic_index * self.force(y) * self.rod_area_m2 / V
+        A = self.rod_area_m2
+        out = self.polytropic_index * (self.force(y) + A * self.ambient_pressure_Pa) * A / V
         return float(out) if np.ndim(out) == 0 else out
 
     def check(self, model):
@@ -199,7 +209,7 @@ class GasCharge(Effect):
         A_r = 0.05 * params.A_p if hasattr(params, "A_p") else 1e-4
         p_c = 0.05 * force_amplitude_N / A_r
         k = 0.05 * force_amplitude_N / amplitude
-        return cls(A_r, p_c, p_c * A_r * A_r / k, 1.0)
+        return cls(A_r, p_c, (p_c + 101325.0) * A_r * A_r / k, 1.0)
 
 
 @dataclass(frozen=True)

@@ -129,6 +129,7 @@ from liquidamp.device.kernels_layout import (  # noqa: F401 (the public face)
     E_NG,
     E_OFF,
     E_OMEGA,
+    E_PAT,
     E_PCH,
     E_PR,
     E_PR2,

@@ -85,8 +85,10 @@ E_AR, E_PCH, E_VG, E_NG, E_Y0G = 27, 28, 29, 30, 31
 #: Rebound-direction cracking pressure [Pa] and conductance [m^3/(s Pa)] of the valve in
 #: the ``S_RELIEF`` slot (``relief_valve``: equal to E_PR, E_GR; ``digressive_valve``: its own).
 E_PR2, E_GR2 = 32, 33
+#: Gas charge: ambient pressure on the rod's outer end [Pa] (the charge is gauge above it).
+E_PAT = 34
 #: The effect slots; the state scales follow from ``ep[N_EP]`` on.
-N_EP = 34
+N_EP = 35
 
 
 def pack_params(params) -> np.ndarray:

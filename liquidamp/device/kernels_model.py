@@ -64,6 +64,7 @@ from liquidamp.device.kernels_layout import (
     E_MASS,
     E_NG,
     E_OFF,
+    E_PAT,
     E_PCH,
     E_PR,
     E_PR2,
@@ -255,8 +256,8 @@ def _fluid_rhs(spec, x, y, v, prm, ep, out):
             # about the filling pressure p0, the chambers sit p_g(y) above them, so the
             # cavity switch sees p_i + p_g(y) (the piston stroke stands for the rod's here)
             yg = y + ep[E_Y0G]
-            pg = gas_pressure(yg, ep[E_AR], ep[E_PCH], ep[E_VG], ep[E_NG])
-            sg = gas_slope(yg, ep[E_AR], ep[E_PCH], ep[E_VG], ep[E_NG]) * v
+            pg = gas_pressure(yg, ep[E_AR], ep[E_PCH], ep[E_VG], ep[E_NG], ep[E_PAT])
+            sg = gas_slope(yg, ep[E_AR], ep[E_PCH], ep[E_VG], ep[E_NG], ep[E_PAT]) * v
             o1 += pg
             o2 += pg
             s1 += sg
@@ -448,7 +449,7 @@ def model_force(spec, x, y, v, a, prm, ep, with_friction):
     if spec[S_STOP] != 0:
         f += stop_force(y, v, ep[E_KS], ep[E_CS], ep[E_CLR], ep[E_CTR])
     if spec[S_GAS] != 0:  # the gas charge on the absolute rod stroke
-        f += gas_force(y + ep[E_Y0G], ep[E_AR], ep[E_PCH], ep[E_VG], ep[E_NG])
+        f += gas_force(y + ep[E_Y0G], ep[E_AR], ep[E_PCH], ep[E_VG], ep[E_NG], ep[E_PAT])
     if spec[S_MASS] != 0:
         f += ep[E_MASS] * a
     if spec[S_OFF] != 0:
