@@ -161,3 +161,37 @@ def test_errors():
     with pytest.raises(ParameterError, match="reaches the end of the gas volume"):
         GasCharge(1e-4, 1e6, 1e-6).describing_function(0.02, 10.0, P)
     assert make_effect("gas_charge", rod_area_m2=1e-5).charge_pressure_Pa == 1e6
+
+
+def test_a_fit_at_one_charge_predicts_the_preload_at_another():
+    """Issue #20: a synthetic gas-charged record at 100 psi fitted (rod area, gas volume; the
+    charge known), the model at 150 psi predicts the other record's preload within 2 N."""
+    from liquidamp.analysis.measured.calibration import calibrate
+    from liquidamp.analysis.measured.fit_spec import FitSpec
+    from liquidamp.analysis.measured.synthetic import synthetic_record
+
+    psi = 6894.757293168
+    off = -0.015  # the records' absolute mean stroke
+
+    def record(pc, seed):
+        g = {"rod_area_m2": 4.5e-5, "charge_pressure_Pa": pc, "gas_volume_m3": 2.4e-6,
+             "polytropic_index": 1.25, "stroke_offset_m": off}
+        return synthetic_record(preset="reference", model="dashpot", frequency=0.5,
+                                amplitude=0.012, cycles=3, seed=seed,
+                                effects={"gas_charge": g}, displacement_offset=off)
+
+    r100, r150 = record(100 * psi, 1), record(150 * psi, 2)
+    assert r150.offset == pytest.approx(off, abs=1e-5)
+    start = GasCharge(3e-5, 100 * psi, 5e-6, 1.25)
+    spec = FitSpec.default(vary=("c1",)).with_effect(start, keys=("rod_area_m2", "gas_volume_m3"))
+    res = calibrate([r100], model="dashpot", params=P, effects=(start,), spec=spec,
+                    sizing="preset", max_nfev=60)
+    g = res.device_model.effect("gas_charge")
+    assert g.rod_area_m2 == pytest.approx(4.5e-5, rel=0.02)
+    assert g.gas_volume_m3 == pytest.approx(2.4e-6, rel=0.05)
+    g150 = g.replace(charge_pressure_Pa=150 * psi)
+    assert g150.force(0.0) == pytest.approx(150 * psi * 4.5e-5, abs=2.0)   # 46.5 N
+    # the other record's mean force (its preload at its mean stroke) from the fitted model
+    F = simulate_record(with_effects(get_model("dashpot"), g150), res.params, r150).force
+    assert float(np.mean(F)) == pytest.approx(float(np.mean(r150.force)), abs=2.0)
+    assert float(np.mean(r150.force)) - float(np.mean(r100.force)) > 10.0
