@@ -281,6 +281,11 @@ class DigressiveValve(Effect):
     description: ClassVar[str] = "spring-loaded valves per direction (two knees)"
     slot: ClassVar[int] = K.S_RELIEF
     kind: ClassVar[str] = "fluid"
+    #: A candidate on request, like relief_valve: at a low cracking pressure the valves
+    #: are a laminar bypass, and screened by default they take a leakage record's place
+    #: (test_diagnosis.py's leakage case); the diagnosis's selection rule decides (issue
+    #: #20 item 7).
+    screened: ClassVar[bool] = False
 
     def __post_init__(self):
         for key, unit in (("compression_cracking_Pa", "Pa"),
