@@ -36,7 +36,7 @@ UNITS: dict[str, dict[str, float]] = {
     "rotor_speed": {"rpm": 1.0, "Hz": 60.0, "rad/s": 60.0 / (2.0 * math.pi)},
     "force": {"N": 1.0, "kN": 1e3, "mN": 1e-3},
     "time": {"s": 1.0, "ms": 1e-3, "min": 60.0},
-    "pressure": {"Pa": 1.0, "kPa": 1e3, "MPa": 1e6, "bar": 1e5},
+    "pressure": {"Pa": 1.0, "kPa": 1e3, "MPa": 1e6, "bar": 1e5, "psi": 6894.757293168},
     "mass": {"kg": 1.0, "g": 1e-3},
     "stiffness": {"N/m": 1.0, "N/mm": 1e3, "kN/m": 1e3, "kN/mm": 1e6},
     "damping": {"N s/m": 1.0, "Ns/m": 1.0, "kN s/m": 1e3, "kNs/m": 1e3},
@@ -47,16 +47,20 @@ UNITS: dict[str, dict[str, float]] = {
     "reduced": {"-": 1.0},
     "conductance": {"m^3/(s Pa)": 1.0},
     "lag_damping": {"N m s/rad": 1.0, "kN m s/rad": 1e3},
+    "area": {"m^2": 1.0, "cm^2": 1e-4, "mm^2": 1e-6},
+    "volume": {"m^3": 1.0, "l": 1e-3, "cm^3": 1e-6, "ml": 1e-6},
 }
 #: Base unit of each dimension (what a bare number means).
 BASE = {"length": "m", "frequency": "Hz", "rotor_speed": "rpm", "force": "N", "time": "s",
         "pressure": "Pa", "mass": "kg", "stiffness": "N/m", "damping": "N s/m",
         "velocity": "m/s", "angle": "rad", "angular_speed": "rad/s", "ratio": "-",
-        "reduced": "-", "conductance": "m^3/(s Pa)", "lag_damping": "N m s/rad"}
+        "reduced": "-", "conductance": "m^3/(s Pa)", "lag_damping": "N m s/rad", "area": "m^2",
+        "volume": "m^3"}
 #: Dimension of an effect parameter's unit (``Effect.units``).
 _UNIT_DIMENSION = {"N": "force", "m": "length", "Pa": "pressure", "kg": "mass",
                    "N/m": "stiffness", "N s/m": "damping", "m/s": "velocity", "rad": "angle",
-                   "rad/s": "angular_speed", "-": "ratio", "m^3/(s Pa)": "conductance"}
+                   "rad/s": "angular_speed", "-": "ratio", "m^3/(s Pa)": "conductance",
+                   "m^2": "area", "m^3": "volume"}
 
 _NUMBER = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|[-+]?(?:inf|nan))"
                      r"\s*(.*?)\s*", re.IGNORECASE)
@@ -399,6 +403,12 @@ EFFECT_UNITS = {
                   "centre_m": "m"},
     "rotating_frame": {"rotor_speed_rad_per_s": "rad/s", "mounting_radius_m": "m",
                        "axis_angle_rad": "rad"},
+    "gas_charge": {"rod_area_m2": "m^2", "charge_pressure_Pa": "Pa", "gas_volume_m3": "m^3",
+                   "polytropic_index": "-", "stroke_offset_m": "m", "ambient_pressure_Pa": "Pa"},
+    "digressive_valve": {"compression_cracking_Pa": "Pa",
+                         "compression_conductance_m3_per_s_Pa": "m^3/(s Pa)",
+                         "rebound_cracking_Pa": "Pa",
+                         "rebound_conductance_m3_per_s_Pa": "m^3/(s Pa)"},
 }
 #: Composite candidates of :data:`liquidamp.analysis.measured.candidates.COMPOSITES`
 #: (held equal by a test).
@@ -452,6 +462,8 @@ def effect_type(text: str) -> str:
     'freeplay:gap_m=0.0001'
     >>> effect_type("coulomb_friction:force_N=30,location=piston")
     'coulomb_friction:force_N=30.0,location=piston'
+    >>> effect_type("gas_charge:rod_area_m2=45mm^2,charge_pressure_Pa=100psi,gas_volume_m3=0.1l")
+    'gas_charge:rod_area_m2=4.5e-05,charge_pressure_Pa=689475.7293168,gas_volume_m3=0.0001'
     >>> effect_type("freeplay:gap_m=wide")
     Traceback (most recent call last):
     ...

@@ -91,6 +91,7 @@ from liquidamp.device.kernels import (
     S_ANALYTIC,
     S_ASYM,
     S_COUL,
+    S_GAS,
     S_IC,
     S_IEL,
     S_IFP,
@@ -439,7 +440,7 @@ def _integrate_source(spec, prm, ep, kind, sp, st, sy, sv, sa, x0, t0, t1, teval
     force_needs_stroke = (spec[S_NB] == 0 or spec[S_IFP] >= 0 or spec[S_IC] >= 0
                           or spec[S_IZ] >= 0 or spec[S_COUL] != 0 or spec[S_MASS] != 0
                           or spec[S_OFF] != 0 or spec[S_ROT] > 0 or prm[P_FRIC] > 0.0
-                          or spec[S_IEL] >= 0 or spec[S_STOP] != 0)
+                          or spec[S_IEL] >= 0 or spec[S_STOP] != 0 or spec[S_GAS] != 0)
     nf = max(ne - 1, 1)
     force_now = np.empty(nf)
     force_prev = np.empty(nf)

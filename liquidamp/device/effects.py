@@ -38,17 +38,24 @@ name                    parameters                             states added
                         branch_damping_N_s_per_m               linear solid on the rod)
 ``end_stops``           stiffness_N_per_m, clearance_m,        none: contact beyond centre +/-
                         damping_N_s_per_m, centre_m            clearance (C1 onset)
+``gas_charge``          rod_area_m2, charge_pressure_Pa,       none: preload p_c A_r and gas
+                        gas_volume_m3, polytropic_index,       spring (polytropic, absolute
+                        stroke_offset_m, ambient_pressure_Pa   stroke); chamber level + p_g(y)
+``digressive_valve``    compression_cracking_Pa,               none: relief_valve's path with a
+                        compression_conductance_m3_per_s_Pa,   cracking pressure and conductance
+                        rebound_cracking_Pa,                   per flow direction (a knee per
+                        rebound_conductance_m3_per_s_Pa        direction)
 ======================  =====================================  =================================
 
 Composition order is canonical whatever order the effects are given in
 (``order``, innermost first): the fluid effects act on the chamber equations
 innermost (asymmetric_loss 3 on the channel's coefficients, leakage 5 and
-relief_valve 7 as paths beside the channel, rotating_frame 8 driving every
+relief_valve or digressive_valve 7 as paths beside the channel, rotating_frame 8 driving every
 flow path, cavitation 10 on the pressure rates, so that it sees the rotating
 frame's lowered inboard pressures); the kinematic effects (series_compliance
 20, then freeplay 30) turn the measured rod stroke into the piston stroke the
 fluid sees; the force effects (smooth_friction 35, coulomb_friction 40, elastomer 42, moving_mass
-45, end_stops 47, force_offset 50) act on the measured (rod) stroke and add
+45, end_stops 47, gas_charge 48, force_offset 50) act on the measured (rod) stroke and add
 to the load-cell force outermost, except friction at ``location="piston"``,
 which sits behind the kinematic effects with the fluid.  Force effects
 therefore use the rod velocity and acceleration, which is exact without a
@@ -89,8 +96,9 @@ Modules: this module is the public face (the registry :data:`EFFECTS`,
 force_offset, moving_mass, elastomer, end_stops),
 :mod:`~liquidamp.device.effects_kinematic` (series_compliance, freeplay),
 :mod:`~liquidamp.device.effects_fluid` (leakage, relief_valve,
-asymmetric_loss, cavitation) and :mod:`~liquidamp.device.effects_operating`
-(rotating_frame).
+asymmetric_loss, cavitation), :mod:`~liquidamp.device.effects_operating`
+(rotating_frame) and :mod:`~liquidamp.device.effects_damper` (gas_charge,
+digressive_valve: what real dampers have, issue #20).
 
 The scalar laws (:func:`lugre_rate`, :func:`play_rate`,
 :func:`compliance_rate`, :func:`cavity_rates`) are the compiled ones of
@@ -126,6 +134,7 @@ from liquidamp.device.effects_base import (
     Effect,
     _piston_stroke,
 )
+from liquidamp.device.effects_damper import DigressiveValve, GasCharge
 from liquidamp.device.effects_fluid import (
     AsymmetricLoss,
     Cavitation,
@@ -170,10 +179,13 @@ __all__ = [
     "EndStops",
     "saturation_damping",
     "RotatingFrame",
+    "GasCharge",
+    "DigressiveValve",
     "EFFECTS",
     "effect_names",
     "make_effect",
     "with_effects",
+    "with_stroke_offset",
     "least_pressures",
     "lugre_rate",
     "play_rate",
@@ -188,7 +200,7 @@ EFFECTS: dict[str, type[Effect]] = {
     cls.name: cls
     for cls in (CoulombFriction, SmoothFriction, ForceOffset, MovingMass, SeriesCompliance,
                 Freeplay, Leakage, Cavitation, ReliefValve, AsymmetricLoss, Elastomer, EndStops,
-                RotatingFrame)
+                RotatingFrame, GasCharge, DigressiveValve)
 }
 """Registry: effect name -> class."""
 
@@ -201,7 +213,7 @@ def effect_names() -> tuple[str, ...]:
     >>> effect_names()
     ('coulomb_friction', 'smooth_friction', 'force_offset', 'moving_mass', \
 'series_compliance', 'freeplay', 'leakage', 'cavitation', 'relief_valve', 'asymmetric_loss', \
-'elastomer', 'end_stops', 'rotating_frame')
+'elastomer', 'end_stops', 'rotating_frame', 'gas_charge', 'digressive_valve')
     """
     return tuple(EFFECTS)
 
@@ -230,7 +242,8 @@ def make_effect(name: str, **parameters) -> Effect:
     ...
     liquidamp.errors.ParameterError: unknown effect 'stiction'; valid: coulomb_friction, \
 smooth_friction, force_offset, moving_mass, series_compliance, freeplay, leakage, cavitation, \
-relief_valve, asymmetric_loss, elastomer, end_stops, rotating_frame
+relief_valve, asymmetric_loss, elastomer, end_stops, rotating_frame, gas_charge, \
+digressive_valve
     """
     check_choice("effect", name, EFFECTS)
     cls = EFFECTS[name]
@@ -343,3 +356,40 @@ states p1, p2; model 'single_state' has states (dp); use 'full', 'no_inertia', \
         uses_acceleration=bare.uses_acceleration or any(e.uses_acceleration for e in ordered),
         effects=ordered,
     )
+
+
+def with_stroke_offset(model: DeviceModel, offset_m: float) -> DeviceModel:
+    """``model`` with its absolute-stroke effects placed at ``offset_m`` (the others as they are).
+
+    An effect whose force depends on where the rod is (``absolute_stroke``:
+    ``gas_charge``) sees y + ``stroke_offset_m``; a record's stroke drives the
+    chambers about its mean, so its mean stroke is given back here
+    (:func:`~liquidamp.analysis.measured.record_model.simulate_record` calls this with
+    :attr:`Record.offset`).  A model without such an effect is returned unchanged.
+
+    Parameters
+    ----------
+    model : DeviceModel
+        Any composed model.
+    offset_m : float
+        Absolute stroke at the model's y = 0 [m].
+
+    Examples
+    --------
+    >>> from liquidamp.device.models import get_model
+    >>> m = with_effects(get_model("dashpot"), GasCharge(1e-4, 1e6, 1e-4))
+    >>> with_stroke_offset(m, 0.01).effect("gas_charge").stroke_offset_m
+    0.01
+    >>> with_stroke_offset(get_model("full"), 0.01).name
+    'full'
+    """
+    from liquidamp.device.models import get_model
+    from liquidamp.errors import check_finite
+
+    model = get_model(model)
+    off = check_finite("stroke offset", offset_m, "m")
+    if not any(getattr(e, "absolute_stroke", False) for e in model.effects):
+        return model
+    effects = tuple(e.replace(stroke_offset_m=off) if getattr(e, "absolute_stroke", False)
+                    else e for e in model.effects)
+    return with_effects(BASES[model.base], *effects)

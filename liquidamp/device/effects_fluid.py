@@ -254,8 +254,8 @@ class ReliefValve(Effect):
         "'dashpot', 'dashpot_inerter' and 'viscous' is it an exact force law")
 
     def pack(self, ep):
-        ep[K.E_PR] = self.cracking_pressure_Pa
-        ep[K.E_GR] = self.conductance_m3_per_s_Pa
+        ep[K.E_PR] = ep[K.E_PR2] = self.cracking_pressure_Pa
+        ep[K.E_GR] = ep[K.E_GR2] = self.conductance_m3_per_s_Pa
 
     def describing_function(self, amplitude, omega, params, model=None):
         """Exact on the dashpot-type bases: (0, c_eq - c, 0) (:func:`saturation_damping`).

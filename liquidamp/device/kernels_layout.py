@@ -63,7 +63,9 @@ S_LEAK, S_COUL, S_MASS, S_OFF, S_ANALYTIC, S_I1, S_I2, S_EFFECTS = range(7, 15)
 S_CPIST, S_ZPIST, S_RELIEF, S_ASYM, S_IEL, S_STOP = range(15, 21)
 #: Rotating frame (centrifugal field along the device axis): 1 when composed, else -1.
 S_ROT = 21
-N_SPEC = 22
+#: Gas charge (accumulator on a single-rod device): 1 when composed, else 0 (issue #20).
+S_GAS = 22
+N_SPEC = 23
 
 E_LEAK, E_PV, E_KC, E_GAP, E_SFC, E_SIG, E_VS, E_SR, E_CF, E_MASS, E_OFF = range(11)
 E_PR, E_GR = 11, 12  # relief valve: cracking pressure [Pa], conductance [m^3/(s Pa)]
@@ -77,8 +79,16 @@ E_FRQ, E_CRQ = 21, 22
 E_OMEGA, E_RM, E_COSA = 23, 24, 25
 #: Smooth friction's transition exponent n [-] (:func:`lugre_rate`).
 E_FEX = 26
+#: Gas charge: rod area [m^2], charge pressure [Pa], gas volume [m^3], polytropic index [-],
+#: absolute stroke of the model's zero (the record's mean stroke) [m] (:func:`gas_force`).
+E_AR, E_PCH, E_VG, E_NG, E_Y0G = 27, 28, 29, 30, 31
+#: Rebound-direction cracking pressure [Pa] and conductance [m^3/(s Pa)] of the valve in
+#: the ``S_RELIEF`` slot (``relief_valve``: equal to E_PR, E_GR; ``digressive_valve``: its own).
+E_PR2, E_GR2 = 32, 33
+#: Gas charge: ambient pressure on the rod's outer end [Pa] (the charge is gauge above it).
+E_PAT = 34
 #: The effect slots; the state scales follow from ``ep[N_EP]`` on.
-N_EP = 27
+N_EP = 35
 
 
 def pack_params(params) -> np.ndarray:

@@ -29,18 +29,22 @@ from liquidamp.device.kernels_laws import (
     compliance_rate,
     elastomer_rate,
     friction_level,
+    gas_force,
+    gas_pressure,
+    gas_slope,
     lugre_rate,
     piston_contact,
     play_contact,
-    relief_flow,
     relief_force,
     rotating_heads,
     rotating_offset_slopes,
     rotating_slope,
     stop_force,
+    valve_flow,
 )
 from liquidamp.device.kernels_layout import (
     _FM,
+    E_AR,
     E_C1E,
     E_CF,
     E_CLR,
@@ -51,20 +55,27 @@ from liquidamp.device.kernels_layout import (
     E_FRQ,
     E_GAP,
     E_GR,
+    E_GR2,
     E_K0,
     E_K1,
     E_KC,
     E_KS,
     E_LEAK,
     E_MASS,
+    E_NG,
     E_OFF,
+    E_PAT,
+    E_PCH,
     E_PR,
+    E_PR2,
     E_PV,
     E_RR,
     E_SFC,
     E_SIG,
     E_SR,
+    E_VG,
     E_VS,
+    E_Y0G,
     M_CONSTANT_BULK,
     M_DASHPOT,
     M_DASHPOT_INERTER,
@@ -98,6 +109,7 @@ from liquidamp.device.kernels_layout import (
     S_ASYM,
     S_COUL,
     S_CPIST,
+    S_GAS,
     S_I1,
     S_I2,
     S_IC,
@@ -162,14 +174,22 @@ def loss_params(spec, x, v, prm, ep, dpc=0.0):
 
 
 @njit(cache=True, error_model="numpy")
+def _valve(dp, ep):
+    """Flow of the valve in the ``S_RELIEF`` slot at pressure difference dp [m^3/s]: its
+    compression pair (E_PR, E_GR) for dp >= 0, its rebound pair (E_PR2, E_GR2) below
+    (:func:`valve_flow`; equal pairs for ``relief_valve``)."""
+    return valve_flow(dp, ep[E_PR], ep[E_GR], ep[E_PR2], ep[E_GR2])
+
+
+@njit(cache=True, error_model="numpy")
 def _relief_differential(mid, x, y, prm, ep, dpc, out):
     """The relief flow in the differential and linear models (eqs. 15, 16, 18)."""
     Ap = prm[P_AP]
     if mid == M_MAXWELL:  # dF/dt = A_p B (A_p v - q - q_r), k_D = A_p^2 B
-        out[0] -= prm[P_KD] / Ap * relief_flow(x[0] / Ap, ep[E_PR], ep[E_GR])
+        out[0] -= prm[P_KD] / Ap * _valve(x[0] / Ap, ep)
     elif mid == M_SINGLE_STATE or mid == M_INERTIAL_2STATE:
         B = prm[P_B01] / (prm[P_V01] - Ap * y) + prm[P_B02] / (prm[P_V02] + Ap * y)
-        out[0] -= B * relief_flow(x[0] + dpc, ep[E_PR], ep[E_GR])
+        out[0] -= B * _valve(x[0] + dpc, ep)
 
 
 @njit(cache=True, error_model="numpy")
@@ -184,7 +204,9 @@ def _damper_force(spec, v, prm, ep):
     if spec[S_ASYM] != 0 and v < 0.0:
         c *= ep[E_RR]
     if spec[S_RELIEF] != 0 and c > 0.0:
-        return relief_force(v, c, ep[E_PR] * area, ep[E_GR] / (area * area))
+        if v >= 0.0:
+            return relief_force(v, c, ep[E_PR] * area, ep[E_GR] / (area * area))
+        return relief_force(v, c, ep[E_PR2] * area, ep[E_GR2] / (area * area))
     return c * v
 
 
@@ -203,7 +225,7 @@ def _fluid_rhs(spec, x, y, v, prm, ep, out):
     if spec[S_RELIEF] != 0 and i1 >= 0:  # a second path beside the channel, driven like
         dp = x[i1] - x[spec[S_I2]] + dpc  # it: its secant conductance joins the leakage's
         if dp != 0.0:
-            kL += relief_flow(dp, ep[E_PR], ep[E_GR]) / dp
+            kL += _valve(dp, ep) / dp
     if spec[S_ASYM] != 0:
         base_rhs(mid, x, y, v, loss_params(spec, x, v, prm, ep, dpc), kL, dpc, out)
     else:
@@ -230,6 +252,16 @@ def _fluid_rhs(spec, x, y, v, prm, ep, out):
             s1, s2 = rotating_offset_slopes(y, prm, ep)
             s1 *= v
             s2 *= v
+        if spec[S_GAS] != 0:  # the charge raises both chambers' level: the states are
+            # about the filling pressure p0, the chambers sit p_g(y) above them, so the
+            # cavity switch sees p_i + p_g(y) (the piston stroke stands for the rod's here)
+            yg = y + ep[E_Y0G]
+            pg = gas_pressure(yg, ep[E_AR], ep[E_PCH], ep[E_VG], ep[E_NG], ep[E_PAT])
+            sg = gas_slope(yg, ep[E_AR], ep[E_PCH], ep[E_VG], ep[E_NG], ep[E_PAT]) * v
+            o1 += pg
+            o2 += pg
+            s1 += sg
+            s2 += sg
         dp1, dc1 = cavity_rates(x[i1] + o1, out[i1] + s1, x[ic], V1, B1, pv)
         dp2, dc2 = cavity_rates(x[i2] + o2, out[i2] + s2, x[ic + 1], V2, B2, pv)
         out[i1] = dp1 - s1
@@ -416,6 +448,8 @@ def model_force(spec, x, y, v, a, prm, ep, with_friction):
         f += ep[E_K0] * y + x[iel]
     if spec[S_STOP] != 0:
         f += stop_force(y, v, ep[E_KS], ep[E_CS], ep[E_CLR], ep[E_CTR])
+    if spec[S_GAS] != 0:  # the gas charge on the absolute rod stroke
+        f += gas_force(y + ep[E_Y0G], ep[E_AR], ep[E_PCH], ep[E_VG], ep[E_NG], ep[E_PAT])
     if spec[S_MASS] != 0:
         f += ep[E_MASS] * a
     if spec[S_OFF] != 0:

@@ -183,7 +183,7 @@ class DeviceModel:
         spec[K.S_N] = self.n_states
         spec[K.S_NB] = self.n_base_states
         for slot in (K.S_LEAK, K.S_COUL, K.S_MASS, K.S_OFF, K.S_CPIST, K.S_ZPIST,
-                     K.S_RELIEF, K.S_ASYM, K.S_STOP):  # flags; state indices stay -1
+                     K.S_RELIEF, K.S_ASYM, K.S_STOP, K.S_GAS):  # flags; state indices stay -1
             spec[slot] = 0
         i = self.n_base_states
         for e in self.effects:
@@ -307,7 +307,8 @@ use 'no_inertia' (eq. 11) for a channel without inertance
 def _packed(model: DeviceModel, params) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     prm = K.pack_params(params)
     if prm[K.P_CV2] != 0.0:
-        laws = [e.name for e in model.effects if e.name in ("relief_valve", "asymmetric_loss")]
+        laws = [e.name for e in model.effects
+                if e.name in ("relief_valve", "digressive_valve", "asymmetric_loss")]
         if laws:
             raise ParameterError(
                 f"model {model.name!r}: {', '.join(laws)} on the viscous damper is written for "

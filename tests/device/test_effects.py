@@ -44,7 +44,10 @@ ZERO = {"coulomb_friction": {"force_N": 0.0}, "smooth_friction": {"force_N": 0.0
         "relief_valve": {"conductance_m3_per_s_Pa": 0.0}, "asymmetric_loss": {"rebound_ratio": 1.0},
         "elastomer": {"parallel_stiffness_N_per_m": 0.0, "branch_stiffness_N_per_m": 0.0},
         "end_stops": {"stiffness_N_per_m": 0.0},
-        "rotating_frame": {"rotor_speed_rad_per_s": 0.0, "mounting_radius_m": 0.5}}
+        "rotating_frame": {"rotor_speed_rad_per_s": 0.0, "mounting_radius_m": 0.5},
+        "gas_charge": {"rod_area_m2": 0.0},
+        "digressive_valve": {"compression_conductance_m3_per_s_Pa": 0.0,
+                             "rebound_conductance_m3_per_s_Pa": 0.0}}
 
 
 @pytest.mark.parametrize("name", list(EFFECTS))

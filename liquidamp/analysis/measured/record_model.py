@@ -3,9 +3,10 @@
 :func:`simulate_record` runs any device model under a record's stroke
 (:class:`~liquidamp.analysis.measured.records.Record`) about its mean (the LVDT
 zero is arbitrary; the mean stroke is taken as the mid-position where the chambers
-hold V01 and V02); :func:`nrmse` is the normalized RMS force error used by the
-calibration; :func:`integrate` is the synthetic generator's LSODA march under
-any scalar stroke.
+hold V01 and V02; an effect on the absolute stroke, ``gas_charge``, is given the mean
+back: :func:`~liquidamp.device.effects.with_stroke_offset`); :func:`nrmse` is the
+normalized RMS force error used by the calibration; :func:`integrate` is the synthetic
+generator's LSODA march under any scalar stroke.
 
 The periodic steady state, not a pre-roll: a periodic record
 (:attr:`Record.periodic`) is simulated on the periodic orbit of its cycle.  Its stroke is
@@ -40,6 +41,7 @@ from liquidamp.analysis.measured.records import Record
 from liquidamp.coupled.engines import TestRig, engine_for
 from liquidamp.coupled.periodic import ROUTES, ShootingOptions, periodic_state
 from liquidamp.coupled.testrig import DeviceResponse
+from liquidamp.device.effects import with_stroke_offset
 from liquidamp.device.models import DeviceModel, get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, ParameterError, PressureError, check_choice
@@ -190,7 +192,8 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     >>> r.solver_stats["stroke"], r.solver_stats["velocity_gain"]
     ('fourier', 1.0)
     """
-    model = get_model(model)
+    # an effect on the absolute stroke (gas_charge) gets the record's mean stroke back
+    model = with_stroke_offset(get_model(model), record.offset)
     options = resolve_options(options, "default")
     if not isinstance(params, DeviceParams):
         raise ParameterError(f"params must be DeviceParams, got {type(params).__name__}")
