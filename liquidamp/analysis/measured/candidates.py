@@ -60,8 +60,9 @@ __all__ = ["Change", "Composite", "COMPOSITES", "DEVICE_REFINEMENTS", "REDUCTION
 #: A relief valve whose cracking pressure falls towards zero is a laminar bypass of
 #: conductance G: ``leakage``.  When such a candidate is the best held out, its reduction is
 #: refitted too, and added instead where it ties on held-out data (the extra parameter then
-#: sits at the limit the data cannot tell from the simpler model).
-REDUCTIONS = {"relief_valve": "leakage"}
+#: sits at the limit the data cannot tell from the simpler model).  A digressive valve whose
+#: two directions crack and open alike is the relief valve.
+REDUCTIONS = {"relief_valve": "leakage", "digressive_valve": "relief_valve"}
 
 
 @dataclass(frozen=True)
