@@ -85,10 +85,7 @@ References
 
 from __future__ import annotations
 
-import contextlib
-import contextvars
 import dataclasses
-import functools
 import math
 import warnings
 
@@ -116,9 +113,11 @@ from liquidamp.analysis.measured.fit_spec import (
     scale_effect_bounds,
 )
 from liquidamp.analysis.measured.plausibility import plausibility_flags
+from liquidamp.analysis.measured.progress import current_progress, with_progress
 from liquidamp.analysis.measured.record_model import nrmse, simulate_record
 from liquidamp.analysis.measured.record_quality import as_read, check_record_stroke
 from liquidamp.analysis.measured.records import Record
+from liquidamp.analysis.measured.selection import correlation_inflation
 from liquidamp.analysis.measured.start import (
     NEAR_FORCE_RATIO,
     NEAR_STROKE_SHARE,
@@ -275,43 +274,6 @@ def _nrmse_kept(preds, records, masks) -> float:
                  [r.force[k] for r, k in zip(records, masks, strict=True)])
 
 
-_PROGRESS = contextvars.ContextVar("liquidamp_fit_progress", default=None)
-
-
-@contextlib.contextmanager
-def fit_progress(progress):
-    """Context manager: every model evaluation of the fits inside calls ``progress(1)``.
-
-    Parameters
-    ----------
-    progress : callable or None
-        E.g. a tqdm bar's ``update``; None does nothing.
-    """
-    if progress is None:
-        yield
-        return
-    token = _PROGRESS.set(progress)
-    try:
-        yield
-    finally:
-        _PROGRESS.reset(token)
-
-
-def with_progress(func):
-    """Decorator: ``func(..., progress=None)`` runs inside :func:`fit_progress`.
-
-    ``progress`` (optional callable) is called as ``progress(1)`` after every
-    model evaluation (every run of the model over all the records of one fit).
-    """
-
-    @functools.wraps(func)
-    def wrapper(*args, progress=None, **kwargs):
-        with fit_progress(progress):
-            return func(*args, **kwargs)
-
-    return wrapper
-
-
 class _Objective:
     def __init__(self, model, base_params, effects, spec, records, options, preroll,
                  keep=None):
@@ -347,7 +309,7 @@ class _Objective:
 
     def __call__(self, x):
         self.nfev += 1
-        report = _PROGRESS.get()
+        report = current_progress()
         if report is not None:
             report(1)
         try:
@@ -518,6 +480,8 @@ def _with_stroke_limit(quality, records, params: DeviceParams):
 
 
 @with_progress
+
+
 def calibrate(records, *, model="full", params: DeviceParams | None = None, effects=(),
               spec: FitSpec | None = None, validate=(), options: SolverOptions | None = None,
               start: str = "physics", max_nfev: int = 80, preroll: int = 1,
@@ -724,8 +688,15 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
     res = np.where(obj.keep, np.concatenate(pc) - obj.meas, 0.0) / obj.scale
     rss_scaled = float(res @ res)
     s2 = rss_scaled * n / max(n - k, 1)  # residual variance in units of 1/sqrt(N) scaling
+    # residuals correlated in time (a filtered, decimated or averaged record; a misfit that
+    # follows the stroke) carry less information than their count: the covariance is
+    # inflated by N / N_eff, N_eff = sum N_i / tau_i with tau_i each record's integrated
+    # autocorrelation time (selection.correlation_time; 1 for white residuals)
+    sizes = np.cumsum([r.force.size for r in records])[:-1]
+    inflation = correlation_inflation([r[k] for r, k in zip(np.split(res, sizes), np.split(
+        np.asarray(obj.keep, bool), sizes), strict=True)])
     try:
-        cov = np.linalg.pinv(J.T @ J) * s2 / n
+        cov = np.linalg.pinv(J.T @ J) * s2 / n * inflation
     except np.linalg.LinAlgError:
         cov = np.full((k, k), np.nan)
     sd = np.sqrt(np.clip(np.diag(cov), 0.0, None))

@@ -59,8 +59,8 @@ import numpy as np
 
 from liquidamp.errors import ParameterError
 
-__all__ = ["correlation_time", "effective_samples", "delta_bic", "Verdict", "judge",
-           "bandwidth_samples", "sample_count"]
+__all__ = ["correlation_time", "correlation_inflation", "effective_samples", "delta_bic",
+           "Verdict", "judge", "bandwidth_samples", "sample_count"]
 
 
 def correlation_time(residual) -> float:
@@ -108,6 +108,41 @@ def correlation_time(residual) -> float:
     pairs = np.minimum.accumulate(pairs)  # initial monotone sequence
     tau = -1.0 + 2.0 * float(pairs.sum())
     return float(min(max(tau, 1.0), n))
+
+
+def correlation_inflation(residuals) -> float:
+    """Variance inflation N / N_eff of a fit's residuals, at least 1 [-].
+
+    A least-squares covariance s^2 (J^T J)^-1 assumes independent residuals.  Residuals
+    correlated in time (a filtered, decimated or cycle-averaged record; a misfit that
+    follows the stroke) carry the information of N_eff = sum N_i / tau_i samples only
+    (tau_i each record's integrated autocorrelation time, :func:`correlation_time`), so
+    the covariance is scaled by N / N_eff (Bayley & Hammersley 1946; Zieba 2010, Metrol.
+    Meas. Syst. 17(1)).
+
+    Parameters
+    ----------
+    residuals : sequence of array
+        The residual of each record (fewer than 4 samples or all zero: left out).
+
+    Returns
+    -------
+    float
+        N / N_eff (1 for white residuals or when nothing is left).
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(1)
+    >>> round(correlation_inflation([rng.normal(size=4000)]), 1)
+    1.0
+    """
+    n = n_eff = 0.0
+    for r in residuals:
+        r = np.asarray(r, float)
+        if r.size >= 4 and np.any(r != 0.0):
+            n += r.size
+            n_eff += r.size / correlation_time(r)
+    return max(n / n_eff, 1.0) if n_eff > 0 else 1.0
 
 
 def effective_samples(residuals) -> tuple[float, tuple[float, ...]]:
