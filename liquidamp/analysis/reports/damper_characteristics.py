@@ -100,7 +100,8 @@ def peak_points(record, force=None) -> dict:
     """Peak velocity and the force at it, one point per stroke, per direction.
 
     A stroke is a run of samples of one sign of the stroke rate; runs cut by the record's
-    ends are dropped (their peak may be missing).
+    ends are dropped (their peak may be missing), and so are flickers about zero rate (runs
+    shorter than a tenth of the median run, or peaking below 5 % of the largest |v|).
 
     Parameters
     ----------
@@ -116,8 +117,13 @@ def peak_points(record, force=None) -> dict:
     """
     v, F = _check(record, force)
     out = {"compression": ([], []), "rebound": ([], [])}
-    for a, b in _runs(np.sign(v))[1:-1]:
+    runs = _runs(np.sign(v))[1:-1]
+    shortest = 0.1 * float(np.median([b - a for a, b in runs])) if runs else 0.0
+    floor = 0.05 * float(np.max(np.abs(v)))
+    for a, b in runs:
         i = a + int(np.argmax(np.abs(v[a:b])))
+        if b - a < shortest or abs(v[i]) < floor:
+            continue
         key = "compression" if v[i] > 0 else "rebound"
         out[key][0].append(v[i])
         out[key][1].append(F[i])

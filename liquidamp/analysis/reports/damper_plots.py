@@ -27,7 +27,13 @@ from pathlib import Path
 import numpy as np
 
 from liquidamp.analysis.reports.damper_characteristics import (
-    KELVIN, cycle_average, cycle_table, damper_characteristics, peak_points, two_slope_curve)
+    KELVIN,
+    cycle_average,
+    cycle_table,
+    damper_characteristics,
+    peak_points,
+    two_slope_curve,
+)
 from liquidamp.atomic import save_figure
 from liquidamp.errors import ParameterError
 
@@ -90,7 +96,7 @@ def _finish(fig, record, title):
         fig.suptitle(title)
     att = attribution_of(record)
     if att:
-        fig.text(0.99, 0.005, att, ha="right", va="bottom", fontsize=5, color="0.35")
+        fig.supxlabel(att, x=0.99, ha="right", fontsize=5, color="0.35")
     return fig
 
 
