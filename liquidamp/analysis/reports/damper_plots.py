@@ -116,8 +116,9 @@ def plot_force_velocity(record, model_force=None, *, title: str = "", bins: int 
     Returns
     -------
     matplotlib.figure.Figure
-        A periodic record: the measured samples per direction (thin) and their
-        cycle-averaged curve (thick); any other: the 2-D histogram of (v, F), log colour.
+        A periodic record: the measured samples per direction (thin, light) and their
+        cycle-averaged curve per direction (thick; the model's dashed); any other: the
+        2-D histogram of (v, F), log colour.
     """
     v = np.asarray(record.velocity, float) * 1e3
     F = np.asarray(record.force, float)
@@ -125,19 +126,22 @@ def plot_force_velocity(record, model_force=None, *, title: str = "", bins: int 
     fig, ax = _figure()
     ax = ax[0, 0]
     if record.periodic:
-        for mask, col, lab in ((v > 0, COMPRESSION, "compression"),
-                               (v < 0, REBOUND, "rebound")):
+        for mask, col in ((v > 0, COMPRESSION), (v < 0, REBOUND)):
             ax.plot(np.where(mask, v, np.nan), np.where(mask, F * s, np.nan), "-", lw=0.4,
-                    color=col, alpha=0.45, label=lab)
-        avg = cycle_average(record)
-        ax.plot(np.append(avg["velocity"], avg["velocity"][:1]) * 1e3,
-                np.append(avg["force"], avg["force"][:1]) * s, "-", color="k", lw=1.1,
-                label="cycle average")
-        if model_force is not None:
-            m = cycle_average(record, model_force)
-            ax.plot(np.append(m["velocity"], m["velocity"][:1]) * 1e3,
-                    np.append(m["force"], m["force"][:1]) * s, "--", color=MODEL, lw=0.9,
-                    dashes=(3, 1.5), label="model, cycle average")
+                    color=col, alpha=0.35)
+        for force, ls, who in ((None, "-", "measured"), (model_force, "--", "model")):
+            if who == "model" and model_force is None:
+                continue
+            avg = cycle_average(record, force)
+            va = np.append(avg["velocity"], avg["velocity"][:1]) * 1e3
+            fa = np.append(avg["force"], avg["force"][:1]) * s
+            for sign, col, d in ((1, COMPRESSION, "compression"), (-1, REBOUND, "rebound")):
+                keep = sign * va >= 0  # each direction's half of the averaged loop
+                ax.plot(np.where(keep, va, np.nan), np.where(keep, fa, np.nan), ls,
+                        color=col if who == "measured" else MODEL,
+                        lw=1.2 if who == "measured" else 0.8,
+                        label=f"{d}, cycle average" if who == "measured"
+                        else ("model, cycle average" if sign > 0 else None))
     else:
         from matplotlib.colors import LogNorm
 
@@ -308,7 +312,10 @@ def write_damper_figures(out_dir, records, model_forces=None, *, prefix: str = "
     Returns
     -------
     list of (str, list of Path)
-        Caption and the files written, per figure.
+        Caption and the files written, per figure: the force-velocity figure of each
+        record, its short windows if it is not periodic, its temperature beside the force
+        amplitude if it has a ``temperature`` channel and two whole cycles or more (not
+        after averaging its cycles into one), and the peak curve of all of them.
     """
     formats = tuple(formats)
     if not {"svg", "pdf"} & set(formats):
@@ -328,7 +335,7 @@ def write_damper_figures(out_dir, records, model_forces=None, *, prefix: str = "
             if not r.periodic:
                 jobs.append((f"{prefix}_windows_{i}", f"short windows, {r.label}",
                              lambda r=r, f=f: plot_windows(r, f)))
-            if "temperature" in r.channels:
+            if "temperature" in r.channels and int(r.cycles) >= 2:  # cycle by cycle
                 jobs.append((f"{prefix}_temperature_{i}", f"force amplitude and temperature "
                              f"cycle by cycle, {r.label}", lambda r=r: plot_temperature(r)))
         jobs.append((f"{prefix}_peaks", "peak force against peak velocity, knees",

@@ -344,6 +344,54 @@ def _plausibility_section(results, labels) -> list[str]:
             "</div>"]
 
 
+def _damper_section(out: Path, final, label: str) -> list[str]:
+    """The dynamometer's numbers and figures (measured and ``final``'s model) as HTML.
+
+    Figures are written as PNG (shown) and SVG (linked) in the journal style of
+    :mod:`liquidamp.analysis.reports.damper_plots`.
+    """
+    from liquidamp.analysis.reports.damper_characteristics import damper_characteristics
+    from liquidamp.analysis.reports.damper_plots import attribution_of, write_damper_figures
+    from liquidamp.errors import ParameterError
+
+    recs = list(final.calibration)
+    preds = list(final.predictions_calibration)
+    parts = ["<h2>Damper characteristics (calibration records; compression: stroke rate "
+             "&gt; 0)</h2>",
+             "<p>Two-slope force-velocity map per direction (the reference model "
+             "<code>two_slope</code>); gas force: the force at zero velocity at mid stroke "
+             "(the loop's offset at mid stroke with the map's damping force removed).</p>"]
+    try:
+        rows = []
+        for who, forces in (("measured", None), (f"model: {label}", preds)):
+            d = damper_characteristics(recs, forces)
+            rows.append([who, d["gas_force [N]"]] + [
+                d[k][q] for k in ("compression", "rebound")
+                for q in ("c_low [N s/m]", "c_high [N s/m]", "knee_velocity [m/s]")])
+        parts.append(_table(rows, ["", "gas force [N]", "compression c low [N s/m]",
+                                   "compression c high [N s/m]", "compression knee [m/s]",
+                                   "rebound c low [N s/m]", "rebound c high [N s/m]",
+                                   "rebound knee [m/s]"]))
+        written = write_damper_figures(out, recs, preds, prefix="damper")
+    except ParameterError as exc:
+        return parts + [f"<p class='warn'>No damper characteristics: {html.escape(str(exc))}"
+                        "</p>"]
+    if any("temperature" in r.channels and int(r.cycles) < 2 for r in recs):
+        parts.append("<p>The temperature channel is not drawn cycle by cycle: the records "
+                     "were conditioned into fewer than two cycles (cycle averaging); "
+                     "<code>--average no</code> keeps them.</p>")
+    att = next((a for a in map(attribution_of, recs) if a), "")
+    if att:
+        parts.append(f"<p>{html.escape(att)}</p>")
+    for caption, paths in written:
+        png = next(p.name for p in paths if p.suffix == ".png")
+        vec = " ".join(f"<a href='{p.name}'>{p.suffix[1:].upper()}</a>" for p in paths
+                       if p.suffix != ".png")
+        parts.append(f"<figure><img src='{png}' alt='{png}' style='max-width:520px'>"
+                     f"<figcaption>{html.escape(caption)} ({vec})</figcaption></figure>")
+    return parts
+
+
 def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibration") -> Path:
     """Write ``index.html`` and PNGs for a CalibrationResult or a Diagnosis.
 
@@ -362,7 +410,9 @@ def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibrat
     -------
     Path
         The path of ``index.html``; the figures (records, loops and residuals
-        with force and residual in [N]) are PNGs beside it.
+        with force and residual in [N]) are PNGs beside it, and the damper figures
+        (``damper_*``: force-velocity per direction, peak curve with knees, temperature
+        and short windows where they apply) PNG and SVG in the journal-column style.
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -473,6 +523,7 @@ def write_report(out_dir, result=None, diagnosis=None, title="liquidamp calibrat
         save_figure(fig, out / fname, dpi=DPI)
         plt.close(fig)
         parts.append(f"<h2>{html.escape(caption)}</h2><img src='{fname}' alt='{fname}'>")
+    parts += _damper_section(out, results[-1], labels[-1])
     parts.append("</body></html>")
     path = out / "index.html"
     write_text(path, "\n".join(parts))
