@@ -106,7 +106,8 @@ def test_figures_written(tmp_path):
                               100 * np.cos(2 * np.pi * t) + 20,
                               channels={"temperature": KELVIN + 20 + 2 * t})
     y = np.convolve(rng.standard_normal(t.size), np.ones(40) / 40, "same") * 0.01
-    broad = Record.from_arrays(t, y, 2e3 * np.gradient(y, t) + rng.normal(0, 1, t.size))
+    broad = Record.from_arrays(t, y, 2e3 * np.gradient(y, t) + rng.normal(0, 1, t.size),
+                               channels={"voltage": 1.0 + 0.5 * (t > 2)})
     assert not broad.periodic and temp.periodic
     recs = [_records()[0], temp, broad]
     out = write_damper_figures(tmp_path, recs, model_forces=[r.force * 1.05 for r in recs])
@@ -118,3 +119,20 @@ def test_figures_written(tmp_path):
             assert (tmp_path / f"{stem}.{ext}").stat().st_size > 1000
     assert "damper_temperature_0.png" not in names and "damper_windows_0.png" not in names
     assert (tmp_path / "damper_peaks.svg").read_text().lstrip().startswith("<?xml")
+
+
+def test_result_characteristics_measured_and_model():
+    from types import SimpleNamespace
+
+    from liquidamp.analysis.reports.damper_characteristics import result_characteristics
+
+    recs = _records()
+    # a model 20 N below the measured force: same slopes, gas force 20 N lower
+    res = SimpleNamespace(calibration=recs, predictions_calibration=[r.force - 20 for r in recs])
+    d = result_characteristics(res)
+    gap = d["measured"]["gas_force [N]"] - d["model"]["gas_force [N]"]
+    assert gap == pytest.approx(20, abs=1e-6)
+    assert d["model"]["compression"]["c_low [N s/m]"] == pytest.approx(
+        d["measured"]["compression"]["c_low [N s/m]"], rel=1e-9)
+    bad = SimpleNamespace(calibration=recs, predictions_calibration=[np.zeros(3)] * 2)
+    assert "force has 3 samples" in result_characteristics(bad)["error"]

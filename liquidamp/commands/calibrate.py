@@ -277,6 +277,9 @@ def run(args) -> int:
                         outliers=args.outliers)
     d = res.as_dict()
     d["conditioning"] = [c.as_dict() for c in cc + vc]
+    from liquidamp.analysis.reports.damper_characteristics import result_characteristics
+
+    d["damper_characteristics"] = result_characteristics(res)
     if args.save_device:
         save_device(args.save_device, res, "liquidamp calibrate")
     wrote = ", ".join(str(f) for f in (json_path(args), args.save_device) if f)

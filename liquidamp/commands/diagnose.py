@@ -81,6 +81,9 @@ def run(args) -> int:
         d = diagnose(cal, val, model=args.model, params=params, effects=effects, spec=spec,
                      options=options, config=config, progress=bar.update)
     nr = d.as_dict()
+    from liquidamp.analysis.reports.damper_characteristics import result_characteristics
+
+    nr["damper_characteristics"] = result_characteristics(d.final)
     if args.save_device:
         save_device(args.save_device, d.final, "liquidamp diagnose")
     emit(args, "diagnose", nr, None, "report", "save_device")

@@ -35,8 +35,8 @@ import numpy as np
 from liquidamp.analysis.measured.reference_models import _basis, fit_two_slope
 from liquidamp.errors import ParameterError
 
-__all__ = ["damper_characteristics", "two_slope_curve", "peak_points", "cycle_average",
-           "cycle_table", "KELVIN"]
+__all__ = ["damper_characteristics", "result_characteristics", "two_slope_curve",
+           "peak_points", "cycle_average", "cycle_table", "KELVIN"]
 
 #: 0 C in kelvin [K].
 KELVIN = 273.15
@@ -269,4 +269,29 @@ def damper_characteristics(record, force=None) -> dict:
     out["reference"] = ("two-slope map per direction (reference_models.fit_two_slope); gas "
                         "force = mean over the mid-stroke crossings of F minus the map's "
                         "damping force")
+    return out
+
+
+def result_characteristics(result) -> dict:
+    """Measured and model damper characteristics of a calibration, JSON-ready.
+
+    Parameters
+    ----------
+    result : CalibrationResult
+        Its calibration records (as fitted) and its model's predictions on them.
+
+    Returns
+    -------
+    dict
+        ``{"records": [labels], "measured": {...}, "model": {...}}`` as
+        :func:`damper_characteristics`, or ``{"records": [...], "error": message}`` when
+        the records do not allow them (e.g. a stroke that never crosses its mid point).
+    """
+    recs = list(result.calibration)
+    out = {"records": [r.label for r in recs]}
+    try:
+        out["measured"] = damper_characteristics(recs)
+        out["model"] = damper_characteristics(recs, list(result.predictions_calibration))
+    except ParameterError as exc:
+        return {"records": out["records"], "error": str(exc)}
     return out

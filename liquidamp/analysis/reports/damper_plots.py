@@ -260,7 +260,8 @@ def plot_windows(record, model_force=None, *, windows: int = 3, length: float | 
     Returns
     -------
     matplotlib.figure.Figure
-        One column per window: stroke [mm] above, force below.
+        One column per window: stroke [mm] above, force below, then a measured
+        ``voltage`` [V] or ``current`` [A] channel where the record has one.
     """
     if windows < 1:
         raise ParameterError(f"plot_windows: windows = {windows}; at least 1 allowed")
@@ -273,7 +274,8 @@ def plot_windows(record, model_force=None, *, windows: int = 3, length: float | 
     F = np.asarray(record.force, float)
     s, unit = _force_unit(F)
     starts = np.linspace(t[0], t[-1] - length, windows)
-    fig, axes = _figure(2, windows, height=2.4)
+    extra = [(k, u) for k, u in (("voltage", "V"), ("current", "A")) if k in record.channels]
+    fig, axes = _figure(2 + len(extra), windows, height=2.4 + 0.9 * len(extra))
     for j, a in enumerate(starts):
         m = (t >= a) & (t <= a + length)
         axes[0, j].plot(t[m], record.displacement[m] * 1e3, color="k", lw=0.7)
@@ -281,7 +283,11 @@ def plot_windows(record, model_force=None, *, windows: int = 3, length: float | 
         if model_force is not None:
             axes[1, j].plot(t[m], np.asarray(model_force, float)[m] * s, "--", color=REBOUND,
                             lw=0.7, label="model")
-        axes[1, j].set_xlabel("time [s]")
+        for row, (k, u) in enumerate(extra, start=2):
+            axes[row, j].plot(t[m], record.channels[k][m], color="0.3", lw=0.7)
+            if j == 0:
+                axes[row, 0].set_ylabel(f"{k} [{u}]")
+        axes[-1, j].set_xlabel("time [s]")
         for ax in axes[:, j]:
             ax.tick_params(labelsize=6)
     axes[0, 0].set_ylabel("stroke [mm]")
