@@ -25,7 +25,8 @@ from liquidamp.commands.simulate import add_model_argument
 
 #: Files the HTML report writes into ``--report DIR``.
 REPORT_FILES = ("index.html", "records.png", "loops_calibration.png",
-                "residuals_calibration.png", "loops_validation.png", "residuals_validation.png")
+                "residuals_calibration.png", "loops_validation.png", "residuals_validation.png",
+                "damper_fv_0.png", "damper_fv_0.svg", "damper_peaks.png", "damper_peaks.svg")
 
 
 def add_fit_arguments(p) -> None:
