@@ -33,6 +33,14 @@ def test_calibrate_command(files):
     assert 0 < data["nrmse"]["calibration"] < 0.2
     assert set(data["parameters"]["multipliers"]) == {"inv_gamma1", "inv_gamma2", "c1", "c2"}
     assert (d / "rep" / "index.html").exists() and (d / "rep" / "loops_validation.png").exists()
+    for f in ("damper_fv_0.png", "damper_fv_0.svg", "damper_peaks.png", "damper_peaks.svg"):
+        assert (d / "rep" / f).stat().st_size > 1000
+    assert "Damper characteristics" in (d / "rep" / "index.html").read_text()
+    dc = data["damper_characteristics"]
+    assert dc["records"] == ["cal"]
+    # the records carry a 30 N offset; the model fitted without the offset effect lacks it
+    assert dc["measured"]["gas_force [N]"] == pytest.approx(30.0, abs=6.0)
+    assert dc["model"]["gas_force [N]"] < dc["measured"]["gas_force [N]"] - 20.0
 
 
 def test_diagnose_command(files):
