@@ -51,7 +51,9 @@ def row(d, tag):
         ok = not added
     elif kind == "drift":
         first = j["summary"].splitlines()[0]
-        ok = not added and ("NON-STATIONARY" in first or "UNEXPLAINED" in first)
+        bound = [k for k in j["final"]["parameter_flags"].get("at_bound", {})
+                 if "." in k and k.split(".")[0] in added]
+        ok = not bound and ("NON-STATIONARY" in first or "UNEXPLAINED" in first)
     elif kind == "fd":
         allfx = set(eff)
         ok = (all(v <= 0.13 for v in after.values())
