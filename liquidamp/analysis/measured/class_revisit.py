@@ -91,7 +91,8 @@ def revisit(run: dict, alt_run: dict, chosen: str, alt: str, sel) -> dict:
     base = alt_run["baseline"]
     starts = tuple(dataclasses.replace(o, chosen=o.name == alt)
                    for o in run["baseline"].class_starts)
-    alt_run = dict(alt_run, baseline=dataclasses.replace(base, class_starts=starts))
+    alt_run = dict(alt_run, baseline=dataclasses.replace(base, class_starts=starts,
+                                                         device_class=alt))
     alt_run["warnings"] = [f"device class revisited: {what}: it passes the selection rule, "
                            f"the {alt} start replaces the {chosen} start"] + alt_run["warnings"]
     return alt_run

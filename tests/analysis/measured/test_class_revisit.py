@@ -25,6 +25,7 @@ class _Fit:
     varying: tuple
     nrmse_calibration: float = 0.1
     class_starts: tuple = ()
+    device_class: str = ""
 
     @property
     def calibration(self):
@@ -75,6 +76,7 @@ def test_the_other_start_replaces_only_where_it_passes_the_rule():
     out = revisit(run, alt, "friction", "fluid", sel)
     assert out["current"] is alt["current"]
     assert [o.name for o in out["baseline"].class_starts if o.chosen] == ["fluid"]
+    assert out["baseline"].device_class == "fluid"
     # delta BIC = N ln(RSS_b / RSS_a) + (7 - 2) ln N, N = 200 samples (no conditioning)
     expect = 200 * math.log((0.5 / 2.0) ** 2) + 5 * math.log(200)
     assert f"delta BIC {expect:.4g}" in out["warnings"][0]
