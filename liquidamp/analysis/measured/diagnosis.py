@@ -76,10 +76,15 @@ velocity):
      not the data's).
 
    Among the refits kept the best held out (lowest geometric mean ratio) is added; the
-   others within ``tie_tolerance`` (10 %) of it are reported as tied with their evidence.
+   others within ``tie_tolerance`` (10 %) of it are reported as tied with their evidence;
+   where a tied one's delta BIC is lower by more than ``bic_threshold`` it is added instead
+   (held out they tie, the calibration records hold very strong evidence: ``_select``).
    Without validation records the last of several calibration records is held out, or the
    second half of the whole cycles of one periodic record (``Diagnosis.holdout``).
 6. Repeat from 2 with the effect included, at most ``max_steps`` times.
+7. Where the class choice continued another start and the loop ends above the noise level,
+   that runner-up start is diagnosed too and its final model replaces this one only where
+   it passes the rule of 5 against it (:mod:`~liquidamp.analysis.measured.class_revisit`).
 
 Besides the catalogue effects, :data:`COMPOSITES` lists candidates that change how
 effects compose or behave (:mod:`liquidamp.analysis.measured.candidates`):
