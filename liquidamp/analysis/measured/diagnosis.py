@@ -438,9 +438,7 @@ def _select(ranked, sel: SelectionRule):
     the calibration records may: a tied candidate whose delta BIC is lower than the best
     held-out one's by more than ``bic_threshold`` (very strong evidence on the data both
     were fitted to, which the held-out records do not contradict) is chosen instead (the
-    lowest such BIC).  On d05 of the independent set a two-parameter relief valve was 9 %
-    better held out than smooth friction but 47 worse in BIC; the valve absorbed the
-    friction's corners and the dead band behind it was never reached."""
+    lowest such BIC)."""
     passed = sorted([c for c in ranked if c.accepted], key=lambda c: -c.relative_reduction)
     if not passed:
         return None, []
@@ -733,10 +731,8 @@ def _loop(baseline, names, device_names, validation, options, config, spec,
 
 
 def _linear_delta_bic(cand: Candidate, change, n_eff: float) -> float:
-    """delta BIC the score test predicts: N_eff ln(1 - score) + k ln N_eff (k parameters
-    the candidate frees)."""
-    k = len(change.free)
-    return n_eff * math.log(max(1.0 - cand.score, 1e-300)) + k * math.log(n_eff)
+    """delta BIC the score test predicts: N_eff ln(1 - score) + k ln N_eff (k freed)."""
+    return n_eff * math.log(max(1.0 - cand.score, 1e-300)) + len(change.free) * math.log(n_eff)
 
 
 def _explained(refits: dict, level: float) -> bool:
