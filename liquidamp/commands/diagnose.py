@@ -40,7 +40,8 @@ def register(sub) -> None:
         "out.")
     add_fit_arguments(p)
     p.add_argument("--max-steps", type=count_type("--max-steps", 0, 8, "effects added at most"),
-                   default=3, help="effects added at most, 0-8 (default %(default)s)")
+                   default=5, help="effects added at most, 0-8 (default %(default)s; the "
+                   "loop stops earlier at the noise floor or where no candidate passes)")
     p.add_argument("--sizing", choices=("auto", "preset", "data"), default="auto",
                    help="device the baseline calibration starts from, as for calibrate: auto "
                    "(default) the --preset/--device when the records are near it, else a "
