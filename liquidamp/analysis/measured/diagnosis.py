@@ -76,9 +76,7 @@ velocity):
      not the data's).
 
    Among the refits kept the best held out (lowest geometric mean ratio) is added; the
-   others within ``tie_tolerance`` (10 %) of it are reported as tied with their evidence;
-   where a tied one's delta BIC is lower by more than ``bic_threshold`` it is added instead
-   (held out they tie, the calibration records hold very strong evidence: ``_select``).
+   others within ``tie_tolerance`` (10 %) of it are reported as tied with their evidence.
    Without validation records the last of several calibration records is held out, or the
    second half of the whole cycles of one periodic record (``Diagnosis.holdout``).
 6. Repeat from 2 with the effect included, at most ``max_steps`` times.
@@ -432,25 +430,13 @@ def _judge_round(ranked, refits, probes, current, sel: SelectionRule):
 
 def _select(ranked, sel: SelectionRule):
     """Stage "select", part 2: the best held-out candidate that passed, and those tied with
-    it (held-out geometric-mean ratio within ``tie_tolerance``).
-
-    Within the tie tolerance the held-out records do not tell the tied candidates apart, so
-    the calibration records may: a tied candidate whose delta BIC is lower than the best
-    held-out one's by more than ``bic_threshold`` (very strong evidence on the data both
-    were fitted to, which the held-out records do not contradict) is chosen instead (the
-    lowest such BIC)."""
+    it (held-out geometric-mean ratio within ``tie_tolerance``)."""
     passed = sorted([c for c in ranked if c.accepted], key=lambda c: -c.relative_reduction)
     if not passed:
         return None, []
     best = 1.0 - passed[0].relative_reduction
     tied = [c for c in passed if 1.0 - c.relative_reduction <= (1 + sel.tie_tolerance) * best]
-    chosen = passed[0]
-    strong = [c for c in tied if c.delta_bic is not None and chosen.delta_bic is not None
-              and c.delta_bic < chosen.delta_bic - sel.bic_threshold]
-    if strong:
-        chosen = min(strong, key=lambda c: c.delta_bic)
-        tied = [chosen] + [c for c in tied if c is not chosen]
-    return chosen, tied
+    return passed[0], tied
 
 
 def _reduce(chosen, tied, ranked, refits, probes, current, validation, options, bud, sel):
@@ -703,12 +689,9 @@ def _loop(baseline, names, device_names, validation, options, config, spec,
                     f"{c.delta_bic:.4g})" for c in tied)
                 + f" explain the residual about equally (held-out NRMSE within "
                 f"{sel.tie_tolerance:.0%}); {chosen.effect} was added ("
-                + ("the simpler model the best one reduces to"
-                   if chosen.effect in REDUCTIONS.values() and "added instead" in chosen.note
-                   else "the best held out" if chosen is tied[0] and all(
-                       chosen.relative_reduction >= c.relative_reduction for c in tied)
-                   else f"its calibration BIC lower by more than {sel.bic_threshold:g}; "
-                   "held out they tie") + ")")
+                + ("the best held out" if chosen.effect not in REDUCTIONS.values()
+                   or "added instead" not in chosen.note else
+                   "the simpler model the best one reduces to") + ")")
         res = refits[chosen.effect]
         if chosen.effect in DEVICE_REFINEMENTS:
             # the device's own parameter, not an effect: it does not count as a step

@@ -102,33 +102,3 @@ def test_fewer_parameters_are_credited(k):
     assert f"delta BIC {expect:.4g}" in out["warnings"][-1]
     assert (out["current"] is alt["current"]) == (expect < -10)
 
-
-def _cand(name, ratio, dbic, accepted=True):
-    from liquidamp.analysis.measured.diagnosis_evidence import Candidate
-
-    return Candidate(name, 0.5, 0.0, {}, refitted=True, relative_reduction=1.0 - ratio,
-                     delta_bic=dbic, accepted=accepted)
-
-
-def test_a_held_out_tie_goes_to_very_strong_calibration_evidence():
-    """Replaces the pure held-out tie-break (issue 19 item 3: the best held-out one wins
-    among the tied) where the calibration BIC holds very strong evidence: d05's figures
-    (relief valve 0.0442 held out, dBIC -35; smooth friction 0.0483, dBIC -82)."""
-    from liquidamp.analysis.measured.diagnosis import _select
-
-    sel = SelectionRule()
-    valve, fric = _cand("relief_valve", 0.0442 / 0.098, -35.1), _cand("smooth_friction",
-                                                                        0.0483 / 0.098, -81.9)
-    chosen, tied = _select([valve, fric], sel)
-    assert chosen.effect == "smooth_friction" and {c.effect for c in tied} == {
-        "relief_valve", "smooth_friction"}
-    # within the BIC threshold (here 9 apart) the best held out still wins
-    chosen, _ = _select([valve, _cand("smooth_friction", 0.0483 / 0.098, -44.0)], sel)
-    assert chosen.effect == "relief_valve"
-    # outside the held-out tie (11 % worse) strong BIC does not matter
-    chosen, tied = _select([valve, _cand("smooth_friction", 1.11 * 0.0442 / 0.098, -200.0)],
-                           sel)
-    assert chosen.effect == "relief_valve" and len(tied) == 1
-    # a candidate that failed the rule is never chosen, whatever its BIC
-    chosen, _ = _select([valve, _cand("elastomer", 0.0443 / 0.098, -500.0, False)], sel)
-    assert chosen.effect == "relief_valve"
