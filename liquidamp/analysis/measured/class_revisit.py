@@ -12,10 +12,13 @@ wrong family).  The class is a model choice like any other, so it is judged like
 on the models the diagnosis ends with:
 
 * when the class choice continued another start beside the chosen one (its fit was
-  good enough to be judged converged; :func:`runner_up`) and the diagnosis from the
-  chosen start ends with its calibration residual above the noise level (a residual
-  at the noise floor leaves nothing another class could explain), the runner-up start
-  is diagnosed too;
+  good enough to be judged converged; :func:`runner_up`), the calibration records do not
+  hold strong evidence for the chosen start against it (its effective-sample BIC is not
+  lower by :data:`~liquidamp.analysis.measured.device_class.BIC_STRONG`, 10, or more:
+  the class choice's own measure of strong evidence) and the diagnosis from the chosen
+  start ends with its calibration residual above the noise level (a residual at the
+  noise floor leaves nothing another class could explain), the runner-up start is
+  diagnosed too;
 * its final model replaces the chosen start's only where it passes the diagnosis's
   own selection rule against it, as a step would
   (:func:`~liquidamp.analysis.measured.selection.judge`: no held-out record worse by
@@ -36,6 +39,7 @@ from __future__ import annotations
 
 import dataclasses
 
+from liquidamp.analysis.measured.device_class import BIC_STRONG
 from liquidamp.analysis.measured.diagnosis_result import heldout_per_record
 from liquidamp.analysis.measured.selection import judge, sample_count
 
@@ -57,12 +61,17 @@ def runner_up(baseline, run: dict, noise_level: float) -> str:
     Returns
     -------
     str
-        The runner-up class: among the continued starts not chosen, the best held out.
+        The runner-up class: among the continued starts not chosen whose BIC is within
+        ``BIC_STRONG`` of the chosen one's, the best held out.
     """
     if run["current"].nrmse_calibration <= noise_level:
         return ""
-    others = [o for o in getattr(baseline, "class_starts", ())
-              if o.continued and not o.chosen and o.nrmse_validation is not None]
+    starts = getattr(baseline, "class_starts", ())
+    chosen = next((o for o in starts if o.chosen), None)
+    others = [o for o in starts if o.continued and not o.chosen
+              and o.nrmse_validation is not None
+              and (chosen is None or chosen.bic is None or o.bic is None
+                   or o.bic - chosen.bic < BIC_STRONG)]
     if not others:
         return ""
     return min(others, key=lambda o: o.nrmse_validation).name

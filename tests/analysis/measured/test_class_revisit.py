@@ -41,8 +41,8 @@ class _Fit:
                      for k, v in self.heldout.items())
 
 
-def _outcome(name, val, *, chosen=False, continued=True):
-    return StartOutcome(name, "", 0.1, val, {"v": val}, 2, 0.0, True, chosen, 10,
+def _outcome(name, val, *, chosen=False, continued=True, bic=0.0):
+    return StartOutcome(name, "", 0.1, val, {"v": val}, 2, bic, True, chosen, 10,
                         continued=continued)
 
 
@@ -57,6 +57,11 @@ def test_runner_up_only_above_the_noise_and_only_a_continued_start():
     assert runner_up(base, at_noise, 0.005) == ""
     alone = dataclasses.replace(base, class_starts=starts[:1])
     assert runner_up(alone, above, 0.005) == ""
+    # the chosen start's calibration BIC lower by 10 or more: strong evidence, no revisit
+    # (d10's friction start leads by 310, d03's fluid start by -3: revisited)
+    for gap, expect in ((9.9, "fluid"), (10.0, ""), (310.0, ""), (-3.1, "fluid")):
+        cs = (_outcome("friction", 0.21, chosen=True), _outcome("fluid", 0.46, bic=gap))
+        assert runner_up(dataclasses.replace(base, class_starts=cs), above, 0.005) == expect
 
 
 def _runs(scale, heldout_alt, k_alt):
