@@ -29,6 +29,9 @@ def register(sub) -> None:
         "together better by more than 2%, the calibration BIC counted over the samples the "
         "kept band can hold falls by more than 10, and no parameter it frees ends at a "
         "bound; the best held-out one wins. Repeat until the residual is at the noise floor. "
+        "Where the start's class (fluid, friction, viscous) was in doubt and the residual "
+        "stays above the noise, the runner-up start is diagnosed too and replaces the first "
+        "only where its final model passes the same rule against it. "
         "The line F = c v + k y + F0 and the two-slope force-velocity map are fitted on the "
         "same split. JSON: summary (verdict first), held-out NRMSE per record, reference "
         "models, drift, conditioning, noise floors, baseline, steps, final. Without "
@@ -36,7 +39,8 @@ def register(sub) -> None:
         "out.")
     add_fit_arguments(p)
     p.add_argument("--max-steps", type=count_type("--max-steps", 0, 8, "effects added at most"),
-                   default=3, help="effects added at most, 0-8 (default %(default)s)")
+                   default=5, help="effects added at most, 0-8 (default %(default)s; the "
+                   "loop stops earlier at the noise floor or where no candidate passes)")
     p.add_argument("--sizing", choices=("auto", "preset", "data"), default="auto",
                    help="device the baseline calibration starts from, as for calibrate: auto "
                    "(default) the --preset/--device when the records are near it, else a "

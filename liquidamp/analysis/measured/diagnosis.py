@@ -80,6 +80,9 @@ velocity):
    Without validation records the last of several calibration records is held out, or the
    second half of the whole cycles of one periodic record (``Diagnosis.holdout``).
 6. Repeat from 2 with the effect included, at most ``max_steps`` times.
+7. Where the class choice continued another start and the loop ends above the noise level,
+   that runner-up start is diagnosed too and its final model replaces this one only where
+   it passes the rule of 5 against it (:mod:`~liquidamp.analysis.measured.class_revisit`).
 
 Besides the catalogue effects, :data:`COMPOSITES` lists candidates that change how
 effects compose or behave (:mod:`liquidamp.analysis.measured.candidates`):
@@ -136,6 +139,7 @@ from liquidamp.analysis.measured.calibration import (
     with_progress,
 )
 from liquidamp.analysis.measured.checks import check_records, drop_outliers, keep_outliers
+from liquidamp.analysis.measured.class_revisit import revisit, runner_up
 from liquidamp.analysis.measured.conditioning import condition
 from liquidamp.analysis.measured.diagnosis_evidence import (
     COMPOSITES,
@@ -576,12 +580,71 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
     calibration, validation, conditioning, raw, baseline = _prepare(
         calibration, validation, model, params, effects, spec, options, config, baseline)
     non_stat = "; ".join(x for x in (non_stat, _quality_drift(baseline)) if x)
-    warnings = []
-    if not baseline.converged:
-        warnings.append(f"NOT CONVERGED: baseline calibration ({baseline.status}): "
-                        f"{baseline.message}")
     floors, noise_std, noise_nrmse = _noise(calibration, conditioning, drifts)
+    run = _loop(baseline, names, device_names, validation, options, config, spec,
+                noise_nrmse)
+    alt = runner_up(baseline, run, sel.noise_factor * noise_nrmse)
+    if alt:
+        try:
+            base2 = calibrate(calibration, model=model, params=params, effects=effects,
+                              spec=spec, validate=validation, options=options,
+                              max_nfev=bud.max_nfev, preroll=bud.preroll, tol=bud.tol,
+                              warn=False, sizing=config.sizing, outliers=config.outliers,
+                              device_class=alt)
+            if base2.status == "max_nfev":
+                base2 = _converge(base2, validation, options, bud.preroll, bud.max_nfev,
+                                  bud.tol, "preset" if config.sizing == "preset" else "auto")
+            run2 = _loop(base2, names, device_names, validation, options, config, spec,
+                         noise_nrmse)
+        except (ConvergenceError, ParameterError) as exc:
+            run["warnings"].append(f"device class revisited: the {alt} start could not be "
+                                   f"diagnosed ({exc})")
+        else:
+            run = revisit(run, run2, baseline.device_class, alt, sel)
+    baseline, steps, current = run["baseline"], run["steps"], run["current"]
+    stop, last_round, device_steps = run["stop"], run["last_round"], run["device_steps"]
+    device_evidence = run["device_evidence"]
+    warnings = run["warnings"]
+    if not baseline.converged:
+        warnings.insert(0, f"NOT CONVERGED: baseline calibration ({baseline.status}): "
+                        f"{baseline.message}")
     sig = signatures(baseline)
+    # stage "report"
+    unexplained = ""
+    if current.nrmse_calibration > sel.structure_factor * noise_nrmse:
+        h = harmonic_structure(current, noise_std)
+        unexplained = ("residual keeps structure that no candidate explains "
+                       f"(calibration NRMSE {current.nrmse_calibration:.3g} vs noise floor "
+                       f"{noise_nrmse:.3g}, more than {sel.structure_factor:g} x): "
+                       + (h or "no single harmonic of the excitation stands out (broadband "
+                          "or non-periodic misfit)"))
+    raw_nrmse = {}
+    if any(c.changed for c in conditioning):
+        m = current.device_model
+        raw_nrmse = {role: nrmse([simulate_record(m, current.params, r, options=options,
+                                                  preroll=bud.preroll).force for r in recs],
+                                 [r.force for r in recs])
+                     for role, recs in zip(("calibration", "validation"), raw, strict=True)}
+    refs = reference_models(calibration, validation)
+    for w in warnings:
+        _warnings.warn(f"diagnose: {w}", LiquidampWarning, stacklevel=2)
+    return Diagnosis(baseline=baseline, steps=tuple(steps), final=current,
+                     noise_nrmse=noise_nrmse, signatures=sig, stop_reason=stop,
+                     unexplained=unexplained, warnings=tuple(warnings),
+                     last_candidates=last_round, conditioning=conditioning,
+                     noise_floors=floors, nrmse_raw=raw_nrmse, references=refs,
+                     drifts=tuple(d for d in drifts if d is not None),
+                     non_stationary=non_stat, options=config, holdout=holdout,
+                     device_steps=tuple(device_steps), device_evidence=device_evidence)
+
+
+def _loop(baseline, names, device_names, validation, options, config, spec,
+          noise_nrmse) -> dict:
+    """Stages "screen", "fit" and "select" from one baseline, step after step (module doc,
+    2-6).  Returns the loop's state: ``baseline``, ``steps``, ``current`` (the final fit),
+    ``stop``, ``last_round``, ``device_steps``, ``device_evidence``, ``warnings``."""
+    sel, bud = config.selection, config.budget
+    warnings = []
     spec0 = baseline.spec if spec is None else spec
     start0 = {p.name: (spec0[p.name].value if p.name in spec0.names else 1.0)
               for p in baseline.spec.parameters if p.kind == "multiplier"}
@@ -645,40 +708,14 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
                           confounding(chosen.effect, current, res)))
         current = res
         last_round = ()
-    # stage "report"
-    unexplained = ""
-    if current.nrmse_calibration > sel.structure_factor * noise_nrmse:
-        h = harmonic_structure(current, noise_std)
-        unexplained = ("residual keeps structure that no candidate explains "
-                       f"(calibration NRMSE {current.nrmse_calibration:.3g} vs noise floor "
-                       f"{noise_nrmse:.3g}, more than {sel.structure_factor:g} x): "
-                       + (h or "no single harmonic of the excitation stands out (broadband "
-                          "or non-periodic misfit)"))
-    raw_nrmse = {}
-    if any(c.changed for c in conditioning):
-        m = current.device_model
-        raw_nrmse = {role: nrmse([simulate_record(m, current.params, r, options=options,
-                                                  preroll=bud.preroll).force for r in recs],
-                                 [r.force for r in recs])
-                     for role, recs in zip(("calibration", "validation"), raw, strict=True)}
-    refs = reference_models(calibration, validation)
-    for w in warnings:
-        _warnings.warn(f"diagnose: {w}", LiquidampWarning, stacklevel=2)
-    return Diagnosis(baseline=baseline, steps=tuple(steps), final=current,
-                     noise_nrmse=noise_nrmse, signatures=sig, stop_reason=stop,
-                     unexplained=unexplained, warnings=tuple(warnings),
-                     last_candidates=last_round, conditioning=conditioning,
-                     noise_floors=floors, nrmse_raw=raw_nrmse, references=refs,
-                     drifts=tuple(d for d in drifts if d is not None),
-                     non_stationary=non_stat, options=config, holdout=holdout,
-                     device_steps=tuple(device_steps), device_evidence=device_evidence)
+    return {"baseline": baseline, "steps": steps, "current": current, "stop": stop,
+            "last_round": last_round, "device_steps": device_steps,
+            "device_evidence": device_evidence, "warnings": warnings}
 
 
 def _linear_delta_bic(cand: Candidate, change, n_eff: float) -> float:
-    """delta BIC the score test predicts: N_eff ln(1 - score) + k ln N_eff (k parameters
-    the candidate frees)."""
-    k = len(change.free)
-    return n_eff * math.log(max(1.0 - cand.score, 1e-300)) + k * math.log(n_eff)
+    """delta BIC the score test predicts: N_eff ln(1 - score) + k ln N_eff (k freed)."""
+    return n_eff * math.log(max(1.0 - cand.score, 1e-300)) + len(change.free) * math.log(n_eff)
 
 
 def _explained(refits: dict, level: float) -> bool:

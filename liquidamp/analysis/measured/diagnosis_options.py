@@ -140,7 +140,10 @@ class Budget(_Options):
     Attributes
     ----------
     max_steps : int
-        Effects added at most (0-8).
+        Effects added at most (0-8; default 5).  A budget, not the stopping rule: the loop
+        stops at the noise floor or where no candidate passes the selection rule, which
+        guards against over-fitting; 3 cut a real friction damper's tapered record while
+        each step still predicted the held-out records better.
     top : int
         Best-scoring candidates refitted per step at least (1-16).
     score_ratio : float
@@ -154,7 +157,7 @@ class Budget(_Options):
         Pre-roll cycles of each record simulation [-].
     """
 
-    max_steps: int = 3
+    max_steps: int = 5
     top: int = 2
     score_ratio: float = 3.0
     max_nfev: int = 60
