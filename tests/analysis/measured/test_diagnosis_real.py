@@ -63,19 +63,21 @@ def test_friction_damper_friction_and_dead_band_are_found(diagnosis):
     parameter at a bound is warned about."""
     d = diagnosis
     assert d.added[0] in FRICTION, d.added
-    assert "backlash" in d.added and "friction_asymmetry" in d.added, d.added
-    asym = next(s for s in d.steps if s.effect == "friction_asymmetry")
-    # (issue #12 asserted here a tie with force_offset; judged record by record on held-out
-    # data (issue #19) the offset no longer ties with the asymmetry): the asymmetry step
-    # itself improves the held-out records
-    assert asym.nrmse_validation < d.baseline.nrmse_validation
+    # the asymmetry (+13 / -10 kN) is expressed by the friction's reverse ratio or by a force
+    # offset: the two tie on these records (the offset also acts inside the dead band), and
+    # judged record by record on held-out data (issue #19) either may be the better one
+    assert "backlash" in d.added, d.added
+    asym = [s for s in d.steps if s.effect in ("friction_asymmetry", "force_offset")]
+    assert asym, d.added
+    assert asym[0].nrmse_validation < d.baseline.nrmse_validation
     gap = next(s for s in d.steps if s.effect == "backlash").parameters["gap_m"]
     assert 0.5e-3 < gap < 3e-3  # the dead band is about 2 mm wide in the loops
     friction = next(e for e in d.final.effects if e.name in FRICTION)
     assert friction.location == "piston"
-    # the README's levels: about +13 kN forward, -10 kN in reverse
-    assert 11e3 < friction.force_N < 14e3
-    assert 8.5e3 < friction.reverse_ratio * friction.force_N < 11e3
+    offset = sum(e.offset_N for e in d.final.effects if e.name == "force_offset")
+    # the README's sliding levels: about +13 kN forward, -10 kN in reverse
+    assert 11e3 < friction.force_N + offset < 14e3
+    assert 8.5e3 < friction.reverse_ratio * friction.force_N - offset < 11e3
     warned = " ".join(d.final.warnings + d.warnings)
     for name in _at_bound(d.final):
         assert name in warned, f"{name} at a bound without a warning"
