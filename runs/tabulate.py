@@ -26,7 +26,8 @@ def row(d, tag):
     p = d / f"{tag}.json"
     t = (d / f"{tag}.time").read_text().strip() if (d / f"{tag}.time").exists() else "?"
     if not p.exists():
-        err = (d / f"{tag}.err").read_text().strip().splitlines() if (d / f"{tag}.err").exists() else []
+        ef = d / f"{tag}.err"
+        err = ef.read_text().strip().splitlines() if ef.exists() else []
         return {"case": tag, "error": (err[-1] if err else "no output")[:200], "time": t}
     j = json.loads(p.read_text())
     eff = j["final"]["parameters"].get("effects", {})
@@ -40,8 +41,8 @@ def row(d, tag):
     after = j["heldout"]
     pooled = (f" (pooled {j['baseline']['nrmse']['validation']:.4g}->"
               f"{j['final']['nrmse']['validation']:.4g})") if len(after) > 1 else ""
-    ho = "; ".join(f"{k.split('_')[-1] if tag.startswith('d') else k}: {before[k]:.4g}->{after[k]:.4g}"
-                   for k in after)
+    ho = "; ".join(f"{k.split('_')[-1] if tag.startswith('d') else k}: "
+                   f"{before[k]:.4g}->{after[k]:.4g}" for k in after)
     refs = "; ".join(f"{n}: " + ",".join(f"{r['nrmse']:.3g}" for r in v["records"]
                                          if r["role"] == "validation")
                      for n, v in j["reference_models"].items())
@@ -73,7 +74,8 @@ def row(d, tag):
 def main():
     for d in map(Path, sys.argv[1:]):
         print(f"## {d}")
-        print("| case | ok | class | added (order) | key parameter vs truth | held-out before->after | references held out | first summary line | wall s |")
+        print("| case | ok | class | added (order) | key parameter vs truth | "
+              "held-out before->after | references held out | first summary line | wall s |")
         print("|---|---|---|---|---|---|---|---|---|")
         for tag in CASES:
             if not (d / f"{tag}.err").exists():
@@ -82,8 +84,8 @@ def main():
             if "error" in r:
                 print(f"| {tag} | ERROR | | | | | | {r['error']} | {r['time'][:5]} |")
                 continue
-            print(f"| {tag} | {r['ok']} | {r['class']} | {r['added']} | {r['key']} | {r['heldout']} | "
-                  f"{r['refs']} | {r['first']} | {float(r['time']):.0f} |")
+            print(f"| {tag} | {r['ok']} | {r['class']} | {r['added']} | {r['key']} | "
+                  f"{r['heldout']} | {r['refs']} | {r['first']} | {float(r['time']):.0f} |")
 
 
 if __name__ == "__main__":

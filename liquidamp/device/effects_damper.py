@@ -27,7 +27,7 @@ import numpy as np
 
 from liquidamp.device import kernels as K
 from liquidamp.device.effects_base import Effect, _check_harmonic
-from liquidamp.device.effects_fluid import _DAMPERS, _damper, saturation_damping
+from liquidamp.device.effects_fluid import _DAMPERS, valve_damping
 from liquidamp.device.kernels import gas_force
 from liquidamp.errors import ParameterError, check_finite, check_nonnegative, check_positive
 
@@ -380,6 +380,7 @@ class DigressiveValve(Effect):
         --------
         >>> from liquidamp.device.models import VISCOUS, ViscousParams
         >>> from liquidamp.device.effects import with_effects
+        >>> from liquidamp.device.effects_fluid import saturation_damping
         >>> d = DigressiveValve.from_knees(1e5, 0.005, 2e4, 1e5, 0.005, 2e4)
         >>> m = with_effects(VISCOUS, d)
         >>> k, dc, b = m.effects[0].describing_function(0.002, 5.0, ViscousParams(1e5), m)
@@ -389,18 +390,6 @@ class DigressiveValve(Effect):
         Y, w = _check_harmonic(amplitude, omega)
         if model is None or model.base not in _DAMPERS:
             return super().describing_function(amplitude, omega, params, model)
-        c, area = _damper(params, model)
-        if c == 0.0:
-            return 0.0, 0.0, 0.0
-        asym = model.effect("asymmetric_loss")
-        r = 1.0 if asym is None else asym.rebound_ratio
-        out = 0.0
-        for ci, p_d, G in ((c, self.compression_cracking_Pa,
-                            self.compression_conductance_m3_per_s_Pa),
-                           (c * r, self.rebound_cracking_Pa,
-                            self.rebound_conductance_m3_per_s_Pa)):
-            g = G / area**2
-            out += saturation_damping(ci, 1.0 / (1.0 / ci + g), p_d * area, w * Y) - ci
-        # each half cycle contributes half the first harmonic; asymmetric_loss's own
-        # describing function holds the unsaturated average c (1 + r) / 2
-        return 0.0, 0.5 * out, 0.0
+        halves = ((self.compression_cracking_Pa, self.compression_conductance_m3_per_s_Pa),
+                  (self.rebound_cracking_Pa, self.rebound_conductance_m3_per_s_Pa))
+        return 0.0, valve_damping(params, model, Y, w, halves), 0.0

@@ -129,6 +129,44 @@ def saturation_damping(c: float, c_open: float, force_r: float,
                  * (math.asin(rho) + rho * math.sqrt(1.0 - rho * rho)))
 
 
+
+def valve_damping(params, model, amplitude: float, omega: float, halves) -> float:
+    """Equivalent damping a valve path adds to a dashpot-type model [N s/m].
+
+    Each half cycle contributes half the first harmonic: in compression the dashpot c, in
+    rebound r c (``asymmetric_loss``'s rebound ratio r, 1 without it), each saturated by its
+    direction's valve (:func:`saturation_damping`: cracking force p_d A, conductance
+    G / A^2 in parallel).  ``asymmetric_loss``'s own describing function holds the
+    unsaturated average c (1 + r) / 2; this is the saturation on top.
+
+    Parameters
+    ----------
+    params : ViscousParams or DeviceParams
+        The dashpot-type model's parameters.
+    model : DeviceModel
+        A model whose base is a dashpot (``_DAMPERS``).
+    amplitude, omega : float
+        Stroke amplitude [m] and angular frequency [rad/s].
+    halves : ((float, float), (float, float))
+        (cracking pressure [Pa], conductance [m^3/(s Pa)]) in compression, then rebound.
+
+    Returns
+    -------
+    float
+        The added equivalent damping [N s/m] (0 where the dashpot has none).
+    """
+    c, area = _damper(params, model)
+    if c == 0.0:
+        return 0.0
+    asym = model.effect("asymmetric_loss")
+    r = 1.0 if asym is None else asym.rebound_ratio
+    out = 0.0
+    for ci, (p_d, G) in zip((c, c * r), halves, strict=True):
+        out += saturation_damping(ci, 1.0 / (1.0 / ci + G / area**2), p_d * area,
+                                  omega * amplitude) - ci
+    return 0.5 * out
+
+
 @dataclass(frozen=True)
 class ReliefValve(Effect):
     """Relief (blow-off) valve: a pressure-limited second flow path beside the channel.
@@ -272,19 +310,8 @@ class ReliefValve(Effect):
         Y, w = _check_harmonic(amplitude, omega)
         if model is None or model.base not in _DAMPERS:
             return super().describing_function(amplitude, omega, params, model)
-        c, area = _damper(params, model)
-        if c == 0.0:
-            return 0.0, 0.0, 0.0
-        asym = model.effect("asymmetric_loss")
-        F_r = self.cracking_pressure_Pa * area
-        g = self.conductance_m3_per_s_Pa / area**2
-        # each half cycle contributes half the first harmonic; with asymmetric_loss the
-        # rebound half saturates the dashpot r c (its own describing function holds the
-        # unsaturated average c (1 + r) / 2, this one the saturation on top)
-        out = 0.0
-        for ci in ((c,) if asym is None else (c, c * asym.rebound_ratio)):
-            out += saturation_damping(ci, 1.0 / (1.0 / ci + g), F_r, w * Y) - ci
-        return 0.0, out if asym is None else 0.5 * out, 0.0
+        valve = (self.cracking_pressure_Pa, self.conductance_m3_per_s_Pa)
+        return 0.0, valve_damping(params, model, Y, w, (valve, valve)), 0.0
 
 
 @dataclass(frozen=True)

@@ -202,8 +202,8 @@ def _candidate_names(candidates) -> tuple:
 
 def _stationarity(records, sel: SelectionRule) -> tuple[list, str]:
     """Stage "check": the cycle drift of every record as read, and the sentence that says
-    which drift (empty when none).  A record-quality check that states non-stationarity
-    itself (``non_stationary`` or ``drift`` on its DataQuality) is honoured too."""
+    which drift (empty when none); the record-quality checks' own verdict is added by
+    :func:`_quality_drift`."""
     drifts, said = [], []
     for r in records:
         d = cycle_drift(r, noise_ratio=sel.structure_factor)
@@ -214,20 +214,12 @@ def _stationarity(records, sel: SelectionRule) -> tuple[list, str]:
 
 
 def _quality_drift(result: CalibrationResult) -> str:
-    """Non-stationarity stated by the record-quality checks (defensive: their attribute may
-    not exist)."""
-    out = []
-    for q in result.data_quality:
-        flag = getattr(q, "non_stationary", None)
-        if flag is None:
-            drift = getattr(q, "drift", None)
-            flag = getattr(drift, "nonstationary", None) if drift is not None else None
-            if flag and getattr(drift, "reason", ""):
-                flag = drift.reason
-        if flag:
-            out.append(f"{q.source}: " + (flag if isinstance(flag, str)
-                                          else "its cycles drift (record-quality check)"))
-    return "; ".join(out)
+    """Non-stationarity stated by the record-quality checks (``DataQuality.drift``,
+    :func:`~liquidamp.analysis.measured.drift.record_drift`): one phrase per drifting
+    record."""
+    return "; ".join(f"{q.source}: " + (q.drift.reason
+                                         or "its cycles drift (record-quality check)")
+                     for q in result.data_quality if q.nonstationary)
 
 
 def _holdout(calibration) -> tuple[tuple, tuple, str]:
