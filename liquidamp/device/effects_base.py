@@ -291,7 +291,8 @@ def _piston_stroke(model_effects, n_base: int):
     for e in model_effects:
         index[e.name] = i
         i += len(e.state_names)
+    behind = {e.name: getattr(e, "fluid_behind", True) for e in model_effects}
     for name in ("series_compliance", "freeplay"):
-        if name in index:
+        if name in index and behind[name]:
             return index[name]
     return None

@@ -8,6 +8,7 @@ the :class:`~liquidamp.device.effects_base.Effect` base is in
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import ClassVar
@@ -16,6 +17,7 @@ import numpy as np
 
 from liquidamp.device import kernels as K
 from liquidamp.device.effects_base import (
+    _COMPOSITION,
     Effect,
 )
 from liquidamp.errors import (
@@ -96,13 +98,42 @@ class Freeplay(Effect):
     through the channel there.  The fluid model sees ``y_fp``.  gap 0
     reproduces the bare model.
 
+    What the dead band drives is a composition choice (``drives``):
+    ``"piston"`` (default) the piston with the fluid and any friction at
+    ``location="piston"``; ``"friction"`` only the friction at
+    ``location="piston"``, the fluid staying on the rod (a friction element
+    -- a clamped band, a second seal -- coupled to the rod through its own
+    play, beside a fluid piston fixed to the rod).  With ``"friction"`` the
+    load cell reads the fluid force at the rod stroke plus the friction
+    passed through the contact, so a fluid device keeps its Floquet
+    invariants of the rod stroke; without friction at the piston such a dead
+    band drives nothing (ParameterError).
+
     Parameters
     ----------
     gap_m : float
         Half-width of the dead band >= 0 [m].
+    drives : {"piston", "friction"}
+        What sits behind the dead band (a composition choice, not fitted).
+
+    Examples
+    --------
+    >>> from liquidamp.device.models import get_model
+    >>> from liquidamp.device.effects import with_effects, CoulombFriction
+    >>> m = with_effects(get_model("dashpot"), Freeplay(1e-3, drives="friction"),
+    ...                  CoulombFriction(30.0, location="piston"))
+    >>> from liquidamp.device import preset
+    >>> p = preset("reference")
+    >>> # in the gap: the dashpot on the rod, no friction; in contact: both
+    >>> f_gap = m.force(0.0, np.array([0.0]), (0.5e-3, 0.01, 0.0), p)
+    >>> f_contact = m.force(0.0, np.array([0.0]), (1.5e-3, 0.01, 0.0), p)
+    >>> round(float(f_gap - 0.01 * p.c_L), 9), round(float(f_contact - 0.01 * p.c_L), 9)
+    (0.0, 30.0)
     """
 
     gap_m: float = 0.0
+    drives: str = dataclasses.field(default="piston",
+                                    metadata={_COMPOSITION: ("piston", "friction")})
     name: ClassVar[str] = "freeplay"
     units: ClassVar[dict] = {"gap_m": "m"}
     fit_keys: ClassVar[tuple] = ("gap_m",)
@@ -116,6 +147,23 @@ class Freeplay(Effect):
 
     def __post_init__(self):
         check_nonnegative("freeplay gap_m", self.gap_m, "m")
+        self._check_composition()
+
+    def spec_flags(self):
+        return {K.S_FPFRIC: int(self.drives == "friction")}
+
+    def check_with(self, effects):
+        if self.drives == "friction" and not any(
+                getattr(e, "location", "rod") == "piston" for e in effects):
+            raise ParameterError(
+                "freeplay drives='friction' needs friction at location 'piston' behind it "
+                "(coulomb_friction or smooth_friction with location='piston'); got "
+                f"{', '.join(str(e) for e in effects)}")
+
+    @property
+    def fluid_behind(self) -> bool:
+        """Whether the fluid piston sits behind the dead band (``drives == "piston"``)."""
+        return self.drives == "piston"
 
     small_signal_reason: ClassVar[str | None] = (
         "inside the dead band the piston does not move at all")

@@ -189,6 +189,7 @@ from liquidamp.device.kernels_layout import (  # noqa: F401 (the public face)
     S_COUL,
     S_CPIST,
     S_EFFECTS,
+    S_FPFRIC,
     S_GAS,
     S_I1,
     S_I2,

@@ -65,7 +65,10 @@ S_CPIST, S_ZPIST, S_RELIEF, S_ASYM, S_IEL, S_STOP = range(15, 21)
 S_ROT = 21
 #: Gas charge (accumulator on a single-rod device): 1 when composed, else 0 (issue #20).
 S_GAS = 22
-N_SPEC = 23
+#: Freeplay that drives only the friction at ``location="piston"`` (the fluid stays on the rod:
+#: a friction element behind its own dead band): 1 when so composed, else 0 or -1.
+S_FPFRIC = 23
+N_SPEC = 24
 
 E_LEAK, E_PV, E_KC, E_GAP, E_SFC, E_SIG, E_VS, E_SR, E_CF, E_MASS, E_OFF = range(11)
 E_PR, E_GR = 11, 12  # relief valve: cracking pressure [Pa], conductance [m^3/(s Pa)]

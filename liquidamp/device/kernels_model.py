@@ -109,6 +109,7 @@ from liquidamp.device.kernels_layout import (
     S_ASYM,
     S_COUL,
     S_CPIST,
+    S_FPFRIC,
     S_GAS,
     S_I1,
     S_I2,
@@ -288,7 +289,8 @@ def model_rhs(spec, x, y, v, prm, ep, out):
     """dx/dt of a composed model at the measured rod stroke (y [m], v [m/s]), into ``out``.
 
     Freeplay (``y_fp``) and series compliance (``y_piston``) map the rod
-    stroke to the piston stroke; the fluid sees the piston; smooth
+    stroke to the piston stroke; the fluid sees the piston (the rod where the
+    freeplay drives only the friction, ``spec[S_FPFRIC]``); smooth
     friction's bristle state follows the rod velocity, or the piston's
     behind a dead band (``spec[S_ZPIST]``: friction at the piston).
     """
@@ -298,13 +300,16 @@ def model_rhs(spec, x, y, v, prm, ep, out):
         return
     yi = y
     vi = v
+    vpist = v  # the velocity of the friction at the piston (behind the dead band)
     ifp = spec[S_IFP]
     iz = spec[S_IZ]
     if ifp >= 0:
         r = v * _fp_contact(spec, x, y, v, ep)
         out[ifp] = r
-        yi = x[ifp]
-        vi = r
+        vpist = r
+        if spec[S_FPFRIC] != 1:  # the fluid behind the dead band too (else on the rod)
+            yi = x[ifp]
+            vi = r
     icp = spec[S_IC]
     if icp >= 0:
         yp = x[icp]
@@ -329,7 +334,7 @@ def model_rhs(spec, x, y, v, prm, ep, out):
     else:
         _fluid_rhs(spec, x, yi, vi, prm, ep, out)
     if iz >= 0:  # the bristles move with the rod, or with the piston behind the dead band
-        vz = vi if spec[S_ZPIST] != 0 else v
+        vz = vpist if spec[S_ZPIST] != 0 else v
         out[iz] = lugre_rate(vz, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR],
                              ep[E_FEX])
     iel = spec[S_IEL]
@@ -423,8 +428,9 @@ def model_force(spec, x, y, v, a, prm, ep, with_friction):
     cfp = 1.0  # contact factor of the dead band (1: no freeplay)
     if ifp >= 0:
         cfp = _fp_contact(spec, x, y, v, ep)
-        vi = v * cfp
-        yi = x[ifp]
+        if spec[S_FPFRIC] != 1:  # the fluid behind the dead band too (else on the rod)
+            vi = v * cfp
+            yi = x[ifp]
     if spec[S_IC] >= 0:
         yi = x[spec[S_IC]]
     if (spec[S_RELIEF] != 0 or spec[S_ASYM] != 0) and (

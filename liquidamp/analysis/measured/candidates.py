@@ -11,9 +11,13 @@ them alike.
 Composites:
 
 =======================  ==========================================================================
-``backlash``             freeplay added and the friction at the rod moved behind it (location
-                         ``"piston"``): a dead band in series with the friction, as in a friction
-                         damper whose band slips only once the play is taken up; frees the gap.
+``backlash``             friction behind its own dead band, the fluid staying on the rod
+                         (``freeplay`` with ``drives="friction"``, the friction at location
+                         ``"piston"``), as in a friction damper whose band slips only once the
+                         play is taken up: the friction at the rod moved behind a dead band
+                         (frees the gap), or, without friction in the model, smooth friction
+                         added behind a dead band whose half-width is the profile maximum of
+                         :func:`backlash_gap` (frees level, bristle stiffness and gap).
 ``friction_asymmetry``   the friction in the model grips harder one way: its ``reverse_ratio``
                          (reverse-to-forward level, 1 when absent) freed.  Unlike a
                          ``force_offset`` the difference acts only while the friction slides.
@@ -54,7 +58,7 @@ from liquidamp.errors import ParameterError
 
 __all__ = ["Change", "Composite", "COMPOSITES", "DEVICE_REFINEMENTS", "REDUCTIONS",
            "probe_effect",
-           "candidate_change", "applicable"]
+           "candidate_change", "applicable", "backlash_gap", "GAP_GRID"]
 
 #: Candidates that contain another as a limit (candidate -> the simpler one it reduces to).
 #: A relief valve whose cracking pressure falls towards zero is a laminar bypass of
@@ -203,33 +207,134 @@ def _varied(result: CalibrationResult, effect: str, key: str) -> bool:
 
 
 def _backlash_applicable(result) -> str:
-    if "location" not in EFFECTS["coulomb_friction"].__dataclass_fields__:
+    if "drives" not in EFFECTS["freeplay"].__dataclass_fields__:
         return "this catalogue cannot place friction behind a dead band"
     if any(e.name == "freeplay" for e in result.effects):
         return "the model holds freeplay already"
-    if not _friction(result.effects, "rod"):
-        return "no friction at the rod to move behind a dead band (add friction first)"
-    try:
-        with_effects(result.device_model, EFFECTS["freeplay"]())
-    except ParameterError as exc:
-        return str(exc)
+    if _friction(result.effects, "piston"):
+        return "the friction sits behind a dead band already"
+    if any(e.name in _FRICTION for e in result.effects) and not _friction(result.effects,
+                                                                          "rod"):
+        return "no friction level at the rod to move behind a dead band"
+    if any(e.name == "series_compliance" for e in result.effects):
+        return "friction behind a dead band cannot sit behind series_compliance"
     return ""
 
 
+#: Dead-band half-widths of the gap profile, as fractions of the stroke amplitude [-]
+#: (:func:`backlash_gap`): from a tenth of a percent (the friction on the rod, within the
+#: resolution of a sampled stroke) to 80 % (the element slides over a fifth of the stroke).
+GAP_GRID = tuple(float(g) for g in np.geomspace(1e-3, 0.8, 30))
+
+
+def _play(y: np.ndarray, gap: float) -> np.ndarray:
+    """The driven side of a dead band of half-width ``gap`` [m] under the stroke ``y`` [m]
+    (the play operator, discrete), on the periodic orbit: the record is run twice and the
+    second pass kept (its start then holds the state its end leaves)."""
+    yy = np.concatenate((y, y))
+    out = np.empty_like(yy)
+    w = yy[0]
+    for k, yk in enumerate(yy):
+        w = min(max(w, yk - gap), yk + gap)
+        out[k] = w
+    return out[y.size:]
+
+
+def backlash_gap(result: CalibrationResult) -> tuple[float, float]:
+    """The dead band that best explains the calibration residual as friction behind it [m].
+
+    A friction element behind a dead band of half-width g adds F_c s_g(t) to the force of a
+    model with the fluid on the rod, s_g = sign of the driven side's motion while it moves
+    and 0 while the rod crosses the gap (2 g of travel after each reversal): linear in F_c,
+    so that for each g the least-squares level and its drop of the residual sum of squares
+    are closed forms, (s_g . e)^2 / (s_g . s_g) with e the measured minus the model force
+    and s_g with the span of the fitted parameters' Jacobian projected out (as the score
+    test does: what the calibrated parameters can mimic is no evidence).
+    The gap is the maximum of that profile (a profile likelihood over g, the one nonlinear
+    parameter) over :data:`GAP_GRID` times the stroke amplitude of each record.  The
+    signature of each record is built on its smoothed stroke (the play operator is
+    translation invariant, so its offset does not matter).
+
+    Returns
+    -------
+    (gap, drop) : tuple of float
+        The best half-width [m] and its share of the residual sum of squares it removes
+        [-] (0 where no gap gives a positive friction level).
+
+    References
+    ----------
+    .. [1] M. A. Krasnosel'skii, A. V. Pokrovskii, Systems with Hysteresis, Springer, 1989
+       (the play operator).
+    """
+    from liquidamp.analysis.measured.diagnosis_evidence import _free_columns  # its user
+
+    recs = result.calibration
+    e = -np.concatenate(result.residuals("calibration"))
+    ee = float(e @ e)
+    Y = float(np.mean([r.amplitude for r in recs]))
+    # as the score test: the part of each signature the fitted parameters cannot mimic (a
+    # fluid fit without the friction has bent its losses towards it)
+    J = _free_columns(result, -e)
+    P = np.linalg.pinv(J) if J.size else None
+    best = (0.0, 0.0)
+    for f in GAP_GRID:
+        g = f * Y
+        s = np.concatenate([np.sign(np.diff(_play(r.smoothed, g), prepend=np.nan))
+                            for r in recs])
+        s = np.nan_to_num(s)
+        if P is not None:
+            s = s - J @ (P @ s)
+        ss = float(s @ s)
+        se = float(s @ e)
+        if ss <= 0 or se <= 0 or ee <= 0:
+            continue
+        drop = se * se / ss / ee
+        if drop > best[1]:
+            best = (g, drop)
+    return best
+
+
 def _backlash(result) -> Change:
-    """Freeplay added, the friction at the rod moved behind it: the gap 3 % of the stroke
-    amplitude behind Coulomb friction; behind smooth friction half its pre-sliding stroke
-    F_c / sigma0, whose bristle stiffness is doubled (the dead band takes over half the
-    compliance a soft bristle stood in for, so that the score compares a dead band with a
-    soft bristle)."""
+    """Friction behind its own dead band (the fluid stays on the rod: ``freeplay`` with
+    ``drives="friction"``).
+
+    Without friction in the model, smooth friction at the piston is added behind a dead band
+    whose half-width is the profile maximum of :func:`backlash_gap`; its level is the lead
+    (0 where absent, probed at 5 % of the force amplitude as the catalogue's friction), its
+    bristle stiffness puts the pre-sliding stroke at a tenth of the gap (a dead band takes
+    up the slack a soft bristle would stand in for), and the refit frees level, stiffness
+    and gap.  With friction at the rod, that friction is moved behind a dead band and the
+    gap is the lead: 3 % of the stroke amplitude behind Coulomb friction; behind smooth
+    friction half its pre-sliding stroke F_c / sigma0, whose bristle stiffness is doubled
+    (the dead band takes over half the compliance a soft bristle stood in for, so that the
+    score compares a dead band with a soft bristle)."""
     Y = float(np.mean([r.amplitude for r in result.calibration]))
     movable = _friction(result.effects, "rod")
+    if not movable:
+        recs = result.calibration
+        F = np.concatenate([r.force for r in recs])
+        Fa = math.sqrt(2.0) * float(np.sqrt(np.mean((F - F.mean()) ** 2)))
+        gap, _ = backlash_gap(result)
+        lo, hi = EFFECTS["freeplay"].bounds["gap_m"]
+        gap = min(max(gap, 10.0 * lo), hi / 10.0)
+        level = 0.05 * Fa
+        friction = EFFECTS["smooth_friction"](force_N=level,
+                                              stiffness_N_per_m=level / (0.1 * gap),
+                                              location="piston")
+        effects = tuple(result.effects) + (
+            friction, EFFECTS["freeplay"](gap_m=gap, drives="friction"))
+        return Change(effects, free=(("smooth_friction", "force_N"),
+                                     ("smooth_friction", "stiffness_N_per_m"),
+                                     ("freeplay", "gap_m")),
+                      lead=("smooth_friction", "force_N"), base=0.0, probe=level,
+                      added="freeplay", report=("smooth_friction",))
     smooth = [e for e in movable if e.name == "smooth_friction"]
     gap = 0.5 * smooth[0].force_N / smooth[0].stiffness_N_per_m if smooth else 0.03 * Y
     moved = tuple((e.replace(location="piston", stiffness_N_per_m=2 * e.stiffness_N_per_m)
                    if e in smooth else e.replace(location="piston")) if e in movable
                   else e for e in result.effects)
-    return Change(moved + (EFFECTS["freeplay"](gap_m=gap),), free=(("freeplay", "gap_m"),),
+    return Change(moved + (EFFECTS["freeplay"](gap_m=gap, drives="friction"),),
+                  free=(("freeplay", "gap_m"),),
                   lead=("freeplay", "gap_m"), base=0.0, probe=gap, added="freeplay",
                   report=tuple(e.name for e in movable))
 
@@ -280,9 +385,10 @@ def _multiplier(name: str, what: str):
 
 
 COMPOSITES = {c.name: c for c in (
-    Composite("backlash", "a dead band in series with the friction: freeplay added and the "
-              "friction already in the model moved behind it (location 'piston'), as in a "
-              "friction damper whose band slips only once the play is taken up",
+    Composite("backlash", "friction behind a dead band (the fluid on the rod): the friction "
+              "in the model, or smooth friction added, moved behind freeplay that drives "
+              "only it, as in a friction damper whose band slips only once the play is "
+              "taken up",
               _backlash_applicable, _backlash),
     Composite("friction_asymmetry", "the friction grips harder one way: its reverse-to-"
               "forward level ratio freed (a band or seal unlike in compression and "

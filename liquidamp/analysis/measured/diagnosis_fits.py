@@ -64,7 +64,7 @@ def _refit(cand, change, current, validation, options, preroll, max_nfev, tol, s
 
 def _restart(res, current, validation, options, preroll, max_nfev, tol, start0, sizing,
              validation_tolerance):
-    """Refit from the physics start of the original multipliers; the better of the two fits.
+    """Refit from the physics start and from the original multipliers; the best of the fits.
 
     The continuation from the previous optimum may sit in a local minimum of the loss
     coefficients (the c1/c2 trade-off: least squares on the air ratios and loss
@@ -76,16 +76,26 @@ def _restart(res, current, validation, options, preroll, max_nfev, tol, start0, 
     loops 40 % worse, the losses standing in for friction at one rate only).
     """
     spec2 = res.spec.with_values(start0)
-    try:
-        res2 = calibrate(current.calibration, model=current.model,
-                         params=current.start_params, effects=res.effects,
-                         spec=spec2, validate=validation, options=options, start="physics",
-                         max_nfev=max_nfev, preroll=preroll, tol=tol, warn=False,
-                         sizing=sizing)
-        if res2.status == "max_nfev":
-            res2 = _converge(res2, validation, options, preroll, max_nfev, tol, sizing)
-    except ConvergenceError:
+    tries = []
+    # from the physics start (air and losses read off K', K'' of the records, which a strong
+    # friction loop also feeds), and from the original multipliers as they are with the
+    # effects where the refit put them (a fluid fit without the effect can have pushed a
+    # loss coefficient to its bound, where the continuation stays)
+    for how in ("physics", "spec"):
+        try:
+            r2 = calibrate(current.calibration, model=current.model,
+                           params=current.start_params, effects=res.effects,
+                           spec=spec2, validate=validation, options=options, start=how,
+                           max_nfev=max_nfev, preroll=preroll, tol=tol, warn=False,
+                           sizing=sizing)
+            if r2.status == "max_nfev":
+                r2 = _converge(r2, validation, options, preroll, max_nfev, tol, sizing)
+        except ConvergenceError:
+            continue
+        tries.append(r2)
+    if not tries:
         return res
+    res2 = min(tries, key=lambda r: r.cost)
     if res2.cost >= res.cost:
         return res
     a, b = heldout_per_record(res), heldout_per_record(res2)

@@ -67,7 +67,10 @@ class TorusInvariants:
         names = model.state_names
         nb = model.n_base_states
         self.ip = None
+        fp = model.effect("freeplay")
         for state in ("y_piston", "y_fp"):  # innermost kinematic effect first
+            if state == "y_fp" and fp is not None and not fp.fluid_behind:
+                continue  # a dead band that drives only friction: the fluid is on the rod
             if state in names[nb:]:
                 self.ip = names.index(state)
                 break
