@@ -11,12 +11,12 @@ them alike.
 Composites:
 
 =======================  ==========================================================================
-``backlash``             friction behind its own dead band, the fluid staying on the rod
-                         (``freeplay`` with ``drives="friction"``, the friction at location
-                         ``"piston"``), as in a friction damper whose band slips only once the
-                         play is taken up: the friction at the rod moved behind a dead band
-                         (frees the gap), or, without friction in the model, smooth friction
-                         added behind a dead band whose half-width is the profile maximum of
+``backlash``             friction behind a dead band (location ``"piston"``), as in a friction
+                         damper whose band slips only once the play is taken up: the friction
+                         at the rod moved behind freeplay in the attachment (frees the gap),
+                         or, without friction in the model, smooth friction added behind its
+                         own dead band (``freeplay`` with ``drives="friction"``: the fluid
+                         stays on the rod) whose half-width is the profile maximum of
                          :func:`backlash_gap` (frees level, bristle stiffness and gap).
 ``friction_asymmetry``   the friction in the model grips harder one way: its ``reverse_ratio``
                          (reverse-to-forward level, 1 when absent) freed.  Unlike a
@@ -303,11 +303,14 @@ def _backlash(result) -> Change:
     (0 where absent, probed at 5 % of the force amplitude as the catalogue's friction), its
     bristle stiffness puts the pre-sliding stroke at a tenth of the gap (a dead band takes
     up the slack a soft bristle would stand in for), and the refit frees level, stiffness
-    and gap.  With friction at the rod, that friction is moved behind a dead band and the
-    gap is the lead: 3 % of the stroke amplitude behind Coulomb friction; behind smooth
-    friction half its pre-sliding stroke F_c / sigma0, whose bristle stiffness is doubled
-    (the dead band takes over half the compliance a soft bristle stood in for, so that the
-    score compares a dead band with a soft bristle)."""
+    and gap (the signature is then additive, linear in the level, whence the profile).
+    With friction at the rod, that friction is moved behind a dead band in the attachment
+    that the fluid sits behind too (``drives="piston"``: the rod -> dead band -> piston and
+    band of a friction damper with backlash), and the gap is the lead: 3 % of the stroke
+    amplitude behind Coulomb friction; behind smooth friction half its pre-sliding stroke
+    F_c / sigma0, whose bristle stiffness is doubled (the dead band takes over half the
+    compliance a soft bristle stood in for, so that the score compares a dead band with a
+    soft bristle)."""
     Y = float(np.mean([r.amplitude for r in result.calibration]))
     movable = _friction(result.effects, "rod")
     if not movable:
@@ -333,7 +336,7 @@ def _backlash(result) -> Change:
     moved = tuple((e.replace(location="piston", stiffness_N_per_m=2 * e.stiffness_N_per_m)
                    if e in smooth else e.replace(location="piston")) if e in movable
                   else e for e in result.effects)
-    return Change(moved + (EFFECTS["freeplay"](gap_m=gap, drives="friction"),),
+    return Change(moved + (EFFECTS["freeplay"](gap_m=gap),),
                   free=(("freeplay", "gap_m"),),
                   lead=("freeplay", "gap_m"), base=0.0, probe=gap, added="freeplay",
                   report=tuple(e.name for e in movable))
@@ -385,10 +388,10 @@ def _multiplier(name: str, what: str):
 
 
 COMPOSITES = {c.name: c for c in (
-    Composite("backlash", "friction behind a dead band (the fluid on the rod): the friction "
-              "in the model, or smooth friction added, moved behind freeplay that drives "
-              "only it, as in a friction damper whose band slips only once the play is "
-              "taken up",
+    Composite("backlash", "friction behind a dead band: the friction in the model moved "
+              "behind freeplay, or smooth friction added behind its own dead band (the "
+              "fluid on the rod), as in a friction damper whose band slips only once the "
+              "play is taken up",
               _backlash_applicable, _backlash),
     Composite("friction_asymmetry", "the friction grips harder one way: its reverse-to-"
               "forward level ratio freed (a band or seal unlike in compression and "
