@@ -79,7 +79,10 @@ Composition fields: a field declared with :func:`dataclasses.field` metadata
 strong it is: ``location`` of the two friction effects, ``"rod"`` (default:
 on the measured stroke, outermost) or ``"piston"`` (behind the kinematic
 effects, in series with a dead band like the fluid: the chain rod -> dead
-band -> friction element).  It is part of the model, not a fitted parameter:
+band -> friction element), and ``drives`` of ``freeplay``, ``"piston"``
+(default: the fluid and the friction at the piston behind the dead band) or
+``"friction"`` (only the friction at the piston: a friction element behind its
+own play, the fluid on the rod).  It is part of the model, not a fitted parameter:
 :attr:`Effect.parameters` (and so fits, bounds and fit keys) holds the
 numbers only, :meth:`Effect.as_dict` both (device files, JSON, synthetic
 recipes), and ``str(effect)``, :func:`make_effect`, device files and the
