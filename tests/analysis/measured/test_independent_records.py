@@ -32,6 +32,10 @@ CASES = {
     "d03_elastomer": ("elastomer", {"parallel_stiffness_N_per_m": "parallel stiffness k_e"},
                       False),
     "d11_friction_leakage": (None, {}, False),
+    # friction behind its own dead band, the fluid on the rod: the composite, first
+    "d05_backlash": ("backlash", {"gap_m": "dead-band half-width",
+                                  "smooth_friction.force_N": "friction force (Coulomb level)"},
+                     False),
 }
 
 
