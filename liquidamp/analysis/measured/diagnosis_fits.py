@@ -78,10 +78,13 @@ def _restart(res, current, validation, options, preroll, max_nfev, tol, start0, 
     spec2 = res.spec.with_values(start0)
     tries = []
     # from the physics start (air and losses read off K', K'' of the records, which a strong
-    # friction loop also feeds), and from the original multipliers as they are with the
-    # effects where the refit put them (a fluid fit without the effect can have pushed a
-    # loss coefficient to its bound, where the continuation stays)
-    for how in ("physics", "spec"):
+    # friction loop also feeds); and where the refit left a device multiplier at a bound
+    # (a fluid fit without the effect pushed a loss coefficient there, and the continuation
+    # stays: held by the bound, its gradient says nothing of the interior), also from the
+    # original multipliers as they are, with the effects where the refit put them
+    mult = {p.name for p in res.spec.parameters if p.kind == "multiplier"}
+    pinned = bool(mult & set(res.at_bounds()))
+    for how in ("physics", "spec") if pinned else ("physics",):
         try:
             r2 = calibrate(current.calibration, model=current.model,
                            params=current.start_params, effects=res.effects,
