@@ -45,6 +45,11 @@ name                    parameters                             states added
                         compression_conductance_m3_per_s_Pa,   cracking pressure and conductance
                         rebound_cracking_Pa,                   per flow direction (a knee per
                         rebound_conductance_m3_per_s_Pa        direction)
+``self_heating``        heat_capacity_J_per_K,                 T_fluid [K]: warmed by the
+                        conductance_W_per_K, beta_per_K,       dissipated power; c1 x mu(T)/
+                        c2_exponent, ambient/reference/        mu(T_ref), c2 x its power
+                        initial_temperature_K, law_a, law_b;   gamma2 (exponential, water or
+                        law (exponential | water | walther)    Walther law)
 ======================  =====================================  =================================
 
 Composition order is canonical whatever order the effects are given in
@@ -152,6 +157,7 @@ from liquidamp.device.effects_force import (
 )
 from liquidamp.device.effects_kinematic import Freeplay, SeriesCompliance
 from liquidamp.device.effects_operating import RotatingFrame
+from liquidamp.device.effects_thermal import SelfHeating
 from liquidamp.device.kernels import (
     cavity_rates,
     cavity_width,
@@ -181,6 +187,7 @@ __all__ = [
     "RotatingFrame",
     "GasCharge",
     "DigressiveValve",
+    "SelfHeating",
     "EFFECTS",
     "effect_names",
     "make_effect",
@@ -200,7 +207,7 @@ EFFECTS: dict[str, type[Effect]] = {
     cls.name: cls
     for cls in (CoulombFriction, SmoothFriction, ForceOffset, MovingMass, SeriesCompliance,
                 Freeplay, Leakage, Cavitation, ReliefValve, AsymmetricLoss, Elastomer, EndStops,
-                RotatingFrame, GasCharge, DigressiveValve)
+                RotatingFrame, GasCharge, DigressiveValve, SelfHeating)
 }
 """Registry: effect name -> class."""
 
@@ -213,7 +220,8 @@ def effect_names() -> tuple[str, ...]:
     >>> effect_names()
     ('coulomb_friction', 'smooth_friction', 'force_offset', 'moving_mass', \
 'series_compliance', 'freeplay', 'leakage', 'cavitation', 'relief_valve', 'asymmetric_loss', \
-'elastomer', 'end_stops', 'rotating_frame', 'gas_charge', 'digressive_valve')
+'elastomer', 'end_stops', 'rotating_frame', 'gas_charge', 'digressive_valve', \
+'self_heating')
     """
     return tuple(EFFECTS)
 
@@ -243,7 +251,7 @@ def make_effect(name: str, **parameters) -> Effect:
     liquidamp.errors.ParameterError: unknown effect 'stiction'; valid: coulomb_friction, \
 smooth_friction, force_offset, moving_mass, series_compliance, freeplay, leakage, cavitation, \
 relief_valve, asymmetric_loss, elastomer, end_stops, rotating_frame, gas_charge, \
-digressive_valve
+digressive_valve, self_heating
     """
     check_choice("effect", name, EFFECTS)
     cls = EFFECTS[name]

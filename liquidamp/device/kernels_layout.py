@@ -65,7 +65,9 @@ S_CPIST, S_ZPIST, S_RELIEF, S_ASYM, S_IEL, S_STOP = range(15, 21)
 S_ROT = 21
 #: Gas charge (accumulator on a single-rod device): 1 when composed, else 0 (issue #20).
 S_GAS = 22
-N_SPEC = 23
+#: Self-heating (issue #20 item 5): index of the fluid temperature state T [K], else -1.
+S_TH = 23
+N_SPEC = 24
 
 E_LEAK, E_PV, E_KC, E_GAP, E_SFC, E_SIG, E_VS, E_SR, E_CF, E_MASS, E_OFF = range(11)
 E_PR, E_GR = 11, 12  # relief valve: cracking pressure [Pa], conductance [m^3/(s Pa)]
@@ -87,8 +89,13 @@ E_AR, E_PCH, E_VG, E_NG, E_Y0G = 27, 28, 29, 30, 31
 E_PR2, E_GR2 = 32, 33
 #: Gas charge: ambient pressure on the rod's outer end [Pa] (the charge is gauge above it).
 E_PAT = 34
+#: Self-heating (:mod:`liquidamp.device.kernels_thermal`): heat capacity [J/K] (inf: the
+#: temperature held), conductance to ambient [W/K], ambient temperature [K], reference
+#: temperature of the loss coefficients [K], the exponential law's beta [1/K], the exponent
+#: of the viscosity ratio on the quadratic loss [-], the law id [-] and its two constants.
+E_TC, E_THA, E_TAMB, E_TREF, E_TBETA, E_TG2, E_TLAW, E_TA, E_TB = range(35, 44)
 #: The effect slots; the state scales follow from ``ep[N_EP]`` on.
-N_EP = 35
+N_EP = 44
 
 
 def pack_params(params) -> np.ndarray:

@@ -44,6 +44,9 @@ from liquidamp.device.kernels_laws import (
 )
 from liquidamp.device.kernels_layout import (
     _FM,
+    E_TAMB,
+    E_TC,
+    E_THA,
     E_AR,
     E_C1E,
     E_CF,
@@ -126,8 +129,10 @@ from liquidamp.device.kernels_layout import (
     S_RELIEF,
     S_ROT,
     S_STOP,
+    S_TH,
     S_ZPIST,
 )
+from liquidamp.device.kernels_thermal import channel_power, heat_rate, thermal_params
 
 drop_stale(__file__)  # before any kernel of this module loads from the cache
 
@@ -283,6 +288,41 @@ def _fp_contact(spec, x, y, v, ep):
     return play_contact(e, v, ep[E_GAP])
 
 
+@njit(cache=True, error_model="numpy")
+def dissipated_power(spec, x, y, v, prm, ep):
+    """Power the flow paths dissipate [W] at the piston stroke (y [m], v [m/s]).
+
+    The channel's linear and quadratic losses (:func:`~.kernels_thermal.channel_power`, at
+    the coefficients of the flow's direction), the leakage's kL dp^2 and the valve's q_v dp
+    beside it; on the stateless dashpot-type bases with a valve or a rebound ratio, their
+    exact force law times v.  ``prm`` as the right-hand side sees it (at the fluid's
+    temperature where self-heating is composed).  Friction's heat (at the seals, not in the
+    fluid) is not counted.
+    """
+    mid = spec[S_MID]
+    if mid == M_DASHPOT or mid == M_DASHPOT_INERTER or mid == M_VISCOUS:
+        if spec[S_RELIEF] != 0 or spec[S_ASYM] != 0:
+            return _damper_force(spec, v, prm, ep) * v
+        return channel_power(mid, x, v, 0.0, prm)
+    dpc = 0.0
+    if spec[S_ROT] > 0:
+        dpc = rotating_heads(y, prm, ep)[0]
+    i1 = spec[S_I1]
+    if i1 >= 0:
+        dp = x[i1] - x[spec[S_I2]] + dpc
+    elif mid == M_MAXWELL:
+        dp = x[0] / prm[P_AP]
+    else:
+        dp = x[0] + dpc
+    q = loss_params(spec, x, v, prm, ep, dpc) if spec[S_ASYM] != 0 else prm
+    P = channel_power(mid, x, v, dp, q)
+    if spec[S_LEAK] != 0 and i1 >= 0:
+        P += ep[E_LEAK] * dp * dp
+    if spec[S_RELIEF] != 0:
+        P += _valve(dp, ep) * dp
+    return P
+
+
 @njit(cache=True, error_model="numpy", fastmath=_FM)
 def model_rhs(spec, x, y, v, prm, ep, out):
     """dx/dt of a composed model at the measured rod stroke (y [m], v [m/s]), into ``out``.
@@ -296,6 +336,9 @@ def model_rhs(spec, x, y, v, prm, ep, out):
             and spec[S_ASYM] == 0 and spec[S_ROT] <= 0):
         base_rhs_inline(spec[S_MID], x, y, v, prm, 0.0, 0.0, out)
         return
+    ith = spec[S_TH]
+    if ith >= 0:  # self-heating: the loss coefficients at the fluid's temperature
+        prm = thermal_params(x[ith], prm, ep)
     yi = y
     vi = v
     ifp = spec[S_IFP]
@@ -306,8 +349,11 @@ def model_rhs(spec, x, y, v, prm, ep, out):
         yi = x[ifp]
         vi = r
     icp = spec[S_IC]
+    yq = yi  # the piston stroke the fluid sees (self-heating's dissipation)
+    vq = vi
     if icp >= 0:
         yp = x[icp]
+        yq = yp
         k = ep[E_KC]
         if math.isinf(k):
             _fluid_rhs(spec, x, yp, vi, prm, ep, out)
@@ -326,8 +372,12 @@ def model_rhs(spec, x, y, v, prm, ep, out):
             for i in range(n_in):
                 out[i] = out[i] + vp * (d1[i] - out[i])
             out[icp] = vp
+            vq = vp
     else:
         _fluid_rhs(spec, x, yi, vi, prm, ep, out)
+    if ith >= 0:  # the fluid warms by what the flow paths dissipate, cools to ambient
+        out[ith] = heat_rate(x[ith], dissipated_power(spec, x, yq, vq, prm, ep), ep[E_TC],
+                             ep[E_THA], ep[E_TAMB])
     if iz >= 0:  # the bristles move with the rod, or with the piston behind the dead band
         vz = vi if spec[S_ZPIST] != 0 else v
         out[iz] = lugre_rate(vz, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR],
@@ -417,6 +467,8 @@ def model_force(spec, x, y, v, a, prm, ep, with_friction):
     ``friction_N sign(v)`` (:attr:`DeviceParams.friction_N`).
     """
     mid = spec[S_MID]
+    if spec[S_TH] >= 0:  # self-heating: the loss coefficients at the fluid's temperature
+        prm = thermal_params(x[spec[S_TH]], prm, ep)
     yi = y
     vi = v
     ifp = spec[S_IFP]
