@@ -409,13 +409,18 @@ EFFECT_UNITS = {
                          "compression_conductance_m3_per_s_Pa": "m^3/(s Pa)",
                          "rebound_cracking_Pa": "Pa",
                          "rebound_conductance_m3_per_s_Pa": "m^3/(s Pa)"},
+    "self_heating": {"heat_capacity_J_per_K": "J/K", "conductance_W_per_K": "W/K",
+                     "beta_per_K": "1/K", "c2_exponent": "-", "ambient_temperature_K": "K",
+                     "reference_temperature_K": "K", "initial_temperature_K": "K",
+                     "law_a": "-", "law_b": "-"},
 }
 #: Composite candidates of :data:`liquidamp.analysis.measured.candidates.COMPOSITES`
 #: (held equal by a test).
 COMPOSITE_NAMES = ("backlash", "friction_asymmetry", "friction_transition")
 #: Composition choices of the effects (``Effect.composition_keys()``; held equal by a test).
 EFFECT_CHOICES = {"coulomb_friction": {"location": ("rod", "piston")},
-                  "smooth_friction": {"location": ("rod", "piston")}}
+                  "smooth_friction": {"location": ("rod", "piston")},
+                  "self_heating": {"law": ("exponential", "water", "walther")}}
 
 
 def _unknown(what: str, value: str, valid) -> str:

@@ -265,7 +265,7 @@ class SelfHeating(Effect):
         --------
         >>> e = SelfHeating.probe(1000.0, 0.003, 2 * math.pi * 3, None)
         >>> round(e.conductance_W_per_K, 6), round(e.time_constant_s, 6)
-        (0.141372, 10.0)
+        (1.413717, 10.0)
         """
         P = 0.25 * force_amplitude_N * amplitude * omega
         hA = P / 10.0

@@ -139,6 +139,15 @@ from liquidamp.device.kernels_layout import (  # noqa: F401 (the public face)
     E_SFC,
     E_SIG,
     E_SR,
+    E_TA,
+    E_TAMB,
+    E_TB,
+    E_TBETA,
+    E_TC,
+    E_TG2,
+    E_THA,
+    E_TLAW,
+    E_TREF,
     E_VG,
     E_VS,
     E_Y0G,
@@ -208,25 +217,7 @@ from liquidamp.device.kernels_layout import (  # noqa: F401 (the public face)
     S_STOP,
     S_TH,
     S_ZPIST,
-    E_TA,
-    E_TAMB,
-    E_TB,
-    E_TBETA,
-    E_TC,
-    E_TG2,
-    E_THA,
-    E_TLAW,
-    E_TREF,
     pack_params,
-)
-from liquidamp.device.kernels_thermal import (  # noqa: F401 (the public face)
-    LAW_EXPONENTIAL,
-    LAW_WALTHER,
-    LAW_WATER,
-    channel_power,
-    heat_rate,
-    thermal_params,
-    viscosity_ratio,
 )
 from liquidamp.device.kernels_model import (  # noqa: F401 (the public face)
     _damper_force,
@@ -241,6 +232,15 @@ from liquidamp.device.kernels_model import (  # noqa: F401 (the public face)
     model_jac,
     model_rhs,
     model_rhs_t,
+)
+from liquidamp.device.kernels_thermal import (  # noqa: F401 (the public face)
+    LAW_EXPONENTIAL,
+    LAW_WALTHER,
+    LAW_WATER,
+    channel_power,
+    heat_rate,
+    thermal_params,
+    viscosity_ratio,
 )
 
 __all__ = [

@@ -44,9 +44,6 @@ from liquidamp.device.kernels_laws import (
 )
 from liquidamp.device.kernels_layout import (
     _FM,
-    E_TAMB,
-    E_TC,
-    E_THA,
     E_AR,
     E_C1E,
     E_CF,
@@ -76,6 +73,9 @@ from liquidamp.device.kernels_layout import (
     E_SFC,
     E_SIG,
     E_SR,
+    E_TAMB,
+    E_TC,
+    E_THA,
     E_VG,
     E_VS,
     E_Y0G,

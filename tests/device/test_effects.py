@@ -47,7 +47,8 @@ ZERO = {"coulomb_friction": {"force_N": 0.0}, "smooth_friction": {"force_N": 0.0
         "rotating_frame": {"rotor_speed_rad_per_s": 0.0, "mounting_radius_m": 0.5},
         "gas_charge": {"rod_area_m2": 0.0},
         "digressive_valve": {"compression_conductance_m3_per_s_Pa": 0.0,
-                             "rebound_conductance_m3_per_s_Pa": 0.0}}
+                             "rebound_conductance_m3_per_s_Pa": 0.0},
+        "self_heating": {"beta_per_K": 0.0, "c2_exponent": 0.0}}
 
 
 @pytest.mark.parametrize("name", list(EFFECTS))
