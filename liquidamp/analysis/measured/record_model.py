@@ -48,7 +48,7 @@ from liquidamp.errors import ConvergenceError, ParameterError, PressureError, ch
 from liquidamp.options import SolverOptions, resolve_options
 from liquidamp.structure.testmachine import FourierStroke, RecordedStroke
 
-__all__ = ["simulate_record", "record_stroke", "integrate", "nrmse"]
+__all__ = ["simulate_record", "record_stroke", "integrate", "nrmse", "stationary"]
 
 
 #: Newton iterations the record simulation allows the shooting (the march's last cycle,
@@ -203,6 +203,8 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     if cond is not None and not cond.changed:
         cond = None
     if record.periodic:
+        if not stationary(model):  # a warming device: no periodic orbit to sit on
+            return _simulate_drifting(model, params, record, cond, options, route)
         return _simulate_periodic(model, params, record, cond, options, x0, route)
     # a conditioned record (liquidamp.analysis.measured.conditioning) states the stroke the
     # model is driven by: the record's over its whole span, ends and all
@@ -349,6 +351,99 @@ def _simulate_periodic(model, params, record, cond, options, x0, route):
             "derivatives")
     return _response(model, params, t, X, u, options, stats, force=force, note=note,
                      warnings=warn)
+
+
+def stationary(model) -> bool:
+    """Whether ``model`` has a periodic steady state under a periodic stroke: False where
+    an effect drifts by design (``Effect.stationary`` False: ``self_heating``)."""
+    return all(getattr(e, "stationary", True) for e in getattr(model, "effects", ()))
+
+
+def _held_model(model, params, T0):
+    """The model with its drifting states held at their start: the thermal effect removed and
+    the loss coefficients at the start temperature ``T0`` [K] (c1 x r, c2 x r^gamma2), the
+    device whose periodic orbit a warming record starts on."""
+    from liquidamp.device.effects import with_effects
+
+    th = next(e for e in model.effects if not getattr(e, "stationary", True))
+    others = tuple(e for e in model.effects if e is not th)
+    bare = get_model(model.base) if model.base != "viscous" else None
+    if bare is None:
+        raise ParameterError("a drifting record needs a model with chamber or dashpot physics")
+    r = th.viscosity_ratio(T0)
+    held = params.scaled(c1=r, c2=r ** th.c2_exponent)
+    return with_effects(bare, *others), held, th
+
+
+def _simulate_drifting(model, params, record, cond, options, route):
+    """A periodic stroke on a device that drifts (self-heating): the whole record marched.
+
+    The record starts on the periodic orbit of the device held at its initial temperature
+    T_0 (``initial_temperature_K``: the loss coefficients at T_0, no thermal state), and the
+    whole record is marched from there with the thermal state free, under the record's
+    Fourier stroke (exact derivatives); a conditioned record's force is conditioned as the
+    record's was.
+    """
+    from liquidamp.coupled.testrig import prepare_run
+
+    stroke = record_stroke(record)
+    _check_reach(stroke.max_abs, params)
+    t = record.time
+    T = stroke.period
+    origin = stroke.t0
+    rig_stroke = FourierStroke(stroke.frequency, stroke.sine, stroke.cosine, 0.0, 0.0)
+    if cond is not None:
+        tq, at_record = cond.model_times(t)
+    else:
+        tq, at_record = t, np.arange(t.size)
+    s0 = float(tq[0] - origin)
+    th_T0 = _start_temperature(model)
+    base, held, th = _held_model(model, params, th_T0)
+    base, options = prepare_run(base, held, rig_stroke, options)
+    ph0 = float(np.mod(s0, T))
+    y0 = float(rig_stroke(0.0)[0])
+    rest = base.initial_state(held, y0)
+    stats: dict = {}
+    if base.n_states:
+        grid = np.unique(np.array([0.0, min(ph0, T * (1.0 - 1e-9))]))
+        grid = np.append(grid, T)
+        rig0 = TestRig(base, held, rig_stroke)
+        eng0 = engine_for(rig0, options)
+        try:
+            orbit = periodic_state(rig0, eng0, rest, options, route=route, invariants_of=rest,
+                                   grid=grid,
+                                   shooting=ShootingOptions(max_iter=RECORD_SHOOTING_ITER))
+            xb = orbit.states[:, grid.size - 2]
+            stats.update({f"start_{k}": v for k, v in orbit.stats.items()})
+        except ConvergenceError as exc:
+            if getattr(exc, "marched", None) is None:
+                raise
+            xb = exc.marched[0][:, grid.size - 2]
+    else:
+        xb = np.zeros(0)
+    x = np.concatenate([xb, [th_T0]])
+    rig = TestRig(model, params, rig_stroke)
+    engine = engine_for(rig, options)
+    max_step = max(options.max_step_fraction, 1e-4) * T
+    s = tq - origin
+    X = engine.march(rig, x, float(s[0]), float(s[-1]), s, options, max_step, stats)
+    uq = rig_stroke(s)
+    fq = np.broadcast_to(np.asarray(model.force(s, X, uq, params), float), s.shape)
+    force = cond.model_force(fq) if cond is not None else None
+    Xr = np.ascontiguousarray(X[:, at_record])
+    u = tuple(np.asarray(q)[at_record] for q in uq)
+    stats.update(stroke="fourier", harmonics=stroke.harmonics, velocity_gain=1.0,
+                 route="march over the record")
+    note = (f"marched over the whole record from the periodic orbit of the device held at "
+            f"{th_T0 - 273.15:.4g} C (it drifts: {th.name}); stroke: Fourier series of "
+            f"{stroke.harmonics} harmonic(s), exact derivatives")
+    return _response(model, params, t, Xr, u, options, stats, force=force, note=note)
+
+
+def _start_temperature(model) -> float:
+    """The drifting effect's start temperature [K]."""
+    th = next(e for e in model.effects if not getattr(e, "stationary", True))
+    return float(th.initial_temperature_K)
 
 
 def _onto_invariants(model, params, x, rest, y=0.0):
