@@ -200,26 +200,14 @@ def _candidate_names(candidates) -> tuple:
     return names
 
 
-def _stationarity(records, sel: SelectionRule) -> tuple[list, str]:
-    """Stage "check": the cycle drift of every record as read, and the sentence that says
-    which drift (empty when none); the record-quality checks' own verdict is added by
-    :func:`_quality_drift`."""
-    drifts, said = [], []
-    for r in records:
-        d = cycle_drift(r, noise_ratio=sel.structure_factor)
-        drifts.append(d)
-        if d is not None and d.non_stationary:
-            said.append(d.describe())
+def _stationarity(records) -> tuple[list, str]:
+    """Stage "check": the drift test of every record as read (the one test,
+    :func:`~liquidamp.analysis.measured.drift.record_drift`, which the record-quality checks
+    and the noise floor read too; None where it cannot test), and the sentence that says
+    which records drift (empty when none)."""
+    drifts = [cycle_drift(r) for r in records]
+    said = [d.describe() for d in drifts if d is not None and d.non_stationary]
     return drifts, "; ".join(said)
-
-
-def _quality_drift(result: CalibrationResult) -> str:
-    """Non-stationarity stated by the record-quality checks (``DataQuality.drift``,
-    :func:`~liquidamp.analysis.measured.drift.record_drift`): one phrase per drifting
-    record."""
-    return "; ".join(f"{q.source}: " + (q.drift.reason
-                                         or "its cycles drift (record-quality check)")
-                     for q in result.data_quality if q.nonstationary)
 
 
 def _holdout(calibration) -> tuple[tuple, tuple, str]:
@@ -251,14 +239,18 @@ def _holdout(calibration) -> tuple[tuple, tuple, str]:
 
 
 def _prepare(calibration, validation, model, params, effects, spec, options, config,
-             baseline):
+             baseline, drifts=None):
     """Stages "condition", "start" and "fit": the conditioned records, what was done, the
     records as given, and the baseline calibration."""
     bud = config.budget
     raw = (calibration, validation)
     if baseline is None:
-        conds = [condition(r, **config.conditioning.keywords())
-                 for r in calibration + validation]
+        kw = config.conditioning.keywords()
+        drifts = drifts or [None] * (len(calibration) + len(validation))
+        conds = [condition(r, **(kw if d is None or not d.non_stationary
+                                 or kw.get("average", "auto") != "auto"
+                                 else {**kw, "average": False}))
+                 for r, d in zip(calibration + validation, drifts, strict=True)]
         nc = len(calibration)
         calibration = tuple(r for r, _ in conds[:nc])
         validation = tuple(r for r, _ in conds[nc:])
@@ -303,20 +295,15 @@ def _device_round(current, validation, options, bud, names):
     return cands, changes, refits
 
 
-def _noise(calibration, conditioning, drifts) -> tuple[tuple, float, float]:
+def _noise(calibration, conditioning) -> tuple[tuple, float, float]:
     """The noise floor of each conditioned calibration record, the pooled force noise [N]
-    and its NRMSE; a record whose cycles drift counts the noise about its trend (the drift
-    is not noise)."""
+    and its NRMSE; the floor of a record whose cycles drift is the scatter about the drift
+    (:func:`~liquidamp.analysis.measured.record_quality.noise_floor` removes it, once)."""
     meas = np.concatenate([r.force for r in calibration])
     den = float(np.sqrt(np.mean((meas - meas.mean()) ** 2)))
     floors = tuple(c.noise if c.noise is not None else noise_floor(r)
                    for c, r in zip(conditioning, calibration, strict=False))
-    stds = []
-    for f, c, d in zip(floors, conditioning, drifts, strict=False):
-        s = f.std
-        if d is not None and d.non_stationary:
-            s = min(s, d.noise_std / math.sqrt(max(c.cycles_averaged, 1)))
-        stds.append(s)
+    stds = [f.std for f in floors]
     noise_std = float(np.sqrt(sum(s ** 2 * r.time.size
                                   for s, r in zip(stds, calibration, strict=True))
                               / meas.size))
@@ -567,12 +554,13 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
         if baseline is not None:
             raise ParameterError("diagnose with a baseline needs its validation records")
         calibration, validation, holdout = _holdout(calibration)
-    drifts, non_stat = _stationarity(calibration + validation, sel)
-    # stages "condition", "start", "fit"
+    drifts, non_stat = _stationarity(calibration + validation)
+    # stages "condition", "start", "fit"; a drifting record is not averaged over its cycles
+    # (they differ by the drift, which a drifting model follows over the whole record)
     calibration, validation, conditioning, raw, baseline = _prepare(
-        calibration, validation, model, params, effects, spec, options, config, baseline)
-    non_stat = "; ".join(x for x in (non_stat, _quality_drift(baseline)) if x)
-    floors, noise_std, noise_nrmse = _noise(calibration, conditioning, drifts)
+        calibration, validation, model, params, effects, spec, options, config, baseline,
+        drifts)
+    floors, noise_std, noise_nrmse = _noise(calibration, conditioning)
     run = _loop(baseline, names, device_names, validation, options, config, spec,
                 noise_nrmse)
     alt = runner_up(baseline, run, sel.noise_factor * noise_nrmse)
