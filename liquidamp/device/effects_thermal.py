@@ -114,6 +114,11 @@ class SelfHeating(Effect):
         unused by the exponential law.
     law : {"exponential", "water", "walther"}
         Composition field: the viscosity law.
+    start : {"given", "record"}
+        Composition field: where a record's start temperature comes from: T_0
+        (``initial_temperature_K``), or each record's own, estimated from the force of its
+        first cycles by :func:`~liquidamp.analysis.measured.record_model.simulate_record`
+        (a record that starts warm, its temperature not measured).
 
     Examples
     --------
@@ -141,6 +146,8 @@ class SelfHeating(Effect):
     law_b: float = 0.0
     law: str = dataclasses.field(default="exponential",
                                  metadata={"composition": tuple(LAWS)})
+    start: str = dataclasses.field(default="given",
+                                   metadata={"composition": ("given", "record")})
     name: ClassVar[str] = "self_heating"
     units: ClassVar[dict] = {"heat_capacity_J_per_K": "J/K", "conductance_W_per_K": "W/K",
                              "beta_per_K": "1/K", "c2_exponent": "-",

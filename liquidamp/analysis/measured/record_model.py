@@ -378,40 +378,63 @@ def _held_model(model, params, T0):
 def _simulate_drifting(model, params, record, cond, options, route):
     """A periodic stroke on a device that drifts (self-heating): the whole record marched.
 
-    The record starts on the periodic orbit of the device held at its initial temperature
-    T_0 (``initial_temperature_K``: the loss coefficients at T_0, no thermal state), and the
-    whole record is marched from there with the thermal state free, under the record's
-    Fourier stroke (exact derivatives); a conditioned record's force is conditioned as the
-    record's was.
+    The record starts on the periodic orbit of the device held at its start temperature T_0
+    (the loss coefficients at T_0, no thermal state: :func:`_held_model`), and the whole
+    record is marched from there with the thermal state free, under the record's Fourier
+    stroke (exact derivatives); a conditioned record's force is conditioned as the record's
+    was.  T_0 is the effect's ``initial_temperature_K`` (``start="given"``) or, with
+    ``start="record"``, the record's own: the start temperature whose march best matches
+    the force of the record's first two cycles (an initial state estimated from the record
+    it starts, one number; Ljung, System Identification, 2nd ed., 1999, Sec. 16.6).
     """
     from liquidamp.coupled.testrig import prepare_run
 
     stroke = record_stroke(record)
     _check_reach(stroke.max_abs, params)
     t = record.time
-    T = stroke.period
     origin = stroke.t0
     rig_stroke = FourierStroke(stroke.frequency, stroke.sine, stroke.cosine, 0.0, 0.0)
     if cond is not None:
         tq, at_record = cond.model_times(t)
     else:
         tq, at_record = t, np.arange(t.size)
-    s0 = float(tq[0] - origin)
-    th_T0 = _start_temperature(model)
-    base, held, th = _held_model(model, params, th_T0)
-    base, options = prepare_run(base, held, rig_stroke, options)
-    ph0 = float(np.mod(s0, T))
-    y0 = float(rig_stroke(0.0)[0])
-    rest = base.initial_state(held, y0)
+    th = next(e for e in model.effects if not getattr(e, "stationary", True))
+    _, options = prepare_run(model, params, rig_stroke, options)
     stats: dict = {}
+    s = tq - origin
+    if getattr(th, "start", "given") == "record":
+        T0 = _estimate_start(model, params, record, rig_stroke, origin, options, route)
+        stats["start_temperature [K]"] = T0
+    else:
+        T0 = float(th.initial_temperature_K)
+    X = _march_from(model, params, rig_stroke, T0, s, options, route, stats)
+    uq = rig_stroke(s)
+    fq = np.broadcast_to(np.asarray(model.force(s, X, uq, params), float), s.shape)
+    force = cond.model_force(fq) if cond is not None else None
+    Xr = np.ascontiguousarray(X[:, at_record])
+    u = tuple(np.asarray(q)[at_record] for q in uq)
+    stats.update(stroke="fourier", harmonics=stroke.harmonics, velocity_gain=1.0,
+                 route="march over the record")
+    how = "estimated from its first cycles" if th.start == "record" else "given"
+    note = (f"marched over the whole record from the periodic orbit of the device held at "
+            f"{T0 - 273.15:.4g} C ({how}; it drifts: {th.name}); stroke: Fourier series of "
+            f"{stroke.harmonics} harmonic(s), exact derivatives")
+    return _response(model, params, t, Xr, u, options, stats, force=force, note=note)
+
+
+def _march_from(model, params, rig_stroke, T0, s, options, route, stats):
+    """States at rig times ``s`` [s] (sorted) of the drifting ``model`` started at ``s[0]`` on
+    the periodic orbit of the device held at ``T0`` [K]."""
+    T = rig_stroke.period
+    base, held, _ = _held_model(model, params, T0)
+    ph0 = float(np.mod(s[0], T))
+    rest = base.initial_state(held, float(rig_stroke(0.0)[0]))
     if base.n_states:
-        grid = np.unique(np.array([0.0, min(ph0, T * (1.0 - 1e-9))]))
-        grid = np.append(grid, T)
+        grid = np.append(np.unique(np.array([0.0, min(ph0, T * (1.0 - 1e-9))])), T)
         rig0 = TestRig(base, held, rig_stroke)
-        eng0 = engine_for(rig0, options)
         try:
-            orbit = periodic_state(rig0, eng0, rest, options, route=route, invariants_of=rest,
-                                   grid=grid,
+            orbit = periodic_state(rig0, engine_for(rig0, options), rest, options, route=route,
+                                   invariants_of=rest, grid=grid,
                                    shooting=ShootingOptions(max_iter=RECORD_SHOOTING_ITER))
             xb = orbit.states[:, grid.size - 2]
             stats.update({f"start_{k}": v for k, v in orbit.stats.items()})
@@ -421,23 +444,40 @@ def _simulate_drifting(model, params, record, cond, options, route):
             xb = exc.marched[0][:, grid.size - 2]
     else:
         xb = np.zeros(0)
-    x = np.concatenate([xb, [th_T0]])
+    x = np.concatenate([xb, [T0]])
     rig = TestRig(model, params, rig_stroke)
-    engine = engine_for(rig, options)
     max_step = max(options.max_step_fraction, 1e-4) * T
-    s = tq - origin
-    X = engine.march(rig, x, float(s[0]), float(s[-1]), s, options, max_step, stats)
-    uq = rig_stroke(s)
-    fq = np.broadcast_to(np.asarray(model.force(s, X, uq, params), float), s.shape)
-    force = cond.model_force(fq) if cond is not None else None
-    Xr = np.ascontiguousarray(X[:, at_record])
-    u = tuple(np.asarray(q)[at_record] for q in uq)
-    stats.update(stroke="fourier", harmonics=stroke.harmonics, velocity_gain=1.0,
-                 route="march over the record")
-    note = (f"marched over the whole record from the periodic orbit of the device held at "
-            f"{th_T0 - 273.15:.4g} C (it drifts: {th.name}); stroke: Fourier series of "
-            f"{stroke.harmonics} harmonic(s), exact derivatives")
-    return _response(model, params, t, Xr, u, options, stats, force=force, note=note)
+    return engine_for(rig, options).march(rig, x, float(s[0]), float(s[-1]), s, options,
+                                          max_step, stats)
+
+
+#: Whole stroke cycles from a record's start whose force fixes its start temperature [-].
+START_CYCLES = 2.0
+
+
+def _estimate_start(model, params, record, rig_stroke, origin, options, route) -> float:
+    """The start temperature [K] whose march best matches (least squares) the force of the
+    record's first :data:`START_CYCLES` cycles; bounded within T_amb - 30 K and T_amb + 120 K
+    (to 0.02 K)."""
+    from scipy.optimize import minimize_scalar
+
+    th = next(e for e in model.effects if not getattr(e, "stationary", True))
+    t = record.time
+    m = t <= t[0] + START_CYCLES * rig_stroke.period
+    s = t[m] - origin
+    F = record.force[m]
+    u = rig_stroke(s)
+
+    def sse(T0):
+        X = _march_from(model, params, rig_stroke, float(T0), s, options, route, {})
+        f = np.asarray(model.force(s, X, u, params), float)
+        return float(np.sum((f - F) ** 2))
+
+    Ta = th.ambient_temperature_K
+    lo = max(Ta - 30.0, th.law_b + 51.0 if th.law == "water" else 1.0)
+    res = minimize_scalar(sse, bounds=(lo, Ta + 120.0), method="bounded",
+                          options={"xatol": 0.02})
+    return float(res.x)
 
 
 def _start_temperature(model) -> float:
