@@ -314,9 +314,38 @@ def candidate_change(name: str, result: CalibrationResult) -> Change:
     if name in COMPOSITES:
         return COMPOSITES[name].change(result)
     e = probe_effect(name, result)
+    if getattr(e, "proposed_by", ()):
+        return _drifting_change(e, result)
     key = e.fit_keys[0]
     return Change(tuple(result.effects) + (e,), free=tuple((name, k) for k in e.fit_keys),
                   lead=(name, key), base=0.0, probe=float(getattr(e, key)), added=name)
+
+
+def _measured(result: CalibrationResult, channel: str) -> bool:
+    """Whether every calibration and held-out record carries the measured ``channel``."""
+    recs = tuple(result.calibration) + tuple(getattr(result, "validation", ()) or ())
+    return bool(recs) and all(channel in getattr(r, "channels", {}) for r in recs)
+
+
+def _drifting_change(e: Effect, result: CalibrationResult) -> Change:
+    """Self-heating proposed by a drift or a measured temperature (``Effect.proposed_by``).
+
+    With the temperature measured on every record it drives the viscosity law: the
+    coefficient beta (``fit_keys_measured``) is the one freed, the lead from beta = 0
+    (the device without the effect).  Without it each record's start temperature is its
+    own (``start="record"``), the law's beta stays at its probe (only beta / h_A and
+    C_th / h_A show in a force), and the heat capacity and conductance (``fit_keys``) are
+    freed, the lead again beta from 0.
+    """
+    if _measured(result, "temperature"):
+        e = e.replace(start="given")
+        free = e.fit_keys_measured
+    else:
+        e = e.replace(start="record")
+        free = e.fit_keys
+    return Change(tuple(result.effects) + (e,), free=tuple((e.name, k) for k in free),
+                  lead=(e.name, "beta_per_K"), base=0.0, probe=float(e.beta_per_K),
+                  added=e.name)
 
 
 def applicable(name: str, result: CalibrationResult) -> str:
@@ -327,4 +356,23 @@ def applicable(name: str, result: CalibrationResult) -> str:
         with_effects(result.device_model, EFFECTS[name]())
     except ParameterError as exc:
         return str(exc)
-    return ""
+    return _proposed(EFFECTS[name], result)
+
+
+def _proposed(cls, result: CalibrationResult) -> str:
+    """Why an effect proposed only by what a record shows (``Effect.proposed_by``: a drift of
+    its force, a measured temperature) is not proposed by these records ('' when it is): a
+    stationary record without the channel has nothing such an effect could follow."""
+    why = getattr(cls, "proposed_by", ())
+    if not why:
+        return ""
+    recs = tuple(result.calibration)
+    if "temperature" in why and _measured(result, "temperature"):
+        return ""
+    if "drift" in why:
+        from liquidamp.analysis.measured.drift import record_drift
+
+        if any(r.periodic and record_drift(r).nonstationary for r in recs):
+            return ""
+    return ("proposed only by a record whose force drifts from cycle to cycle or that "
+            "carries a measured temperature; these records do neither")
