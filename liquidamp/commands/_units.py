@@ -420,7 +420,9 @@ COMPOSITE_NAMES = ("backlash", "friction_asymmetry", "friction_transition")
 #: Composition choices of the effects (``Effect.composition_keys()``; held equal by a test).
 EFFECT_CHOICES = {"coulomb_friction": {"location": ("rod", "piston")},
                   "smooth_friction": {"location": ("rod", "piston")},
-                  "self_heating": {"law": ("exponential", "water", "walther")}}
+                  "self_heating": {"law": ("exponential", "water", "walther"),
+                                   "start": ("given", "record"),
+                                   "temperature": ("state", "measured")}}
 
 
 def _unknown(what: str, value: str, valid) -> str:

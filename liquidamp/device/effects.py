@@ -45,6 +45,10 @@ name                    parameters                             states added
                         compression_conductance_m3_per_s_Pa,   cracking pressure and conductance
                         rebound_cracking_Pa,                   per flow direction (a knee per
                         rebound_conductance_m3_per_s_Pa        direction)
+``field_yield``         yield_pressure_Pa,                     u_field [V or A] (field lag of
+                        yield_pressure_per_input,              the measured voltage or current;
+                        lag_rate_per_s,                        Bingham-like yield drop in the
+                        smoothing_flow_kg_per_s; input         channel's momentum balance)
 ``self_heating``        heat_capacity_J_per_K,                 T_fluid [K]: warmed by the
                         conductance_W_per_K, beta_per_K,       dissipated power; c1 x mu(T)/
                         c2_exponent, ambient/reference/        mu(T_ref), c2 x its power
@@ -54,7 +58,8 @@ name                    parameters                             states added
 
 Composition order is canonical whatever order the effects are given in
 (``order``, innermost first): the fluid effects act on the chamber equations
-innermost (asymmetric_loss 3 on the channel's coefficients, leakage 5 and
+innermost (asymmetric_loss 3 on the channel's coefficients, leakage 5, field_yield 6 on the
+channel's momentum balance, and
 relief_valve or digressive_valve 7 as paths beside the channel, rotating_frame 8 driving every
 flow path, cavitation 10 on the pressure rates, so that it sees the rotating
 frame's lowered inboard pressures); the kinematic effects (series_compliance
@@ -103,7 +108,9 @@ force_offset, moving_mass, elastomer, end_stops),
 :mod:`~liquidamp.device.effects_fluid` (leakage, relief_valve,
 asymmetric_loss, cavitation), :mod:`~liquidamp.device.effects_operating`
 (rotating_frame) and :mod:`~liquidamp.device.effects_damper` (gas_charge,
-digressive_valve: what real dampers have, issue #20).
+digressive_valve: what real dampers have, issue #20) and
+:mod:`~liquidamp.device.effects_field` (field_yield, which reads a measured input channel:
+how is documented on the :class:`~liquidamp.device.effects_base.Effect` base).
 
 The scalar laws (:func:`lugre_rate`, :func:`play_rate`,
 :func:`compliance_rate`, :func:`cavity_rates`) are the compiled ones of
@@ -140,6 +147,7 @@ from liquidamp.device.effects_base import (
     _piston_stroke,
 )
 from liquidamp.device.effects_damper import DigressiveValve, GasCharge
+from liquidamp.device.effects_field import FieldYield
 from liquidamp.device.effects_fluid import (
     AsymmetricLoss,
     Cavitation,
@@ -187,6 +195,7 @@ __all__ = [
     "RotatingFrame",
     "GasCharge",
     "DigressiveValve",
+    "FieldYield",
     "SelfHeating",
     "EFFECTS",
     "effect_names",
@@ -207,7 +216,8 @@ EFFECTS: dict[str, type[Effect]] = {
     cls.name: cls
     for cls in (CoulombFriction, SmoothFriction, ForceOffset, MovingMass, SeriesCompliance,
                 Freeplay, Leakage, Cavitation, ReliefValve, AsymmetricLoss, Elastomer, EndStops,
-                RotatingFrame, GasCharge, DigressiveValve, SelfHeating)
+                RotatingFrame, GasCharge, DigressiveValve, FieldYield,
+                SelfHeating)
 }
 """Registry: effect name -> class."""
 
@@ -221,7 +231,7 @@ def effect_names() -> tuple[str, ...]:
     ('coulomb_friction', 'smooth_friction', 'force_offset', 'moving_mass', \
 'series_compliance', 'freeplay', 'leakage', 'cavitation', 'relief_valve', 'asymmetric_loss', \
 'elastomer', 'end_stops', 'rotating_frame', 'gas_charge', 'digressive_valve', \
-'self_heating')
+'field_yield', 'self_heating')
     """
     return tuple(EFFECTS)
 
@@ -251,7 +261,7 @@ def make_effect(name: str, **parameters) -> Effect:
     liquidamp.errors.ParameterError: unknown effect 'stiction'; valid: coulomb_friction, \
 smooth_friction, force_offset, moving_mass, series_compliance, freeplay, leakage, cavitation, \
 relief_valve, asymmetric_loss, elastomer, end_stops, rotating_frame, gas_charge, \
-digressive_valve, self_heating
+digressive_valve, field_yield, self_heating
     """
     check_choice("effect", name, EFFECTS)
     cls = EFFECTS[name]

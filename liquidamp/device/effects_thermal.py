@@ -119,6 +119,10 @@ class SelfHeating(Effect):
         (``initial_temperature_K``), or each record's own, estimated from the force of its
         first cycles by :func:`~liquidamp.analysis.measured.record_model.simulate_record`
         (a record that starts warm, its temperature not measured).
+    temperature : {"state", "measured"}
+        Composition field: what the law reads: the thermal state, or the record's measured
+        ``temperature`` channel (:attr:`input_channels`; the state then still integrates the
+        heat balance, the model's own prediction beside the measurement).
 
     Examples
     --------
@@ -148,6 +152,8 @@ class SelfHeating(Effect):
                                  metadata={"composition": tuple(LAWS)})
     start: str = dataclasses.field(default="given",
                                    metadata={"composition": ("given", "record")})
+    temperature: str = dataclasses.field(default="state",
+                                         metadata={"composition": ("state", "measured")})
     name: ClassVar[str] = "self_heating"
     units: ClassVar[dict] = {"heat_capacity_J_per_K": "J/K", "conductance_W_per_K": "W/K",
                              "beta_per_K": "1/K", "c2_exponent": "-",
@@ -244,11 +250,17 @@ class SelfHeating(Effect):
         return dataclasses.replace(self, heat_capacity_J_per_K=math.inf,
                                    initial_temperature_K=T)
 
+    @property
+    def input_channels(self) -> tuple:
+        """``("temperature",)`` where the measured temperature drives the law, else ()."""
+        return ("temperature",) if self.temperature == "measured" else ()
+
     def pack(self, ep):
         ep[K.E_TC], ep[K.E_THA] = self.heat_capacity_J_per_K, self.conductance_W_per_K
         ep[K.E_TAMB], ep[K.E_TREF] = self.ambient_temperature_K, self.reference_temperature_K
         ep[K.E_TBETA], ep[K.E_TG2] = self.beta_per_K, self.c2_exponent
         ep[K.E_TLAW], ep[K.E_TA], ep[K.E_TB] = LAWS[self.law], self.law_a, self.law_b
+        ep[K.E_TSRC] = 1.0 if self.temperature == "measured" else 0.0
 
     def initial_state(self, params, y0):
         return np.array([self.initial_temperature_K])

@@ -41,6 +41,7 @@ from liquidamp.device.kernels_laws import (
     rotating_slope,
     stop_force,
     valve_flow,
+    yield_drop,
 )
 from liquidamp.device.kernels_layout import (
     _FM,
@@ -51,8 +52,12 @@ from liquidamp.device.kernels_layout import (
     E_CRQ,
     E_CS,
     E_CTR,
+    E_DPY0,
+    E_DPY1,
+    E_ETA,
     E_FEX,
     E_FRQ,
+    E_FYCH,
     E_GAP,
     E_GR,
     E_GR2,
@@ -62,6 +67,7 @@ from liquidamp.device.kernels_layout import (
     E_KS,
     E_LEAK,
     E_MASS,
+    E_MEPS,
     E_NG,
     E_OFF,
     E_PAT,
@@ -90,6 +96,7 @@ from liquidamp.device.kernels_layout import (
     M_SINGLE_STATE,
     M_VISCOUS,
     M_VOLUMETRIC,
+    N_CH,
     N_EP,
     P_AP,
     P_B01,
@@ -97,12 +104,17 @@ from liquidamp.device.kernels_layout import (
     P_BLM,
     P_C1,
     P_C2,
+    P_CH,
+    P_CHD,
     P_CL,
     P_CV,
     P_FRIC,
     P_G1,
     P_G2,
     P_KD,
+    P_LT,
+    P_RHO0,
+    P_ST,
     P_TD,
     P_V01,
     P_V02,
@@ -112,6 +124,7 @@ from liquidamp.device.kernels_layout import (
     S_ASYM,
     S_COUL,
     S_CPIST,
+    S_FY,
     S_GAS,
     S_I1,
     S_I2,
@@ -132,7 +145,12 @@ from liquidamp.device.kernels_layout import (
     S_TH,
     S_ZPIST,
 )
-from liquidamp.device.kernels_thermal import channel_power, heat_rate, thermal_params
+from liquidamp.device.kernels_thermal import (
+    channel_power,
+    heat_rate,
+    law_temperature,
+    thermal_params,
+)
 
 drop_stale(__file__)  # before any kernel of this module loads from the cache
 
@@ -216,6 +234,23 @@ def _damper_force(spec, v, prm, ep):
 
 
 @njit(cache=True, error_model="numpy")
+def _field_yield(mid, x, ify, prm, ep, out):
+    """Field-dependent yield (``field_yield``): the channel's momentum balance loses the
+    yield drop :func:`yield_drop` at the lagged field u_f = x[ify], whose rate
+    eta (u - u_f) follows the measured input u (``prm[P_CH + k]``, k = ``ep[E_FYCH]``)."""
+    uf = x[ify]
+    u = prm[P_CH + int(ep[E_FYCH])]
+    out[ify] = ep[E_ETA] * (u - uf)
+    if mid == M_FULL:
+        out[4] -= yield_drop(x[4], uf, ep[E_DPY0], ep[E_DPY1], ep[E_MEPS]) / prm[P_ST]
+    elif mid == M_INERTIAL:
+        out[2] -= yield_drop(x[2], uf, ep[E_DPY0], ep[E_DPY1], ep[E_MEPS]) / prm[P_ST]
+    elif mid == M_INERTIAL_2STATE:  # volumetric flow q: mass flow rho0 q, inertance L_t
+        out[1] -= yield_drop(prm[P_RHO0] * x[1], uf, ep[E_DPY0], ep[E_DPY1],
+                             ep[E_MEPS]) / prm[P_LT]
+
+
+@njit(cache=True, error_model="numpy")
 def _fluid_rhs(spec, x, y, v, prm, ep, out):
     """Base model with the fluid effects (leakage, rotating frame, cavitation) at piston
     stroke (y, v)."""
@@ -237,6 +272,9 @@ def _fluid_rhs(spec, x, y, v, prm, ep, out):
         base_rhs(mid, x, y, v, prm, kL, dpc, out)
     if spec[S_RELIEF] != 0 and i1 < 0:
         _relief_differential(mid, x, y, prm, ep, dpc, out)
+    ify = spec[S_FY]
+    if ify >= 0:
+        _field_yield(mid, x, ify, prm, ep, out)
     ic = spec[S_ICAV]
     if ic >= 0:
         i2 = spec[S_I2]
@@ -338,7 +376,7 @@ def model_rhs(spec, x, y, v, prm, ep, out):
         return
     ith = spec[S_TH]
     if ith >= 0:  # self-heating: the loss coefficients at the fluid's temperature
-        prm = thermal_params(x[ith], prm, ep)
+        prm = thermal_params(law_temperature(x[ith], prm, ep), prm, ep)
     yi = y
     vi = v
     ifp = spec[S_IFP]
@@ -450,8 +488,21 @@ def model_rhs_t(spec, x, y, v, yd, vd, prm, ep, out):
         return
     dt = 1.0e-7
     fm = np.empty(n)
-    model_rhs(spec, x, y + dt * yd, v + dt * vd, prm, ep, out)
-    model_rhs(spec, x, y - dt * yd, v - dt * vd, prm, ep, fm)
+    moving = False  # measured input channels that change along the step (their rates)
+    for k in range(N_CH):
+        if prm[P_CHD + k] != 0.0:
+            moving = True
+    if moving:
+        qp = prm.copy()
+        qm = prm.copy()
+        for k in range(N_CH):
+            qp[P_CH + k] = prm[P_CH + k] + dt * prm[P_CHD + k]
+            qm[P_CH + k] = prm[P_CH + k] - dt * prm[P_CHD + k]
+        model_rhs(spec, x, y + dt * yd, v + dt * vd, qp, ep, out)
+        model_rhs(spec, x, y - dt * yd, v - dt * vd, qm, ep, fm)
+    else:
+        model_rhs(spec, x, y + dt * yd, v + dt * vd, prm, ep, out)
+        model_rhs(spec, x, y - dt * yd, v - dt * vd, prm, ep, fm)
     for i in range(n):
         out[i] = (out[i] - fm[i]) / (2.0 * dt)
 
@@ -468,7 +519,7 @@ def model_force(spec, x, y, v, a, prm, ep, with_friction):
     """
     mid = spec[S_MID]
     if spec[S_TH] >= 0:  # self-heating: the loss coefficients at the fluid's temperature
-        prm = thermal_params(x[spec[S_TH]], prm, ep)
+        prm = thermal_params(law_temperature(x[spec[S_TH]], prm, ep), prm, ep)
     yi = y
     vi = v
     ifp = spec[S_IFP]
@@ -527,3 +578,20 @@ def force_series(spec, X, Y, V, A, prm, ep, with_friction, out):
             out[k] = model_force(spec, xk, Y[k], V[k], A[k], prm, ep, True)
         else:
             out[k] = model_force(spec, xk, Y[k], V[k], A[k], prm, ep, False)
+
+
+@njit(cache=True, error_model="numpy")
+def force_series_inputs(spec, X, Y, V, A, C, prm, ep, with_friction, out):
+    """:func:`force_series` with the measured input channels of every sample: ``C`` (N_CH, N)
+    the channel values in slot order (``prm[P_CH + k]``, see ``kernels_layout.CHANNELS``)."""
+    q = prm.copy()
+    xk = np.empty(X.shape[0])
+    for k in range(out.size):
+        for j in range(N_CH):
+            q[P_CH + j] = C[j, k]
+        for i in range(X.shape[0]):
+            xk[i] = X[i, k]
+        if with_friction:
+            out[k] = model_force(spec, xk, Y[k], V[k], A[k], q, ep, True)
+        else:
+            out[k] = model_force(spec, xk, Y[k], V[k], A[k], q, ep, False)

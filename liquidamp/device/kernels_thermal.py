@@ -41,6 +41,7 @@ from liquidamp.device.kernels_layout import (
     E_TG2,
     E_TLAW,
     E_TREF,
+    E_TSRC,
     M_CONSTANT_BULK,
     M_DASHPOT,
     M_DASHPOT_INERTER,
@@ -54,6 +55,7 @@ from liquidamp.device.kernels_layout import (
     M_VOLUMETRIC,
     P_C1,
     P_C2,
+    P_CH,
     P_CL,
     P_CV,
     P_CV2,
@@ -94,6 +96,16 @@ def viscosity_ratio(T, T_ref, law, beta, a, b):
     0.65
     """
     return math.exp(_log_mu(T, law, beta, a, b) - _log_mu(T_ref, law, beta, a, b))
+
+
+@njit(cache=True, error_model="numpy", fastmath=_FM)
+def law_temperature(T_state, prm, ep):
+    """The temperature the viscosity law reads [K]: the thermal state, or the measured
+    ``temperature`` channel (slot 0 of the input channels, ``prm[P_CH]``) where
+    ``ep[E_TSRC]`` is 1."""
+    if ep[E_TSRC] != 0.0:
+        return prm[P_CH]
+    return T_state
 
 
 @njit(cache=True, error_model="numpy", fastmath=_FM)

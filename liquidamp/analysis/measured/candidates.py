@@ -338,7 +338,7 @@ def _drifting_change(e: Effect, result: CalibrationResult) -> Change:
     freed, the lead again beta from 0.
     """
     if _measured(result, "temperature"):
-        e = e.replace(start="given")
+        e = e.replace(start="given", temperature="measured")
         free = e.fit_keys_measured
     else:
         e = e.replace(start="record")

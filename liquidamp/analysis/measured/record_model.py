@@ -26,6 +26,15 @@ to approach: it runs from rest at its first sample under the Savitzky-Golay stro
 the fit), and the response states the filter's velocity gain at the record's frequency
 (:func:`~liquidamp.analysis.measured.record_quality.velocity_gain`).
 
+Measured input channels (issue #20): a model that reads channels
+(:attr:`DeviceModel.input_channels`, e.g. ``field_yield`` the voltage) is driven by the
+record's channels sample by sample, so it runs the record from its first sample (the
+route of a record that is not periodic, whatever its stroke), the channels carried by the
+stroke on its time grid (the record's samples as read, before any filter) and interpolated
+at every stage on both engines; the effect states that follow an input start settled on
+its first value (:meth:`Effect.input_state`).  A record without a channel the model reads
+is refused before any work, naming the effect, the channel and the record's channels.
+
 References
 ----------
 .. [1] B. Titurus, AIAA J. 56(10), 2018, Sec. IV.B-C.
@@ -38,10 +47,11 @@ import numpy as np
 
 from liquidamp.analysis.measured.record_quality import velocity_gain
 from liquidamp.analysis.measured.records import Record
-from liquidamp.coupled.engines import TestRig, engine_for
+from liquidamp.coupled.engines import TestRig, engine_for, stroke_inputs
 from liquidamp.coupled.periodic import ROUTES, ShootingOptions, periodic_state
 from liquidamp.coupled.testrig import DeviceResponse
 from liquidamp.device.effects import with_stroke_offset
+from liquidamp.device.effects_base import check_input_channels, initial_state_with_inputs
 from liquidamp.device.models import DeviceModel, get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, ParameterError, PressureError, check_choice
@@ -202,17 +212,34 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     cond = record.meta.get("conditioning")
     if cond is not None and not cond.changed:
         cond = None
-    if record.periodic:
-        if not stationary(model):  # a warming device: no periodic orbit to sit on
-            return _simulate_drifting(model, params, record, cond, options, route)
+    chans = model.input_channels
+    if chans:  # measured input channels: refused before any work where the record lacks one
+        check_input_channels(model, tuple(record.channels), f"record {record.label!r}")
+        if cond is not None and cond.cycles_averaged > 1:
+            raise ParameterError(
+                f"{record.label}: model {model.name!r} reads the measured channel(s) "
+                f"{', '.join(chans)}, which drive it sample by sample from the record's "
+                "start; a record averaged into one cycle has no such series (condition it "
+                "with average=False)")
+    if record.periodic and not stationary(model):  # a warming device: no periodic orbit
+        return _simulate_drifting(model, params, record, cond, options, route, chans)
+    if record.periodic and not chans:
         return _simulate_periodic(model, params, record, cond, options, x0, route)
     # a conditioned record (liquidamp.analysis.measured.conditioning) states the stroke the
     # model is driven by: the record's over its whole span, ends and all
     stroke = record.stroke() if cond is None else RecordedStroke(*cond.model_stroke())
+    if chans:
+        stroke = _with_channels(stroke, record, cond, chans)
     _check_reach(stroke.max_abs, params)
     t = record.time
     y0 = float(stroke.displacement[0])
-    x = model.initial_state(params, y0) if x0 is None else np.asarray(x0, float)
+    if x0 is not None:
+        x = np.asarray(x0, float)
+    elif chans:  # effect states on a measured input start settled on its first value
+        x = initial_state_with_inputs(model, params, y0,
+                                      {c: float(v[0]) for c, v in stroke.channels.items()})
+    else:
+        x = model.initial_state(params, y0)
     # one driver for both engines (liquidamp.coupled.engines): the device on the test machine
     # under the recorded stroke.  A bounded step: a state that rests while the input moves
     # (freeplay in its gap, a closed cavity) gives zero derivatives at the start, and an
@@ -235,14 +262,35 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
         # the model force conditioned as the record's was
         tf, at_record = cond.model_times(t)
         Xf = run(tf, x)
-        uf = stroke(tf)
+        uf = _inputs_too(stroke(tf), stroke, tf, chans)
         ff = np.broadcast_to(np.asarray(model.force(tf, Xf, uf, params), float), tf.shape)
         X = np.ascontiguousarray(Xf[:, at_record])
         return _response(model, params, t, X, stroke(t), options, stats,
                          force=cond.model_force(ff), note=note)
     X = run(t, x)
     u = (stroke.displacement, stroke.velocity, stroke.acceleration)
-    return _response(model, params, t, X, u, options, stats, note=note)
+    force = None
+    if chans:
+        force = model.force(t, X, _inputs_too(u, stroke, t, chans), params)
+    return _response(model, params, t, X, u, options, stats, note=note, force=force)
+
+
+def _with_channels(stroke, record, cond, chans):
+    """``stroke`` carrying the record's measured channels ``chans`` on its time grid: the
+    samples of the record as given (before any filter: a step in a control input stays a
+    step), interpolated linearly where the grids differ."""
+    src = cond.record if cond is not None and cond.record is not None else record
+    ch = {c: np.interp(stroke.time, src.time, src.channels[c]) for c in chans}
+    return RecordedStroke(stroke.time, stroke.displacement, stroke.velocity,
+                          stroke.acceleration, channels=ch)
+
+
+def _inputs_too(u, stroke, t, chans):
+    """``u = (y, v, a)`` with the channel values at ``t`` as its fourth entry where the model
+    reads channels (:meth:`DeviceModel.force`)."""
+    if not chans:
+        return u
+    return tuple(u) + (stroke_inputs(stroke, t),)
 
 
 def _check_reach(reach: float, params: DeviceParams) -> None:
@@ -375,7 +423,7 @@ def _held_model(model, params, T0):
     return with_effects(bare, *others), held, th
 
 
-def _simulate_drifting(model, params, record, cond, options, route):
+def _simulate_drifting(model, params, record, cond, options, route, chans=()):
     """A periodic stroke on a device that drifts (self-heating): the whole record marched.
 
     The record starts on the periodic orbit of the device held at its start temperature T_0
@@ -402,29 +450,43 @@ def _simulate_drifting(model, params, record, cond, options, route):
     _, options = prepare_run(model, params, rig_stroke, options)
     stats: dict = {}
     s = tq - origin
-    if getattr(th, "start", "given") == "record":
+    drive = rig_stroke
+    if chans:  # measured channels ride on the stroke: the Fourier series sampled 4x finer
+        src = cond.record if cond is not None and cond.record is not None else record
+        dt = 0.25 / record.sampling_rate
+        grid = np.arange(s[0], s[-1] + 0.5 * dt, dt)
+        grid[-1] = max(grid[-1], s[-1])
+        drive = RecordedStroke(grid, *rig_stroke(grid),
+                               channels={c: np.interp(grid + origin, src.time, src.channels[c])
+                                         for c in chans})
+    if getattr(th, "temperature", "state") == "measured":
+        T0 = float(np.interp(s[0], drive.time, drive.channels["temperature"]))
+    elif getattr(th, "start", "given") == "record":
         T0 = _estimate_start(model, params, record, rig_stroke, origin, options, route)
         stats["start_temperature [K]"] = T0
     else:
         T0 = float(th.initial_temperature_K)
-    X = _march_from(model, params, rig_stroke, T0, s, options, route, stats)
+    X = _march_from(model, params, rig_stroke, T0, s, options, route, stats, drive)
     uq = rig_stroke(s)
-    fq = np.broadcast_to(np.asarray(model.force(s, X, uq, params), float), s.shape)
+    fq = np.broadcast_to(np.asarray(model.force(s, X, _inputs_too(uq, drive, s, chans),
+                                                params), float), s.shape)
     force = cond.model_force(fq) if cond is not None else None
     Xr = np.ascontiguousarray(X[:, at_record])
     u = tuple(np.asarray(q)[at_record] for q in uq)
     stats.update(stroke="fourier", harmonics=stroke.harmonics, velocity_gain=1.0,
                  route="march over the record")
-    how = "estimated from its first cycles" if th.start == "record" else "given"
+    how = ("measured" if th.temperature == "measured" else
+           "estimated from its first cycles" if th.start == "record" else "given")
     note = (f"marched over the whole record from the periodic orbit of the device held at "
             f"{T0 - 273.15:.4g} C ({how}; it drifts: {th.name}); stroke: Fourier series of "
             f"{stroke.harmonics} harmonic(s), exact derivatives")
     return _response(model, params, t, Xr, u, options, stats, force=force, note=note)
 
 
-def _march_from(model, params, rig_stroke, T0, s, options, route, stats):
+def _march_from(model, params, rig_stroke, T0, s, options, route, stats, drive=None):
     """States at rig times ``s`` [s] (sorted) of the drifting ``model`` started at ``s[0]`` on
-    the periodic orbit of the device held at ``T0`` [K]."""
+    the periodic orbit of the device held at ``T0`` [K]; marched under ``drive`` (default
+    ``rig_stroke``; a RecordedStroke carrying measured channels)."""
     T = rig_stroke.period
     base, held, _ = _held_model(model, params, T0)
     ph0 = float(np.mod(s[0], T))
@@ -445,7 +507,7 @@ def _march_from(model, params, rig_stroke, T0, s, options, route, stats):
     else:
         xb = np.zeros(0)
     x = np.concatenate([xb, [T0]])
-    rig = TestRig(model, params, rig_stroke)
+    rig = TestRig(model, params, rig_stroke if drive is None else drive)
     max_step = max(options.max_step_fraction, 1e-4) * T
     return engine_for(rig, options).march(rig, x, float(s[0]), float(s[-1]), s, options,
                                           max_step, stats)
