@@ -246,11 +246,7 @@ def _prepare(calibration, validation, model, params, effects, spec, options, con
     raw = (calibration, validation)
     if baseline is None:
         kw = config.conditioning.keywords()
-        drifts = drifts or [None] * (len(calibration) + len(validation))
-        conds = [condition(r, **(kw if d is None or not d.non_stationary
-                                 or kw.get("average", "auto") != "auto"
-                                 else {**kw, "average": False}))
-                 for r, d in zip(calibration + validation, drifts, strict=True)]
+        conds = [condition(r, **kw) for r in calibration + validation]
         nc = len(calibration)
         calibration = tuple(r for r, _ in conds[:nc])
         validation = tuple(r for r, _ in conds[nc:])
@@ -259,6 +255,26 @@ def _prepare(calibration, validation, model, params, effects, spec, options, con
                              spec=spec, validate=validation, options=options,
                              max_nfev=bud.max_nfev, preroll=bud.preroll, tol=bud.tol,
                              warn=False, sizing=config.sizing, outliers=config.outliers)
+        drifts = drifts or [None] * len(conds)
+        if kw.get("average", "auto") == "auto" and any(
+                d is not None and d.non_stationary and c.cycles_averaged > 1
+                for d, (_, c) in zip(drifts, conds, strict=True)):
+            # a drifting record is not averaged over its cycles (they differ by the drift,
+            # which a drifting model follows over the whole record): the stationary baseline
+            # fitted on the averages (least squares on every cycle, the same optimum) is
+            # continued on the records as they run
+            conds = [condition(r, **{**kw, "average": False})
+                     if d is not None and d.non_stationary else rc
+                     for r, d, rc in zip(raw[0] + raw[1], drifts, conds, strict=True)]
+            calibration = tuple(r for r, _ in conds[:nc])
+            validation = tuple(r for r, _ in conds[nc:])
+            conditioning = tuple(c for _, c in conds)
+            baseline = calibrate(calibration, model=baseline.model,
+                                 params=baseline.start_params, effects=baseline.effects,
+                                 spec=baseline.spec, validate=validation, options=options,
+                                 start="spec", max_nfev=bud.max_nfev, preroll=bud.preroll,
+                                 tol=bud.tol, warn=False, sizing="auto",
+                                 outliers=config.outliers)
     else:
         calibration = baseline.calibration
         conditioning = tuple(r.meta.get("conditioning")

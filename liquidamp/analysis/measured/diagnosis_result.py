@@ -145,7 +145,12 @@ class Diagnosis:
         effects added and the held-out NRMSE per record, pooled beside), then the
         reference models held out, then why the loop stopped."""
         first = []
-        if self.non_stationary:
+        drifting = [e.name for e in self.final.effects if not getattr(e, "stationary", True)]
+        if self.non_stationary and drifting:
+            first.append("NON-STATIONARY: the records drift (" + self.non_stationary + "); "
+                         "followed by " + ", ".join(drifting) + ", a drifting model marched "
+                         "over each whole record")
+        elif self.non_stationary:
             first.append("NON-STATIONARY: the residual is non-stationary (" +
                          self.non_stationary + "); no stationary effect explains a drift, "
                          "and no effect with a parameter at a bound is kept")
