@@ -127,6 +127,7 @@ References
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings as _warnings
 
@@ -269,12 +270,17 @@ def _prepare(calibration, validation, model, params, effects, spec, options, con
             calibration = tuple(r for r, _ in conds[:nc])
             validation = tuple(r for r, _ in conds[nc:])
             conditioning = tuple(c for _, c in conds)
+            averaged = baseline
             baseline = calibrate(calibration, model=baseline.model,
                                  params=baseline.start_params, effects=baseline.effects,
                                  spec=baseline.spec, validate=validation, options=options,
                                  start="spec", max_nfev=bud.max_nfev, preroll=bud.preroll,
                                  tol=bud.tol, warn=False, sizing="auto",
                                  outliers=config.outliers)
+            # the class choice was made on the averages: its starts (and the runner-up a
+            # revisit diagnoses) are the averaged baseline's
+            baseline = dataclasses.replace(baseline, device_class=averaged.device_class,
+                                           class_starts=averaged.class_starts)
     else:
         calibration = baseline.calibration
         conditioning = tuple(r.meta.get("conditioning")
