@@ -60,7 +60,8 @@ class FieldYield(Effect):
     g2 m|m|), m = rho0 A_p v.  It reads a measured channel, so it runs only where one
     drives it (a record: :func:`~liquidamp.analysis.measured.record_model.simulate_record`);
     an analytic stroke, a coupled host and the frequency-domain analyses refuse it naming
-    why.  The field starts settled on the input's first value (:meth:`input_state`).
+    why.  The field starts settled on the input's first value (:meth:`input_state`).  Its
+    Jacobian is analytic (with the base's, where the other effects keep it analytic).
 
     Parameters
     ----------
