@@ -105,8 +105,8 @@ balance (a mass-flow state); model 'no_inertia' has none; use 'full', 'inertial'
                              "lag_rate_per_s": "1/s", "smoothing_flow_kg_per_s": "kg/s"}
     fit_keys: ClassVar[tuple] = ("yield_pressure_Pa", "yield_pressure_per_input",
                                  "lag_rate_per_s")
-    bounds: ClassVar[dict] = {"yield_pressure_Pa": (0.0, 1e8),
-                              "yield_pressure_per_input": (0.0, 1e8),
+    bounds: ClassVar[dict] = {"yield_pressure_Pa": (1.0, 1e8),
+                              "yield_pressure_per_input": (1.0, 1e8),
                               "lag_rate_per_s": (1.0, 1e4),
                               "smoothing_flow_kg_per_s": (1e-7, 1.0)}
     order: ClassVar[int] = 6
