@@ -114,7 +114,8 @@ from liquidamp.errors import ConvergenceError, ParameterError, PressureError
 __all__ = ["DEVICE_CLASSES", "FLUID_FLOOR", "VISCOUS_FLOOR", "QUADRATIC_SHARE", "START_NFEV",
            "HELD_OUT_TOLERANCE", "BIC_STRONG", "BIC_POSITIVE", "DEFAULT_CLASS", "LoopReading",
            "read_loop", "ClassStart",
-           "fluid_matched", "friction_start", "viscous_start", "field_input", "field_start", "StartOutcome", "choose_start",
+           "fluid_matched", "friction_start", "viscous_start", "field_input", "field_start",
+           "StartOutcome", "choose_start",
            "calibrate_by_class"]
 
 #: The structurally different starts, in the order they are tried (``field`` only where
@@ -410,17 +411,19 @@ def field_start(base: DeviceParams, effects, records, reading: LoopReading) -> C
     """A field-controlled (MR/ER) device: the fluid with ``field_yield`` on the channel.
 
     Read off the records by least squares, F ~ F0 + k y + c v + c_q v|v| + (A + B u_f) z(t):
-    z the
-    Dahl bristle state of :func:`read_loop` (a yield that opposes the flow, smoothed at
-    reversal) and u_f the control input through the field lag, the pre-sliding stroke and
-    the lag rate on grids (:data:`FIELD_RATES`), the least residual winning.  Then the fluid
-    is the device sized to the records' K* as the fluid start's (:func:`fluid_matched`) with
-    the channel's losses c1 = c / A_p^2, c2 = c_q / A_p^3 read off the line, filled at p0 = max(p0, max |F - F0| / A_p) so that its
-    low-pressure chamber keeps at least half the filling pressure under the records' force
-    (a field-controlled damper is pressurized: the yield drop would otherwise pull a chamber
-    to zero), with the yield drops dp_y0 = A / A_p and dp_y1 = B / A_p, the lag rate read,
-    and m_eps = :data:`FIELD_SMOOTHING` of the records' RMS mass flow.  The air ratios,
-    losses and the yield's parameters are fitted.
+    z the Dahl bristle state of :func:`read_loop` (a yield that opposes the flow, smoothed
+    at reversal) and u_f the control input through the field lag (:func:`_lagged`), the
+    pre-sliding stroke dy0 and the lag rate on grids (:data:`FIELD_RATES`), the least
+    residual winning.  The device is the starting one stretched to the stroke (its piston
+    kept: any piston carries the force at its own pressures), filled at p0 = max(p0,
+    max |F - F0| / A_p) so that its low-pressure chamber keeps at least half the filling
+    pressure under the records' force (a field-controlled damper is pressurized: the yield
+    drop would otherwise pull a chamber to zero), its air giving the pre-yield stiffness
+    k_D = (A + B mean u) / dy0 (the yield force builds up over dy0 by compressing the
+    fluid), its channel's losses c1 = c / A_p^2, c2 = c_q / A_p^3 read off the line, with
+    the yield drops dp_y0 = A / A_p, dp_y1 = B / A_p, the lag rate read and m_eps =
+    :data:`FIELD_SMOOTHING` of the records' RMS mass flow.  The air ratios, losses, the
+    channel's inertance and the yield's four parameters are fitted.
 
     Raises
     ------
@@ -487,7 +490,8 @@ def field_start(base: DeviceParams, effects, records, reading: LoopReading) -> C
     spec = FitSpec.default(vary=("inv_gamma1", "inv_gamma2", "c1", "c2", "S_t"),
                            effects=effs).with_effect(fy, keys=("smoothing_flow_kg_per_s",))
     why = (f"field_yield on the {c}: A_p dp_y = {A:.4g} N + {B:.4g} N per unit {c}, lag "
-           f"rate {eta:.3g} 1/s (least squares on F0 + k y + c v + c_q v|v| + (A + B u_f) z), m_eps "
+           f"rate {eta:.3g} 1/s (least squares on F0 + k y + c v + c_q v|v| + (A + B u_f) "
+           "z), m_eps "
            f"{meps:.3g} kg/s; fluid from k {k:.4g} N/m, c {cv:.4g} N s/m, c_q {cq:.4g} "
            "N s^2/m^2, filled at "
            f"{p0:.3g} Pa (max |F - F0| / A_p) ({how})")
