@@ -756,6 +756,23 @@ def calibrate_by_class(fit, records, validate, *, params: DeviceParams, effects,
             break
         extend(choose_start(rivals, math.inf)[0])
     chosen, outcomes, note = choose_start(pool, reasons=reasons, eligible=tuple(cont))
+    without = None
+    if chosen == "field":  # the best fit that does not read the input, converged, beside it
+        rest = {n: r for n, r in pool.items() if n != "field"
+                and not isinstance(r, BaseException)}
+        if rest:
+            m = choose_start(rest, reasons=reasons)[0]
+            if m not in cont:
+                extend(m)
+            r = cont[m]
+            without = {"class": m, "input": field_input(records),
+                       "nrmse_calibration": r.nrmse_calibration,
+                       "nrmse_validation": r.nrmse_validation,
+                       "validation_records": {e.label: e.nrmse for e in r.record_errors
+                                              if e.role == "validation"},
+                       "converged": bool(r.converged),
+                       "how": "the start chosen among those that do not read the control "
+                              "input (the device-class rule), fitted to convergence"}
     outcomes = tuple(dataclasses.replace(o, continued=o.name in cont) for o in outcomes)
     first, final = fits[chosen], cont[chosen]
     others = "; ".join(o.describe() for o in outcomes if not o.chosen)
@@ -767,6 +784,7 @@ def calibrate_by_class(fit, records, validate, *, params: DeviceParams, effects,
                  "dominated (better held-out without losing on a record), the lowest BIC, "
                  f"unless one better held-out is within {BIC_STRONG:g} of it"),
              **({"held_out_note": note} if note else {}),
+             **({"without_input": without} if without else {}),
              "loop": reading.as_dict(),
              "classes": [o.as_dict() for o in outcomes]}
     warns = [w for w in final.warnings if not w.startswith("implausible: ")]
