@@ -136,6 +136,13 @@ balance (a mass-flow state); model 'no_inertia' has none; use 'full', 'inertial'
         """The measured channel the field follows: ``(input,)``."""
         return (self.input,)
 
+    def check_small_signal(self, params) -> None:
+        """Always refused: the field follows a measured input a linearization has not."""
+        raise ParameterError(
+            f"effect {self.name!r} has no small-signal model and no equivalent "
+            f"linearization: {self.small_signal_reason}; drive it with a record that has a "
+            f"{self.input} column (liquidamp.analysis.measured.record_model.simulate_record)")
+
     def check(self, model):
         if model.base not in FIELD_YIELD_BASES:
             raise ParameterError(
