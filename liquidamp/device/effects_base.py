@@ -16,7 +16,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from liquidamp.device.models import DeviceModel
+from liquidamp.device.models import DeviceModel, check_input_channels  # noqa: F401 (API)
 from liquidamp.errors import (
     ParameterError,
     check_choice,
@@ -308,41 +308,6 @@ def input_channels(effects) -> tuple[str, ...]:
 
     wanted = {c for e in effects for c in e.input_channels}
     return tuple(c for c in CHANNELS if c in wanted)
-
-
-def check_input_channels(model, available, where: str) -> None:
-    """Raise ParameterError, before any work, if ``model`` reads a channel ``available`` lacks.
-
-    Parameters
-    ----------
-    model : DeviceModel
-        The composed model.
-    available : iterable of str
-        Channels the drive carries (e.g. a record's ``channels``).
-    where : str
-        What drives the model, for the message (e.g. ``"record 'd10_cal'"``).
-
-    Raises
-    ------
-    ParameterError
-        Naming the effect, the channel it reads and the channels ``where`` carries.
-
-    Examples
-    --------
-    >>> from liquidamp.device.models import get_model
-    >>> check_input_channels(get_model("full"), (), "a harmonic stroke") is None
-    True
-    """
-    have = tuple(available)
-    for e in getattr(model, "effects", ()):
-        for c in e.input_channels:
-            if c not in have:
-                raise ParameterError(
-                    f"effect {e.name!r} reads the measured {c!r} channel, which {where} does "
-                    f"not carry (channels there: {', '.join(have) or 'none'}); drive it with "
-                    f"a record that has a {c} column "
-                    "(liquidamp.analysis.measured.record_model.simulate_record), or leave "
-                    "the effect out")
 
 
 def initial_state_with_inputs(model, params, y0: float, inputs: dict) -> np.ndarray:

@@ -60,7 +60,8 @@ class FieldYield(Effect):
     g2 m|m|), m = rho0 A_p v.  It reads a measured channel, so it runs only where one
     drives it (a record: :func:`~liquidamp.analysis.measured.record_model.simulate_record`);
     an analytic stroke, a coupled host and the frequency-domain analyses refuse it naming
-    why.  The field starts settled on the input's first value (:meth:`input_state`).
+    why.  The field starts settled on the input's first value (:meth:`input_state`).  Its
+    Jacobian is analytic (with the base's, where the other effects keep it analytic).
 
     Parameters
     ----------
@@ -104,8 +105,8 @@ balance (a mass-flow state); model 'no_inertia' has none; use 'full', 'inertial'
                              "lag_rate_per_s": "1/s", "smoothing_flow_kg_per_s": "kg/s"}
     fit_keys: ClassVar[tuple] = ("yield_pressure_Pa", "yield_pressure_per_input",
                                  "lag_rate_per_s")
-    bounds: ClassVar[dict] = {"yield_pressure_Pa": (0.0, 1e8),
-                              "yield_pressure_per_input": (0.0, 1e8),
+    bounds: ClassVar[dict] = {"yield_pressure_Pa": (1.0, 1e8),
+                              "yield_pressure_per_input": (1.0, 1e8),
                               "lag_rate_per_s": (1.0, 1e4),
                               "smoothing_flow_kg_per_s": (1e-7, 1.0)}
     order: ClassVar[int] = 6
@@ -134,6 +135,13 @@ balance (a mass-flow state); model 'no_inertia' has none; use 'full', 'inertial'
     def input_channels(self) -> tuple[str, ...]:  # type: ignore[override]
         """The measured channel the field follows: ``(input,)``."""
         return (self.input,)
+
+    def check_small_signal(self, params) -> None:
+        """Always refused: the field follows a measured input a linearization has not."""
+        raise ParameterError(
+            f"effect {self.name!r} has no small-signal model and no equivalent "
+            f"linearization: {self.small_signal_reason}; drive it with a record that has a "
+            f"{self.input} column (liquidamp.analysis.measured.record_model.simulate_record)")
 
     def check(self, model):
         if model.base not in FIELD_YIELD_BASES:

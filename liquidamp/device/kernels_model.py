@@ -251,6 +251,26 @@ def _field_yield(mid, x, ify, prm, ep, out):
 
 
 @njit(cache=True, error_model="numpy")
+def _field_yield_jac(mid, x, ify, prm, ep, J):
+    """The field yield's entries of the analytic Jacobian (:func:`_field_yield`)."""
+    uf = x[ify]
+    meps = ep[E_MEPS]
+    dpy = ep[E_DPY0] + ep[E_DPY1] * abs(uf)
+    su = 1.0 if uf > 0.0 else (-1.0 if uf < 0.0 else 0.0)
+    J[ify, ify] = -ep[E_ETA]
+    if mid == M_FULL or mid == M_INERTIAL:
+        i = 4 if mid == M_FULL else 2
+        th = math.tanh(x[i] / meps)
+        J[i, i] -= dpy * (1.0 - th * th) / meps / prm[P_ST]
+        J[i, ify] -= ep[E_DPY1] * su * th / prm[P_ST]
+    elif mid == M_INERTIAL_2STATE:
+        r = prm[P_RHO0]
+        th = math.tanh(r * x[1] / meps)
+        J[1, 1] -= dpy * (1.0 - th * th) * r / meps / prm[P_LT]
+        J[1, ify] -= ep[E_DPY1] * su * th / prm[P_LT]
+
+
+@njit(cache=True, error_model="numpy")
 def _fluid_rhs(spec, x, y, v, prm, ep, out):
     """Base model with the fluid effects (leakage, rotating frame, cavitation) at piston
     stroke (y, v)."""
@@ -449,6 +469,8 @@ def model_jac(spec, x, y, v, prm, ep, J):
         iel = spec[S_IEL]
         if iel >= 0:
             J[iel, iel] = -ep[E_K1] / ep[E_C1E]
+        if spec[S_FY] >= 0:
+            _field_yield_jac(spec[S_MID], x, spec[S_FY], prm, ep, J)
         return
     xp = x.copy()
     fp = np.empty(n)
@@ -485,6 +507,9 @@ def model_rhs_t(spec, x, y, v, yd, vd, prm, ep, out):
         iel = spec[S_IEL]
         if iel >= 0:
             out[iel] = ep[E_K1] * vd
+        ify = spec[S_FY]
+        if ify >= 0:  # the field lag through the measured input's rate
+            out[ify] = ep[E_ETA] * prm[P_CHD + int(ep[E_FYCH])]
         return
     dt = 1.0e-7
     fm = np.empty(n)

@@ -204,7 +204,7 @@ class DeviceModel:
             spec[K.S_I1], spec[K.S_I2] = names.index("p1"), names.index("p2")
         fd = spec[K.S_ICAV] >= 0 or spec[K.S_IC] >= 0 or spec[K.S_IFP] >= 0 or (
             spec[K.S_LEAK] and self.base not in ("full", "no_inertia")) or spec[K.S_RELIEF] \
-            or spec[K.S_ROT] > 0 or spec[K.S_FY] >= 0 or spec[K.S_TH] >= 0
+            or spec[K.S_ROT] > 0 or spec[K.S_TH] >= 0
         spec[K.S_ANALYTIC] = 0 if fd else 1
         spec[K.S_EFFECTS] = len(self.effects)
         return spec
@@ -234,8 +234,6 @@ class DeviceModel:
         if not self._inputs:
             return
         if len(u) < 4 or u[3] is None:
-            from liquidamp.device.effects_base import check_input_channels
-
             check_input_channels(self, (), "a drive u = (y, v, a) without channel values (an "
                                  "analytic stroke or a coupled host)")
         prm[K.P_CH:K.P_CH + K.N_CH] = np.asarray(u[3], float).reshape(K.N_CH)
@@ -333,6 +331,41 @@ use 'no_inertia' (eq. 11) for a channel without inertance
                     f"model {self.name!r} (eq. {self.equation}) needs {key} > 0 "
                     f"[{units.get(key, '-')}], got {value:g}{hints.get(key, '')}"
                 )
+
+
+def check_input_channels(model, available, where: str) -> None:
+    """Raise ParameterError, before any work, if ``model`` reads a channel ``available`` lacks.
+
+    Parameters
+    ----------
+    model : DeviceModel
+        The composed model.
+    available : iterable of str
+        Channels the drive carries (e.g. a record's ``channels``).
+    where : str
+        What drives the model, for the message (e.g. ``"record 'd10_cal'"``).
+
+    Raises
+    ------
+    ParameterError
+        Naming the effect, the channel it reads and the channels ``where`` carries.
+
+    Examples
+    --------
+    >>> from liquidamp.device.models import get_model
+    >>> check_input_channels(get_model("full"), (), "a harmonic stroke") is None
+    True
+    """
+    have = tuple(available)
+    for e in getattr(model, "effects", ()):
+        for c in e.input_channels:
+            if c not in have:
+                raise ParameterError(
+                    f"effect {e.name!r} reads the measured {c!r} channel, which {where} does "
+                    f"not carry (channels there: {', '.join(have) or 'none'}); drive it with "
+                    f"a record that has a {c} column "
+                    "(liquidamp.analysis.measured.record_model.simulate_record), or leave "
+                    "the effect out")
 
 
 @functools.lru_cache(maxsize=256)

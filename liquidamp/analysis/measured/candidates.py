@@ -162,7 +162,8 @@ def probe_effect(name: str, result: CalibrationResult) -> Effect:
         resp = simulate_record(result.device_model, p, recs[0], options=FIT_OPTIONS)
         pmin = float(min(resp.p1.min(), resp.p2.min()))
         return cls(vapour_pressure_Pa=max(pmin + 0.3 * (p.p0 - pmin), 1.0))
-    return cls.probe(Fa, Y, w, p)  # the other catalogue effects state their own probe
+    # the other catalogue effects state their own probe (on the channel the records carry)
+    return _on_records(cls.probe(Fa, Y, w, p), result)
 
 
 @dataclass(frozen=True)
@@ -353,7 +354,8 @@ def applicable(name: str, result: CalibrationResult) -> str:
     if name in COMPOSITES:
         return COMPOSITES[name].applicable(result)
     try:
-        with_effects(result.device_model, EFFECTS[name]())
+        e = _on_records(EFFECTS[name](), result)
+        with_effects(result.device_model, e)
     except ParameterError as exc:
         return str(exc)
     return _proposed(EFFECTS[name], result)
@@ -376,3 +378,21 @@ def _proposed(cls, result: CalibrationResult) -> str:
             return ""
     return ("proposed only by a record whose force drifts from cycle to cycle or that "
             "carries a measured temperature; these records do neither")
+
+
+def _on_records(effect: Effect, result: CalibrationResult) -> Effect:
+    """``effect`` reading the measured channel the records carry (an effect with an ``input``
+    composition field, e.g. ``field_yield``: voltage or current); ParameterError naming why
+    where a record carries none it can read (so that such an effect is screened only on
+    records with its input, issue #20)."""
+    if not effect.input_channels:
+        return effect
+    records = tuple(result.calibration) + tuple(getattr(result, "validation", ()) or ())
+    choices = effect.composition_keys().get("input", effect.input_channels)
+    for c in choices:
+        if all(c in r.channels for r in records):
+            return effect.replace(input=c) if "input" in effect.composition_keys() else effect
+    have = sorted({k for r in records for k in r.channels})
+    raise ParameterError(
+        f"effect {effect.name!r} follows a measured {' or '.join(choices)} channel, which "
+        f"not every record carries (channels there: {', '.join(have) or 'none'})")
