@@ -83,7 +83,9 @@ class SelfHeating(Effect):
     (:func:`~liquidamp.device.kernels.dissipated_power`).  The viscosity follows T, and with
     it the losses: c1 (g1, c_L, the viscous c, T_D) is scaled by r = mu(T) / mu(T_ref), c2 by
     r^gamma2 (:func:`~liquidamp.device.kernels.thermal_params`); the parameter set's c1, c2
-    are their values at T_ref.  Laws (``law``): ``"exponential"`` exp(-beta (T - T_ref));
+    are their values at T_ref; a ``gas_charge`` composed beside it is at the fluid's
+    temperature (ideal gas at its reference volume: absolute charge x T / T_ref).  Laws
+    (``law``): ``"exponential"`` exp(-beta (T - T_ref));
     ``"water"`` Vogel's fit of water (the paper's device); ``"walther"`` ASTM D341 for a
     mineral oil (constants ``law_a``, ``law_b``: :func:`walther_constants`).
 

@@ -82,6 +82,7 @@ from liquidamp.device.kernels_layout import (
     E_TAMB,
     E_TC,
     E_THA,
+    E_TREF,
     E_VG,
     E_VS,
     E_Y0G,
@@ -319,8 +320,9 @@ def _fluid_rhs(spec, x, y, v, prm, ep, out):
             # about the filling pressure p0, the chambers sit p_g(y) above them, so the
             # cavity switch sees p_i + p_g(y) (the piston stroke stands for the rod's here)
             yg = y + ep[E_Y0G]
-            pg = gas_pressure(yg, ep[E_AR], ep[E_PCH], ep[E_VG], ep[E_NG], ep[E_PAT])
-            sg = gas_slope(yg, ep[E_AR], ep[E_PCH], ep[E_VG], ep[E_NG], ep[E_PAT]) * v
+            pch = _charge(spec, x, prm, ep)
+            pg = gas_pressure(yg, ep[E_AR], pch, ep[E_VG], ep[E_NG], ep[E_PAT])
+            sg = gas_slope(yg, ep[E_AR], pch, ep[E_VG], ep[E_NG], ep[E_PAT]) * v
             o1 += pg
             o2 += pg
             s1 += sg
@@ -331,6 +333,18 @@ def _fluid_rhs(spec, x, y, v, prm, ep, out):
         out[i2] = dp2 - s2
         out[ic] = dc1
         out[ic + 1] = dc2
+
+
+@njit(cache=True, error_model="numpy")
+def _charge(spec, x, prm, ep):
+    """Gauge charge pressure of the gas at its reference volume [Pa]: ``ep[E_PCH]``, or, with
+    self-heating, the gas at the fluid's temperature T (isochoric, ideal gas):
+    (p_c + p_a) T / T_ref - p_a."""
+    ith = spec[S_TH]
+    if ith < 0:
+        return ep[E_PCH]
+    T = law_temperature(x[ith], prm, ep)
+    return (ep[E_PCH] + ep[E_PAT]) * T / ep[E_TREF] - ep[E_PAT]
 
 
 @njit(cache=True, error_model="numpy")
@@ -577,7 +591,8 @@ def model_force(spec, x, y, v, a, prm, ep, with_friction):
     if spec[S_STOP] != 0:
         f += stop_force(y, v, ep[E_KS], ep[E_CS], ep[E_CLR], ep[E_CTR])
     if spec[S_GAS] != 0:  # the gas charge on the absolute rod stroke
-        f += gas_force(y + ep[E_Y0G], ep[E_AR], ep[E_PCH], ep[E_VG], ep[E_NG], ep[E_PAT])
+        f += gas_force(y + ep[E_Y0G], ep[E_AR], _charge(spec, x, prm, ep), ep[E_VG], ep[E_NG],
+                       ep[E_PAT])
     if spec[S_MASS] != 0:
         f += ep[E_MASS] * a
     if spec[S_OFF] != 0:

@@ -19,6 +19,7 @@ from liquidamp.coupled.testrig import simulate
 from liquidamp.device import preset
 from liquidamp.device.effects import (
     AsymmetricLoss,
+    GasCharge,
     ReliefValve,
     SelfHeating,
     make_effect,
@@ -159,3 +160,17 @@ def test_errors_and_refusals():
     with pytest.raises(ParameterError, match="no equivalent linearization"):
         SelfHeating().describing_function(0.001, 10.0, P)
     assert SelfHeating().held(310.0).heat_capacity_J_per_K == math.inf
+
+
+def test_the_gas_charge_follows_the_fluid_temperature():
+    """An ideal gas at its reference volume: (p_c + p_a) T / T_ref - p_a; at T_ref unchanged."""
+    g = GasCharge(4.5e-5, 6.894757e5, 2e-6, 1.0)
+    e = SelfHeating()
+    m = with_effects(get_model("dashpot"), g, e)
+    Tr = e.reference_temperature_K
+    for T in (Tr, Tr + 30.0):
+        F = float(m.force(0.0, np.array([T]), (0.0, 0.0, 0.0), P))
+        closed = g.rod_area_m2 * ((g.charge_pressure_Pa + g.ambient_pressure_Pa) * T / Tr
+                                  - g.ambient_pressure_Pa)
+        assert F == pytest.approx(closed, rel=1e-12)
+    assert closed > 1.09 * g.force(0.0)
