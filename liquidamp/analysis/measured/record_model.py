@@ -222,6 +222,11 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
                 "start; a record averaged into one cycle has no such series (condition it "
                 "with average=False)")
     if record.periodic and not stationary(model):  # a warming device: no periodic orbit
+        if cond is not None and cond.cycles_averaged > 1:
+            raise ParameterError(
+                f"{record.label}: model {model.name!r} drifts (it holds a thermal state) and "
+                "is marched over the whole record; a record averaged into one cycle has lost "
+                "its drift (condition it with average=False)")
         return _simulate_drifting(model, params, record, cond, options, route, chans)
     if record.periodic and not chans:
         return _simulate_periodic(model, params, record, cond, options, x0, route)

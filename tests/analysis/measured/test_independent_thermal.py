@@ -36,8 +36,13 @@ def test_thermal_records_are_diagnosed_to_self_heating(independent_records, case
     if not measured:
         cal, val = _without_temperature(cal), _without_temperature(val)
     d = diagnose([cal], [val])
-    assert d.added[:1] == ("self_heating",), d.summary()
-    p = d.steps[0].parameters
+    # d07's device is Table 3's Device B (S_t x 0.12): a moving mass standing in for the
+    # channel's inertance may come first (the inertance confusion of CONFOUNDED)
+    assert "self_heating" in d.added, d.summary()
+    i = d.added.index("self_heating")
+    step = d.steps[i]
+    before = d.steps[i - 1].nrmse_validation if i else d.baseline.nrmse_validation
+    p = step.parameters
     par = truth["parameters"]
     if measured:
         assert p["beta_per_K"] == pytest.approx(
@@ -46,6 +51,6 @@ def test_thermal_records_are_diagnosed_to_self_heating(independent_records, case
         tau = par["heat capacity C_th"]["value"] / par["cooling conductance h_A"]["value"]
         assert p["heat_capacity_J_per_K"] / p["conductance_W_per_K"] == pytest.approx(
             tau, rel=0.3)
-    assert d.steps[0].nrmse_validation < d.baseline.nrmse_validation
+    assert step.nrmse_validation < before
     assert "followed by self_heating" in d.summary().splitlines()[0]
     assert np.isfinite(d.final.nrmse_calibration)

@@ -71,6 +71,16 @@ def test_a_warming_record_is_reproduced_by_the_march(warming, engine):
     assert nrmse(held.force, rec.force) > 5 * floor
 
 
+def test_an_averaged_record_is_refused(warming):
+    from liquidamp.analysis.measured.conditioning import condition
+
+    rec = warming[0]
+    avg = condition(rec, average=True)[0]
+    m = with_effects(get_model("full"), HEAT)
+    with pytest.raises(LiquidampError, match="average=False"):
+        simulate_record(m, P, avg, options=_fit_options())
+
+
 def test_start_temperature_estimated_from_the_first_cycles(warming):
     rec, T0, _ = warming
     m = with_effects(get_model("full"), HEAT.replace(start="record"))
