@@ -524,8 +524,14 @@ START_CYCLES = 2.0
 
 def _estimate_start(model, params, record, rig_stroke, origin, options, route) -> float:
     """The start temperature [K] whose march best matches (least squares) the force of the
-    record's first :data:`START_CYCLES` cycles; bounded within T_amb - 30 K and T_amb + 120 K
-    (to 0.02 K)."""
+    record's first :data:`START_CYCLES` cycles, within T_amb - 30 K and T_amb + 120 K.
+
+    The first estimate for a record is a bounded scalar search (to 0.02 K); later calls
+    (a fit's next parameters) start from the record's last estimate: the parabola through
+    the misfit at it and 1 K either side, then through the three best points (the misfit is
+    quadratic in T_0 near its minimum), the bounded search again where a parabola opens
+    downwards or leaves +/- 10 K.
+    """
     from scipy.optimize import minimize_scalar
 
     th = next(e for e in model.effects if not getattr(e, "stationary", True))
@@ -542,9 +548,32 @@ def _estimate_start(model, params, record, rig_stroke, origin, options, route) -
 
     Ta = th.ambient_temperature_K
     lo = max(Ta - 30.0, th.law_b + 51.0 if th.law == "water" else 1.0)
-    res = minimize_scalar(sse, bounds=(lo, Ta + 120.0), method="bounded",
-                          options={"xatol": 0.02})
-    return float(res.x)
+    hi = Ta + 120.0
+    key = ("_start_temperature", Ta, lo, hi)
+    prev = record.meta.get(key)
+    T = None
+    if prev is not None:
+        pts = {x: sse(x) for x in (prev - 1.0, prev, prev + 1.0)}
+        for _ in range(2):
+            xs = sorted(pts, key=pts.get)[:3]
+            v = _vertex(xs, [pts[x] for x in xs])
+            if v is None or abs(v - prev) > 10.0 or not lo <= v <= hi:
+                T = None
+                break
+            T = v
+            if v not in pts:
+                pts[v] = sse(v)
+    if T is None:
+        T = float(minimize_scalar(sse, bounds=(lo, hi), method="bounded",
+                                  options={"xatol": 0.02}).x)
+    record.meta[key] = T
+    return T
+
+
+def _vertex(xs, ys):
+    """Abscissa of the minimum of the parabola through three points (None: not convex)."""
+    c = np.polyfit(np.asarray(xs, float), np.asarray(ys, float), 2)
+    return float(-c[1] / (2.0 * c[0])) if c[0] > 0 else None
 
 
 def _start_temperature(model) -> float:

@@ -87,6 +87,13 @@ def test_start_temperature_estimated_from_the_first_cycles(warming):
     r = simulate_record(m, P, rec, options=_fit_options())
     assert r.solver_stats["start_temperature [K]"] == pytest.approx(T0, abs=0.3)
     assert nrmse(r.force, rec.force) < 1.1 * NOISE / np.std(rec.force)
+    # the next call (a fit's next parameters) refines from the record's last estimate by
+    # parabolas: the same minimum; a device 5 % stiffer in losses starts warmer
+    again = simulate_record(m, P, rec, options=_fit_options())
+    assert again.solver_stats["start_temperature [K]"] == pytest.approx(
+        r.solver_stats["start_temperature [K]"], abs=0.05)
+    lossy = simulate_record(m, P.scaled(c1=1.05, c2=1.05), rec, options=_fit_options())
+    assert lossy.solver_stats["start_temperature [K]"] > T0 + 1.0
 
 
 def test_a_measured_temperature_drives_the_law(warming):
