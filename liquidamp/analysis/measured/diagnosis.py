@@ -100,8 +100,11 @@ map per direction are fitted on the same split
 (:mod:`~liquidamp.analysis.measured.reference_models`); where the physics model does not
 beat the line on a held-out record, the first line of :meth:`Diagnosis.summary` says so.
 The force of every periodic record as read is tested for a drift from cycle to cycle
-(:func:`~liquidamp.analysis.measured.stationarity.cycle_drift`); a drifting record is
-reported first as non-stationary and its drift is kept out of its noise floor.
+(:func:`~liquidamp.analysis.measured.stationarity.cycle_drift`, the one drift test); a
+drifting record is reported first as non-stationary, its drift is kept out of its noise
+floor, it is not averaged (the baseline fitted on its averaged cycles is continued on it as
+it runs) and it proposes ``self_heating``, marched over each whole record (as does a record
+with a measured temperature, which then drives the viscosity law).
 
 When the loop ends with the residual above ``structure_factor`` (2) times
 the noise floor, the diagnosis says that structure remains that no candidate
