@@ -308,7 +308,8 @@ def case_field_input(quick: bool, repeats: int) -> dict:
                        + (" (quick: 2 s records, one step, max_nfev 6)" if quick else ""),
         "seconds": seconds,
         "repeats": max(1, repeats),
-        "device_class": d.final.device_class,
+        "device_class": d.baseline.device_class or (d.baseline.start or {}).get(
+            "device_class", ""),
         "added_effects": list(d.added),
         "field_yield_relative_errors": errors,
         "nrmse_validation": d.final.nrmse_validation,

@@ -95,7 +95,9 @@ class Effect:
     analyses (no describing function, no small-signal model).  On the scipy engine the
     values travel as a fourth entry of ``u = (y, v, a, c)``, ``c`` the
     :data:`~liquidamp.device.kernels.N_CH` channel values (or their rows over samples)
-    in slot order.
+    in slot order.  An effect whose states follow an input starts settled on the input's
+    first value where it states how (:meth:`input_state`, used by
+    :func:`initial_state_with_inputs`).
     """
 
     name: ClassVar[str] = ""

@@ -293,8 +293,12 @@ def _prepare(calibration, validation, model, params, effects, spec, options, con
     if baseline.status == "max_nfev":
         # score candidates only against a converged model: a fit stopped on its budget
         # leaves structure that a candidate would "explain" spuriously
+        prior = baseline
         baseline = _converge(baseline, validation, options, bud.preroll, bud.max_nfev,
                              bud.tol, "preset" if config.sizing == "preset" else "auto")
+        if "without_input" in (prior.start or {}):  # the fit without the input, kept beside
+            baseline = dataclasses.replace(baseline, start={
+                **(baseline.start or {}), "without_input": prior.start["without_input"]})
     return calibration, validation, conditioning, raw, baseline
 
 
