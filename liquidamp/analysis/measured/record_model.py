@@ -570,11 +570,10 @@ def _estimate_start(model, params, record, rig_stroke, origin, options, route) -
     """The start temperature [K] whose march best matches (least squares) the force of the
     record's first :data:`START_CYCLES` cycles, within T_amb - 30 K and T_amb + 120 K.
 
-    The first estimate for a record is a bounded scalar search (to 0.02 K); later calls
-    (a fit's next parameters) start from the record's last estimate: the parabola through
-    the misfit at it and 1 K either side, then through the three best points (the misfit is
-    quadratic in T_0 near its minimum), the bounded search again where a parabola opens
-    downwards or leaves +/- 10 K.
+    The first estimate for a record is a bounded scalar search (to 0.02 K), polished by
+    Newton steps on the misfit (central differences); later calls (a fit's next parameters)
+    start the Newton steps from the record's last estimate (the misfit is quadratic in T_0
+    near its minimum: two or three steps).
     """
     from scipy.optimize import minimize_scalar
 
@@ -594,30 +593,27 @@ def _estimate_start(model, params, record, rig_stroke, origin, options, route) -
     lo = max(Ta - 30.0, th.law_b + 51.0 if th.law == "water" else 1.0)
     hi = Ta + 120.0
     key = ("_start_temperature", Ta, lo, hi)
-    prev = record.meta.get(key)
-    T = None
-    if prev is not None:
-        pts = {x: sse(x) for x in (prev - 1.0, prev, prev + 1.0)}
-        for _ in range(2):
-            xs = sorted(pts, key=pts.get)[:3]
-            v = _vertex(xs, [pts[x] for x in xs])
-            if v is None or abs(v - prev) > 10.0 or not lo <= v <= hi:
-                T = None
-                break
-            T = v
-            if v not in pts:
-                pts[v] = sse(v)
+    T = record.meta.get(key)
     if T is None:
         T = float(minimize_scalar(sse, bounds=(lo, hi), method="bounded",
                                   options={"xatol": 0.02}).x)
+    # Newton on the misfit by central differences (+/- 0.05 K) to 1e-4 K: the estimate a
+    # smooth function of the fit's parameters, whatever the call before (the fit's
+    # difference Jacobian moves T_0 by about 0.03 K)
+    h = 0.05
+    for _ in range(8):
+        fm, f0, fp = sse(T - h), sse(T), sse(T + h)
+        curv = (fp - 2.0 * f0 + fm) / (h * h)
+        if not curv > 0.0:
+            T = float(minimize_scalar(sse, bounds=(lo, hi), method="bounded",
+                                      options={"xatol": 0.02}).x)
+            break
+        step = -0.5 * (fp - fm) / h / curv
+        T = min(max(T + max(min(step, 5.0), -5.0), lo), hi)
+        if abs(step) < 1e-4:
+            break
     record.meta[key] = T
     return T
-
-
-def _vertex(xs, ys):
-    """Abscissa of the minimum of the parabola through three points (None: not convex)."""
-    c = np.polyfit(np.asarray(xs, float), np.asarray(ys, float), 2)
-    return float(-c[1] / (2.0 * c[0])) if c[0] > 0 else None
 
 
 def _start_temperature(model) -> float:

@@ -88,7 +88,7 @@ def test_start_temperature_estimated_from_the_first_cycles(warming):
     assert r.solver_stats["start_temperature [K]"] == pytest.approx(T0, abs=0.3)
     assert nrmse(r.force, rec.force) < 1.1 * NOISE / np.std(rec.force)
     # the next call (a fit's next parameters) refines from the record's last estimate by
-    # parabolas: the same minimum; a device 5 % stiffer in losses starts warmer
+    # Newton steps: the same minimum; a device 5 % stiffer in losses starts warmer
     again = simulate_record(m, P, rec, options=_fit_options())
     assert again.solver_stats["start_temperature [K]"] == pytest.approx(
         r.solver_stats["start_temperature [K]"], abs=0.05)
