@@ -409,13 +409,23 @@ EFFECT_UNITS = {
                          "compression_conductance_m3_per_s_Pa": "m^3/(s Pa)",
                          "rebound_cracking_Pa": "Pa",
                          "rebound_conductance_m3_per_s_Pa": "m^3/(s Pa)"},
+    "field_yield": {"yield_pressure_Pa": "Pa", "yield_pressure_per_input": "Pa/V",
+                    "lag_rate_per_s": "1/s", "smoothing_flow_kg_per_s": "kg/s"},
+    "self_heating": {"heat_capacity_J_per_K": "J/K", "conductance_W_per_K": "W/K",
+                     "beta_per_K": "1/K", "c2_exponent": "-", "ambient_temperature_K": "K",
+                     "reference_temperature_K": "K", "initial_temperature_K": "K",
+                     "law_a": "-", "law_b": "-"},
 }
 #: Composite candidates of :data:`liquidamp.analysis.measured.candidates.COMPOSITES`
 #: (held equal by a test).
 COMPOSITE_NAMES = ("backlash", "friction_asymmetry", "friction_transition")
 #: Composition choices of the effects (``Effect.composition_keys()``; held equal by a test).
 EFFECT_CHOICES = {"coulomb_friction": {"location": ("rod", "piston")},
-                  "smooth_friction": {"location": ("rod", "piston")}}
+                  "smooth_friction": {"location": ("rod", "piston")},
+                  "field_yield": {"input": ("voltage", "current")},
+                  "self_heating": {"law": ("exponential", "water", "walther"),
+                                   "start": ("given", "record"),
+                                   "temperature": ("state", "measured")}}
 
 
 def _unknown(what: str, value: str, valid) -> str:

@@ -12,6 +12,9 @@ engines run), called on the arrays of
 * ``spec`` describes the composed model (base id, states, effect slots);
 * ``prm`` is the packed parameter vector;
 * ``ep`` the effect parameters and state scales;
+* measured input channels (issue #20) ride with a recorded stroke (the blocks after the
+  acceleration in ``sa``) and are written into ``prm``'s channel slots at every stage
+  time (:func:`~liquidamp.coupled._stroke_kernels.channel_eval`);
 * the stroke is ``kind`` 0 (harmonic, evaluated analytically from
   ``sp = [Y, omega, offset, phase]``), 1 (recorded, linear interpolation of
   the arrays ``st, sy, sv, sa`` with the end values held outside, like
@@ -81,6 +84,7 @@ from liquidamp.coupled._linalg import lu5_factor, lu5_solve, lu_factor, lu_solve
 from liquidamp.coupled._stroke_kernels import (  # noqa: F401 (re-exported)
     _next_break,
     _segment,
+    channel_eval,
     stroke_eval,
     stroke_rate,
 )
@@ -233,6 +237,7 @@ def _dp5_attempt(spec, prm, ep, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, fsal,
         if s_i == 0:
             for i in range(n):
                 ys[i] = x[i]
+            channel_eval(kind, t, st, sa, prm)  # measured inputs at the stage time
         elif s_i < 6:
             for i in range(n):
                 acc = 0.0
@@ -240,6 +245,7 @@ def _dp5_attempt(spec, prm, ep, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, fsal,
                     acc += _EA[s_i, j] * kk[j, i]
                 ys[i] = x[i] + h * acc
             y, v, a = stroke_eval(kind, t + _EC[s_i] * h, sp, st, sy, sv, sa)
+            channel_eval(kind, t + _EC[s_i] * h, st, sa, prm)
         else:  # the new solution; its f (at t + h, as stage 6) is FSAL
             for i in range(n):
                 y6[i] = ys[i]
@@ -322,8 +328,10 @@ def _rodas_attempt(spec, prm, ep, kind, sp, st, sy, sv, sa, x, t, h, y0, v0, reu
         else:
             if st_i == 0:
                 y, v = y0, v0
+                channel_eval(kind, t, st, sa, prm)  # measured inputs at the stage time
             elif st_i != 5:  # stages 5 and 6 share the time t + h
                 y, v, a = stroke_eval(kind, t + _RC[st_i] * h, sp, st, sy, sv, sa)
+                channel_eval(kind, t + _RC[st_i] * h, st, sa, prm)
             if _PLAIN_ONLY:
                 base_rhs(mid, ys, y, v, prm, 0.0, 0.0, ft)
             else:
@@ -513,6 +521,7 @@ def _integrate_source(spec, prm, ep, kind, sp, st, sy, sv, sa, x0, t0, t1, teval
                 last = tb >= te
                 hit_break = not last
             y0, v0, a0 = stroke_eval(kind, t, sp, st, sy, sv, sa)
+            channel_eval(kind, t, st, sa, prm)
             if not expl:  # RODAS4: f, J and df/dt at (t, x)
                 fsal = 0
                 if _WITH_RODAS:
@@ -659,6 +668,7 @@ def _integrate_source(spec, prm, ep, kind, sp, st, sy, sv, sa, x0, t0, t1, teval
                         fj -= prm[P_FRIC]
             elif force_needs_stroke:
                 y, v, a = stroke_eval(kind, teval[j] + off, sp, st, sy, sv, sa)
+                channel_eval(kind, teval[j] + off, st, sa, prm)
                 fj = model_force(spec, ks, y, v, a, prm, ep, True)
             else:  # a force carried by the states alone
                 fj = base_force(spec[S_MID], ks, 0.0, 0.0, 0.0, prm)

@@ -5,6 +5,14 @@
 sample times as break points the integrator never steps across); 2: two
 frequencies (``sp`` = offset, then amplitude, omega, phase of each).  Part of
 :mod:`liquidamp.coupled._kernels` (which re-exports every name).
+
+Measured input channels (issue #20) travel with a recorded stroke: ``sa`` holds the
+acceleration samples followed by one block of the same length per input channel slot
+(``device.kernels.CHANNELS`` order, all ``N_CH`` of them), and :func:`channel_eval`
+writes their linear interpolant and its slope at a stage time into the channel slots of
+``prm`` (``P_CH``, ``P_CHD``), where the compiled laws read them; the sample times are
+the break points for the channels as for the stroke.  A stroke without channels (any
+analytic one, a recorded one whose ``sa`` holds the acceleration alone) writes nothing.
 """
 
 from __future__ import annotations
@@ -15,10 +23,11 @@ import numpy as np
 from numba import njit
 
 from liquidamp._numba_cache import drop_stale
+from liquidamp.device.kernels_layout import N_CH, P_CH, P_CHD
 
 drop_stale(__file__)  # before any kernel of this module loads from the cache
 
-__all__ = ["stroke_eval", "stroke_rate"]
+__all__ = ["stroke_eval", "stroke_rate", "channel_eval"]
 
 
 @njit(cache=True, error_model="numpy")
@@ -107,3 +116,33 @@ def _next_break(kind, t, st, tiny):
     if t + tiny < st[0]:
         return st[0]
     return st[_segment(st, t + tiny) + 1]
+
+
+@njit(cache=True, error_model="numpy")
+def channel_eval(kind, t, st, sa, prm):
+    """Write the measured input channels at time t [s] into ``prm`` (module docstring).
+
+    Values (linear interpolation of the samples, end values held outside, as the stroke)
+    into ``prm[P_CH + k]``, slopes of the segment that starts at or before ``t`` (0
+    outside) into ``prm[P_CHD + k]``; nothing for a stroke without channels.
+    """
+    if kind != 1:
+        return
+    n = st.size
+    if sa.size < (N_CH + 1) * n:
+        return
+    if t < st[0] or t >= st[n - 1]:
+        j = 0 if t < st[0] else n - 1
+        for k in range(N_CH):
+            prm[P_CH + k] = sa[(k + 1) * n + j]
+            prm[P_CHD + k] = 0.0
+        return
+    lo = _segment(st, t)
+    hi = lo + 1
+    d = st[hi] - st[lo]
+    w = (t - st[lo]) / d
+    for k in range(N_CH):
+        a = sa[(k + 1) * n + lo]
+        b = sa[(k + 1) * n + hi]
+        prm[P_CH + k] = a + w * (b - a)
+        prm[P_CHD + k] = (b - a) / d

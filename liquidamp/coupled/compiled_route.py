@@ -28,7 +28,8 @@ def compiled_support(system: CoupledSystem) -> str | None:
     rotor built by :func:`rotor_system` or a blade built by
     :func:`blade_system` (with any external inputs) whose devices do not use
     the stroke acceleration (every model of the family, with any add-on
-    effects, and the viscous damper are compiled); it integrates with DOP853
+    effects, and the viscous damper are compiled; a device that reads a measured input
+    channel is refused: a coupled host has no channel series); it integrates with DOP853
     and agrees with the Python route run with ``method="DOP853"`` to
     round-off (about 1e-13 relative).
 
@@ -53,6 +54,15 @@ def compiled_support(system: CoupledSystem) -> str | None:
     ...                                                 Device("inerter", preset("inerter"))))
     True
     """
+    for d in getattr(system, "devices", ()):
+        if getattr(d.model, "input_channels", ()):
+            # a coupled host carries no measured channel series (issue #20)
+            from liquidamp.device.effects_base import check_input_channels
+
+            try:
+                check_input_channels(d.model, (), f"the coupled system {system.name!r}")
+            except ParameterError as exc:
+                return str(exc)
     try:
         _compiled_origin(system, check_compiled)
     except ParameterError as exc:

@@ -71,7 +71,7 @@ from liquidamp.structure.testmachine import (
 
 __all__ = ["TestRig", "Engine", "ScipyEngine", "CompiledEngine", "ENGINES", "get_engine",
            "engine_for",
-           "TEST_MACHINE_PORT"]
+           "TEST_MACHINE_PORT", "stroke_inputs"]
 
 #: The test machine's one port: it prescribes the rod stroke and reads the load-cell force.
 TEST_MACHINE_PORT = DevicePort("rod", "stroke", "stroke_rate", "force", 1.0, "rod")
@@ -108,6 +108,17 @@ class TestRig:
     model: DeviceModel
     params: object
     stroke: object
+
+    def __post_init__(self) -> None:
+        # a model that reads measured channels needs their series with the stroke: refused
+        # before any work otherwise (liquidamp.device.effects_base.Effect)
+        if getattr(self.model, "input_channels", ()):
+            from liquidamp.device.effects_base import check_input_channels
+
+            chans = getattr(self.stroke, "channels", None) or {}
+            where = (f"the {type(self.stroke).__name__}" if not chans
+                     else "the recorded stroke")
+            check_input_channels(self.model, tuple(chans), where)
 
     @property
     def ports(self) -> tuple[DevicePort, ...]:
@@ -262,13 +273,17 @@ def _solve_span(model, params, stroke, x0, t0, t1, t_eval, options, max_step):
     scales = model.state_scales(params)
     atol = options.atol_scale * scales if scales.size else options.atol_scale
     rhs, jac = model.rhs, model.jacobian
+    drive = stroke
+    if getattr(model, "input_channels", ()):  # u = (y, v, a, channel values in slot order)
+        def drive(t):
+            return tuple(stroke(t)) + (stroke_inputs(stroke, t),)
 
     def f(t, x):
-        return rhs(t, x, stroke(t), params)
+        return rhs(t, x, drive(t), params)
 
     kwargs = {}
     if jac is not None and options.method in ("Radau", "BDF", "LSODA"):
-        kwargs["jac"] = lambda t, x: jac(t, x, stroke(t), params)
+        kwargs["jac"] = lambda t, x: jac(t, x, drive(t), params)
     # scipy's Radau step predictor divides by the previous step, which is zero after a
     # step rejected down to zero width at a contact (freeplay, end stops); scipy guards the
     # next line with errstate(divide='ignore') and the quotient only enters min(1, .), so
@@ -295,6 +310,29 @@ def _solve_span(model, params, stroke, x0, t0, t1, t_eval, options, max_step):
     if not np.all(np.isfinite(sol.y)):
         raise ConvergenceError(f"model {model.name!r}: non-finite state in time integration")
     return sol
+
+
+def stroke_inputs(stroke, t):
+    """The measured input channels a stroke carries at ``t`` [s], in the slot order of
+    :data:`liquidamp.device.kernels.CHANNELS` (shape (N_CH,) or (N_CH, len(t)); zeros for
+    channels it lacks), or None for a stroke without channels: the fourth entry of
+    ``u = (y, v, a, c)`` of :meth:`DeviceModel.rhs` and :meth:`DeviceModel.force`.
+
+    Examples
+    --------
+    >>> t = np.linspace(0.0, 1.0, 11)
+    >>> s = RecordedStroke(t, 0 * t, 0 * t, 0 * t, channels={"voltage": 2 * t})
+    >>> stroke_inputs(s, 0.5).tolist()
+    [0.0, 1.0, 0.0, 0.0]
+    """
+    from liquidamp.device.kernels import CHANNELS
+
+    chans = getattr(stroke, "channels", None)
+    if not chans:
+        return None
+    vals = stroke.channel_values(t)
+    zero = np.zeros(np.shape(t))
+    return np.array([vals.get(c, zero) for c in CHANNELS], float)
 
 
 def _add_scipy_stats(stats: dict, options, sol) -> None:

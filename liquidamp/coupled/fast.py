@@ -160,8 +160,12 @@ def _stroke_arrays(stroke):
         sp = np.array([stroke.amplitude, stroke.omega, stroke.offset, stroke.phase])
         return 0, sp, _DUMMY, _DUMMY, _DUMMY, _DUMMY
     if isinstance(stroke, RecordedStroke):
-        return (1, np.zeros(4), stroke.time, stroke.displacement, stroke.velocity,
-                stroke.acceleration)
+        sa = stroke.acceleration
+        if stroke.channels:  # measured input channels: one block per slot after a
+            n = stroke.time.size  # (_stroke_kernels.channel_eval)
+            blocks = [stroke.channels.get(c, np.zeros(n)) for c in DK.CHANNELS]
+            sa = np.concatenate([sa] + blocks)
+        return (1, np.zeros(4), stroke.time, stroke.displacement, stroke.velocity, sa)
     if isinstance(stroke, TwoFrequencyStroke):
         sp = np.array([stroke.offset, stroke.amplitude1, stroke.omega1, stroke.phase1,
                        stroke.amplitude2, stroke.omega2, stroke.phase2])

@@ -45,11 +45,21 @@ name                    parameters                             states added
                         compression_conductance_m3_per_s_Pa,   cracking pressure and conductance
                         rebound_cracking_Pa,                   per flow direction (a knee per
                         rebound_conductance_m3_per_s_Pa        direction)
+``field_yield``         yield_pressure_Pa,                     u_field [V or A] (field lag of
+                        yield_pressure_per_input,              the measured voltage or current;
+                        lag_rate_per_s,                        Bingham-like yield drop in the
+                        smoothing_flow_kg_per_s; input         channel's momentum balance)
+``self_heating``        heat_capacity_J_per_K,                 T_fluid [K]: warmed by the
+                        conductance_W_per_K, beta_per_K,       dissipated power; c1 x mu(T)/
+                        c2_exponent, ambient/reference/        mu(T_ref), c2 x its power
+                        initial_temperature_K, law_a, law_b;   gamma2 (exponential, water or
+                        law (exponential | water | walther)    Walther law)
 ======================  =====================================  =================================
 
 Composition order is canonical whatever order the effects are given in
 (``order``, innermost first): the fluid effects act on the chamber equations
-innermost (asymmetric_loss 3 on the channel's coefficients, leakage 5 and
+innermost (asymmetric_loss 3 on the channel's coefficients, leakage 5, field_yield 6 on the
+channel's momentum balance, and
 relief_valve or digressive_valve 7 as paths beside the channel, rotating_frame 8 driving every
 flow path, cavitation 10 on the pressure rates, so that it sees the rotating
 frame's lowered inboard pressures); the kinematic effects (series_compliance
@@ -101,7 +111,9 @@ force_offset, moving_mass, elastomer, end_stops),
 :mod:`~liquidamp.device.effects_fluid` (leakage, relief_valve,
 asymmetric_loss, cavitation), :mod:`~liquidamp.device.effects_operating`
 (rotating_frame) and :mod:`~liquidamp.device.effects_damper` (gas_charge,
-digressive_valve: what real dampers have, issue #20).
+digressive_valve: what real dampers have, issue #20) and
+:mod:`~liquidamp.device.effects_field` (field_yield, which reads a measured input channel:
+how is documented on the :class:`~liquidamp.device.effects_base.Effect` base).
 
 The scalar laws (:func:`lugre_rate`, :func:`play_rate`,
 :func:`compliance_rate`, :func:`cavity_rates`) are the compiled ones of
@@ -138,6 +150,7 @@ from liquidamp.device.effects_base import (
     _piston_stroke,
 )
 from liquidamp.device.effects_damper import DigressiveValve, GasCharge
+from liquidamp.device.effects_field import FieldYield
 from liquidamp.device.effects_fluid import (
     AsymmetricLoss,
     Cavitation,
@@ -155,6 +168,7 @@ from liquidamp.device.effects_force import (
 )
 from liquidamp.device.effects_kinematic import Freeplay, SeriesCompliance
 from liquidamp.device.effects_operating import RotatingFrame
+from liquidamp.device.effects_thermal import SelfHeating
 from liquidamp.device.kernels import (
     cavity_rates,
     cavity_width,
@@ -184,6 +198,8 @@ __all__ = [
     "RotatingFrame",
     "GasCharge",
     "DigressiveValve",
+    "FieldYield",
+    "SelfHeating",
     "EFFECTS",
     "effect_names",
     "make_effect",
@@ -203,7 +219,8 @@ EFFECTS: dict[str, type[Effect]] = {
     cls.name: cls
     for cls in (CoulombFriction, SmoothFriction, ForceOffset, MovingMass, SeriesCompliance,
                 Freeplay, Leakage, Cavitation, ReliefValve, AsymmetricLoss, Elastomer, EndStops,
-                RotatingFrame, GasCharge, DigressiveValve)
+                RotatingFrame, GasCharge, DigressiveValve, FieldYield,
+                SelfHeating)
 }
 """Registry: effect name -> class."""
 
@@ -216,7 +233,8 @@ def effect_names() -> tuple[str, ...]:
     >>> effect_names()
     ('coulomb_friction', 'smooth_friction', 'force_offset', 'moving_mass', \
 'series_compliance', 'freeplay', 'leakage', 'cavitation', 'relief_valve', 'asymmetric_loss', \
-'elastomer', 'end_stops', 'rotating_frame', 'gas_charge', 'digressive_valve')
+'elastomer', 'end_stops', 'rotating_frame', 'gas_charge', 'digressive_valve', \
+'field_yield', 'self_heating')
     """
     return tuple(EFFECTS)
 
@@ -246,7 +264,7 @@ def make_effect(name: str, **parameters) -> Effect:
     liquidamp.errors.ParameterError: unknown effect 'stiction'; valid: coulomb_friction, \
 smooth_friction, force_offset, moving_mass, series_compliance, freeplay, leakage, cavitation, \
 relief_valve, asymmetric_loss, elastomer, end_stops, rotating_frame, gas_charge, \
-digressive_valve
+digressive_valve, field_yield, self_heating
     """
     check_choice("effect", name, EFFECTS)
     cls = EFFECTS[name]

@@ -16,7 +16,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from liquidamp.device.models import DeviceModel
+from liquidamp.device.models import DeviceModel, check_input_channels  # noqa: F401 (API)
 from liquidamp.errors import (
     ParameterError,
     check_choice,
@@ -76,6 +76,28 @@ class Effect:
     to the load-cell force only, driven by the measured stroke;
     ``"kinematic"``: sits between the measured stroke and the piston;
     ``"fluid"``: acts on the chamber equations).
+
+    Measured inputs (issue #20): ``input_channels`` names the measured channels the
+    effect reads, from :data:`liquidamp.device.kernels.CHANNELS` (``"temperature"``
+    [K], ``"voltage"`` [V], ``"current"`` [A], ``"pressure"`` [Pa]; a class attribute,
+    or a property where a composition field chooses it).  The composed model reads
+    their union (:func:`input_channels`, :attr:`DeviceModel.input_channels`).  The
+    compiled law reads channel ``k = kernels.channel_index(name)`` at the current time
+    as ``prm[P_CH + k]`` (SI) and its time derivative as ``prm[P_CHD + k]``; the driver
+    writes both at every Runge-Kutta stage from the channel series carried by the
+    stroke (:class:`~liquidamp.structure.testmachine.RecordedStroke` ``channels``, on
+    the stroke's time grid, interpolated linearly as the stroke is, on both engines;
+    :func:`liquidamp.analysis.measured.record_model.simulate_record` passes a record's
+    channels).  A drive without the series a model reads is refused before any work,
+    naming the effect, the channel and the channels there are
+    (:func:`check_input_channels`): the test machine under an analytic stroke
+    (``simulate``, ``steady_state``), the coupled hosts, and the frequency-domain
+    analyses (no describing function, no small-signal model).  On the scipy engine the
+    values travel as a fourth entry of ``u = (y, v, a, c)``, ``c`` the
+    :data:`~liquidamp.device.kernels.N_CH` channel values (or their rows over samples)
+    in slot order.  An effect whose states follow an input starts settled on the input's
+    first value where it states how (:meth:`input_state`, used by
+    :func:`initial_state_with_inputs`).
     """
 
     name: ClassVar[str] = ""
@@ -96,6 +118,8 @@ class Effect:
     #: True where a diagnosis screens the effect when no candidates are named; the
     #: others are candidates on request (``diagnose(..., candidates=...)``).
     screened: ClassVar[bool] = True
+    #: Measured channels the effect reads (names of ``kernels.CHANNELS``; see above).
+    input_channels: ClassVar[tuple] = ()
 
     @classmethod
     def parameter_keys(cls) -> tuple[str, ...]:
@@ -247,6 +271,12 @@ class Effect:
         """Initial values of the effect's states at rest with rod stroke ``y0`` [m]."""
         return np.zeros(len(self.state_names))
 
+    def input_state(self, params, y0: float, inputs: dict) -> np.ndarray:
+        """Initial values of the effect's states at rest with the measured channels at the
+        start, ``inputs`` (name -> value, SI) (default: :meth:`initial_state`); e.g. a
+        field lag starts settled on the first input (:func:`initial_state_with_inputs`)."""
+        return self.initial_state(params, y0)
+
     def rest_base_state(self, model: DeviceModel, params, y0: float,
                         x_base: np.ndarray) -> np.ndarray:
         """The base model's states at rest with the effect (default: ``x_base`` unchanged).
@@ -265,6 +295,43 @@ class Effect:
         pars += [f"{k}={v}" for k, v in self.composition.items()]
         return f"{self.name}({', '.join(pars)})"
 
+
+
+def input_channels(effects) -> tuple[str, ...]:
+    """The measured channels a set of effects reads, in slot order (``kernels.CHANNELS``).
+
+    Examples
+    --------
+    >>> from liquidamp.device.effects import CoulombFriction
+    >>> input_channels((CoulombFriction(30.0),))
+    ()
+    """
+    from liquidamp.device.kernels_layout import CHANNELS
+
+    wanted = {c for e in effects for c in e.input_channels}
+    return tuple(c for c in CHANNELS if c in wanted)
+
+
+def initial_state_with_inputs(model, params, y0: float, inputs: dict) -> np.ndarray:
+    """``model.initial_state(params, y0)`` with the states of the effects that read measured
+    channels set by :meth:`Effect.input_state` from the channels at the start, ``inputs``
+    (name -> value, SI).
+
+    Examples
+    --------
+    >>> from liquidamp.device import preset
+    >>> from liquidamp.device.models import get_model
+    >>> initial_state_with_inputs(get_model("full"), preset("reference"), 0.0, {}).size
+    5
+    """
+    x = np.array(model.initial_state(params, y0), float)
+    i = model.n_base_states
+    for e in model.effects:
+        k = len(e.state_names)
+        if e.input_channels and k:
+            x[i:i + k] = e.input_state(params, y0, inputs)
+        i += k
+    return x
 
 
 def _shaped(value, *inputs):

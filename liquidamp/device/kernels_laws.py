@@ -571,3 +571,21 @@ def valve_flow(dp, p_c, G_c, p_r, G_r):
     if dp >= 0.0:
         return relief_flow(dp, p_c, G_c)
     return relief_flow(dp, p_r, G_r)
+
+
+@njit(cache=True, error_model="numpy", fastmath=_FM)
+def yield_drop(m, uf, dpy0, dpy1, meps):
+    """Field-dependent yield pressure drop of an MR/ER channel [Pa] (Bingham-like).
+
+    (dp_y0 + dp_y1 |u_f|) tanh(m / m_eps): the yield stress of the field ``uf`` [V or A]
+    over the channel, smoothed over the flow ``meps`` [kg/s] about zero mass flow ``m``
+    [kg/s]; it always opposes the flow (passive for any field sign).
+
+    Examples
+    --------
+    >>> round(yield_drop(1.0, 2.0, 6e4, 2.2e5, 5e-4), 3)   # well past m_eps: dp_y
+    500000.0
+    >>> yield_drop(0.0, 2.0, 6e4, 2.2e5, 5e-4)
+    0.0
+    """
+    return (dpy0 + dpy1 * abs(uf)) * math.tanh(m / meps)

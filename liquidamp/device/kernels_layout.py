@@ -65,10 +65,14 @@ S_CPIST, S_ZPIST, S_RELIEF, S_ASYM, S_IEL, S_STOP = range(15, 21)
 S_ROT = 21
 #: Gas charge (accumulator on a single-rod device): 1 when composed, else 0 (issue #20).
 S_GAS = 22
+#: Field-dependent yield (MR/ER valve): state index of its field lag u_f, else -1 (issue #20).
+S_FY = 23
+#: Self-heating (issue #20 item 5): index of the fluid temperature state T [K], else -1.
+S_TH = 24
 #: Freeplay that drives only the friction at ``location="piston"`` (the fluid stays on the rod:
 #: a friction element behind its own dead band): 1 when so composed, else 0 or -1.
-S_FPFRIC = 23
-N_SPEC = 24
+S_FPFRIC = 25
+N_SPEC = 26
 
 E_LEAK, E_PV, E_KC, E_GAP, E_SFC, E_SIG, E_VS, E_SR, E_CF, E_MASS, E_OFF = range(11)
 E_PR, E_GR = 11, 12  # relief valve: cracking pressure [Pa], conductance [m^3/(s Pa)]
@@ -90,8 +94,51 @@ E_AR, E_PCH, E_VG, E_NG, E_Y0G = 27, 28, 29, 30, 31
 E_PR2, E_GR2 = 32, 33
 #: Gas charge: ambient pressure on the rod's outer end [Pa] (the charge is gauge above it).
 E_PAT = 34
+#: Field-dependent yield: yield pressure drop at zero input [Pa] and per unit input
+#: [Pa/V or Pa/A], lag rate of the field [1/s], smoothing mass flow [kg/s], slot index of
+#: the input channel it reads (``CHANNELS``) (:func:`yield_drop`).
+E_DPY0, E_DPY1, E_ETA, E_MEPS, E_FYCH = 35, 36, 37, 38, 39
+#: Self-heating (:mod:`liquidamp.device.kernels_thermal`): heat capacity [J/K] (inf: the
+#: temperature held), conductance to ambient [W/K], ambient temperature [K], reference
+#: temperature of the loss coefficients [K], the exponential law's beta [1/K], the exponent
+#: of the viscosity ratio on the quadratic loss [-], the law id [-] and its two constants.
+E_TC, E_THA, E_TAMB, E_TREF, E_TBETA, E_TG2, E_TLAW, E_TA, E_TB = range(40, 49)
+#: Self-heating: where the law's temperature comes from (0: the thermal state; 1: the
+#: measured ``temperature`` channel, ``prm[P_CH + 0]``).
+E_TSRC = 49
 #: The effect slots; the state scales follow from ``ep[N_EP]`` on.
-N_EP = 35
+N_EP = 50
+
+# ------------------------------------------------------- measured input channels
+#: Measured input channels a model may read by name (issue #20), in their slot order: an
+#: effect declares the ones it reads (``Effect.input_channels``); the driver writes channel
+#: k's value at the current time (every Runge-Kutta stage) into ``prm[P_CH + k]`` (SI:
+#: temperature [K], voltage [V], current [A], pressure [Pa]) and its time derivative into
+#: ``prm[P_CHD + k]`` (the recorded series is interpolated linearly, like the stroke).
+CHANNELS = ("temperature", "voltage", "current", "pressure")
+#: Number of input channel slots.
+N_CH = 4
+#: First slot of the channel values in the packed parameter vector (after the N_PRM
+#: parameter slots; 0 until a driver writes them).
+P_CH = N_PRM
+#: First slot of the channel rates [unit/s].
+P_CHD = N_PRM + N_CH
+#: Length of the packed parameter vector: the parameters and the input channel slots.
+N_PRM_ALL = N_PRM + 2 * N_CH
+
+
+def channel_index(name: str) -> int:
+    """Slot index k of the input channel ``name`` (``prm[P_CH + k]``).
+
+    Examples
+    --------
+    >>> channel_index("voltage"), CHANNELS[channel_index("current")]
+    (1, 'current')
+    """
+    from liquidamp.errors import check_choice
+
+    check_choice("input channel", name, CHANNELS)
+    return CHANNELS.index(name)
 
 
 def pack_params(params) -> np.ndarray:
@@ -106,16 +153,17 @@ def pack_params(params) -> np.ndarray:
     Returns
     -------
     ndarray
-        Shape (N_PRM,).
+        Shape (N_PRM_ALL,): the N_PRM parameter slots, then the input channel slots
+        (``P_CH``, ``P_CHD``: zero until a driver writes them).
 
     Examples
     --------
     >>> from liquidamp.device import preset
     >>> v = pack_params(preset("reference"))
-    >>> v.shape, bool(v[P_AP] == preset("reference").A_p)
-    ((25,), True)
+    >>> v.shape, bool(v[P_AP] == preset("reference").A_p), N_PRM
+    ((33,), True, 25)
     """
-    v = np.zeros(N_PRM)
+    v = np.zeros(N_PRM_ALL)
     if not hasattr(params, "A_p"):  # the viscous damper F = c v + c2 v|v|
         v[P_CV] = float(params.c)
         v[P_CV2] = float(getattr(params, "c2", 0.0))

@@ -41,6 +41,7 @@ from liquidamp.device.kernels_laws import (
     rotating_slope,
     stop_force,
     valve_flow,
+    yield_drop,
 )
 from liquidamp.device.kernels_layout import (
     _FM,
@@ -51,8 +52,12 @@ from liquidamp.device.kernels_layout import (
     E_CRQ,
     E_CS,
     E_CTR,
+    E_DPY0,
+    E_DPY1,
+    E_ETA,
     E_FEX,
     E_FRQ,
+    E_FYCH,
     E_GAP,
     E_GR,
     E_GR2,
@@ -62,6 +67,7 @@ from liquidamp.device.kernels_layout import (
     E_KS,
     E_LEAK,
     E_MASS,
+    E_MEPS,
     E_NG,
     E_OFF,
     E_PAT,
@@ -73,6 +79,10 @@ from liquidamp.device.kernels_layout import (
     E_SFC,
     E_SIG,
     E_SR,
+    E_TAMB,
+    E_TC,
+    E_THA,
+    E_TREF,
     E_VG,
     E_VS,
     E_Y0G,
@@ -87,6 +97,7 @@ from liquidamp.device.kernels_layout import (
     M_SINGLE_STATE,
     M_VISCOUS,
     M_VOLUMETRIC,
+    N_CH,
     N_EP,
     P_AP,
     P_B01,
@@ -94,12 +105,17 @@ from liquidamp.device.kernels_layout import (
     P_BLM,
     P_C1,
     P_C2,
+    P_CH,
+    P_CHD,
     P_CL,
     P_CV,
     P_FRIC,
     P_G1,
     P_G2,
     P_KD,
+    P_LT,
+    P_RHO0,
+    P_ST,
     P_TD,
     P_V01,
     P_V02,
@@ -110,6 +126,7 @@ from liquidamp.device.kernels_layout import (
     S_COUL,
     S_CPIST,
     S_FPFRIC,
+    S_FY,
     S_GAS,
     S_I1,
     S_I2,
@@ -127,7 +144,14 @@ from liquidamp.device.kernels_layout import (
     S_RELIEF,
     S_ROT,
     S_STOP,
+    S_TH,
     S_ZPIST,
+)
+from liquidamp.device.kernels_thermal import (
+    channel_power,
+    heat_rate,
+    law_temperature,
+    thermal_params,
 )
 
 drop_stale(__file__)  # before any kernel of this module loads from the cache
@@ -212,6 +236,43 @@ def _damper_force(spec, v, prm, ep):
 
 
 @njit(cache=True, error_model="numpy")
+def _field_yield(mid, x, ify, prm, ep, out):
+    """Field-dependent yield (``field_yield``): the channel's momentum balance loses the
+    yield drop :func:`yield_drop` at the lagged field u_f = x[ify], whose rate
+    eta (u - u_f) follows the measured input u (``prm[P_CH + k]``, k = ``ep[E_FYCH]``)."""
+    uf = x[ify]
+    u = prm[P_CH + int(ep[E_FYCH])]
+    out[ify] = ep[E_ETA] * (u - uf)
+    if mid == M_FULL:
+        out[4] -= yield_drop(x[4], uf, ep[E_DPY0], ep[E_DPY1], ep[E_MEPS]) / prm[P_ST]
+    elif mid == M_INERTIAL:
+        out[2] -= yield_drop(x[2], uf, ep[E_DPY0], ep[E_DPY1], ep[E_MEPS]) / prm[P_ST]
+    elif mid == M_INERTIAL_2STATE:  # volumetric flow q: mass flow rho0 q, inertance L_t
+        out[1] -= yield_drop(prm[P_RHO0] * x[1], uf, ep[E_DPY0], ep[E_DPY1],
+                             ep[E_MEPS]) / prm[P_LT]
+
+
+@njit(cache=True, error_model="numpy")
+def _field_yield_jac(mid, x, ify, prm, ep, J):
+    """The field yield's entries of the analytic Jacobian (:func:`_field_yield`)."""
+    uf = x[ify]
+    meps = ep[E_MEPS]
+    dpy = ep[E_DPY0] + ep[E_DPY1] * abs(uf)
+    su = 1.0 if uf > 0.0 else (-1.0 if uf < 0.0 else 0.0)
+    J[ify, ify] = -ep[E_ETA]
+    if mid == M_FULL or mid == M_INERTIAL:
+        i = 4 if mid == M_FULL else 2
+        th = math.tanh(x[i] / meps)
+        J[i, i] -= dpy * (1.0 - th * th) / meps / prm[P_ST]
+        J[i, ify] -= ep[E_DPY1] * su * th / prm[P_ST]
+    elif mid == M_INERTIAL_2STATE:
+        r = prm[P_RHO0]
+        th = math.tanh(r * x[1] / meps)
+        J[1, 1] -= dpy * (1.0 - th * th) * r / meps / prm[P_LT]
+        J[1, ify] -= ep[E_DPY1] * su * th / prm[P_LT]
+
+
+@njit(cache=True, error_model="numpy")
 def _fluid_rhs(spec, x, y, v, prm, ep, out):
     """Base model with the fluid effects (leakage, rotating frame, cavitation) at piston
     stroke (y, v)."""
@@ -233,6 +294,9 @@ def _fluid_rhs(spec, x, y, v, prm, ep, out):
         base_rhs(mid, x, y, v, prm, kL, dpc, out)
     if spec[S_RELIEF] != 0 and i1 < 0:
         _relief_differential(mid, x, y, prm, ep, dpc, out)
+    ify = spec[S_FY]
+    if ify >= 0:
+        _field_yield(mid, x, ify, prm, ep, out)
     ic = spec[S_ICAV]
     if ic >= 0:
         i2 = spec[S_I2]
@@ -257,8 +321,9 @@ def _fluid_rhs(spec, x, y, v, prm, ep, out):
             # about the filling pressure p0, the chambers sit p_g(y) above them, so the
             # cavity switch sees p_i + p_g(y) (the piston stroke stands for the rod's here)
             yg = y + ep[E_Y0G]
-            pg = gas_pressure(yg, ep[E_AR], ep[E_PCH], ep[E_VG], ep[E_NG], ep[E_PAT])
-            sg = gas_slope(yg, ep[E_AR], ep[E_PCH], ep[E_VG], ep[E_NG], ep[E_PAT]) * v
+            pch = _charge(spec, x, prm, ep)
+            pg = gas_pressure(yg, ep[E_AR], pch, ep[E_VG], ep[E_NG], ep[E_PAT])
+            sg = gas_slope(yg, ep[E_AR], pch, ep[E_VG], ep[E_NG], ep[E_PAT]) * v
             o1 += pg
             o2 += pg
             s1 += sg
@@ -272,6 +337,18 @@ def _fluid_rhs(spec, x, y, v, prm, ep, out):
 
 
 @njit(cache=True, error_model="numpy")
+def _charge(spec, x, prm, ep):
+    """Gauge charge pressure of the gas at its reference volume [Pa]: ``ep[E_PCH]``, or, with
+    self-heating, the gas at the fluid's temperature T (isochoric, ideal gas):
+    (p_c + p_a) T / T_ref - p_a."""
+    ith = spec[S_TH]
+    if ith < 0:
+        return ep[E_PCH]
+    T = law_temperature(x[ith], prm, ep)
+    return (ep[E_PCH] + ep[E_PAT]) * T / ep[E_TREF] - ep[E_PAT]
+
+
+@njit(cache=True, error_model="numpy")
 def _fp_contact(spec, x, y, v, ep):
     """Contact factor of the freeplay (needs ``spec[S_IFP] >= 0``) [-].
 
@@ -282,6 +359,41 @@ def _fp_contact(spec, x, y, v, ep):
     if spec[S_ZPIST] != 0 and spec[S_IZ] >= 0:
         return piston_contact(e, x[spec[S_IZ]], ep[E_SFC] / ep[E_SIG], ep[E_GAP])
     return play_contact(e, v, ep[E_GAP])
+
+
+@njit(cache=True, error_model="numpy")
+def dissipated_power(spec, x, y, v, prm, ep):
+    """Power the flow paths dissipate [W] at the piston stroke (y [m], v [m/s]).
+
+    The channel's linear and quadratic losses (:func:`~.kernels_thermal.channel_power`, at
+    the coefficients of the flow's direction), the leakage's kL dp^2 and the valve's q_v dp
+    beside it; on the stateless dashpot-type bases with a valve or a rebound ratio, their
+    exact force law times v.  ``prm`` as the right-hand side sees it (at the fluid's
+    temperature where self-heating is composed).  Friction's heat (at the seals, not in the
+    fluid) is not counted.
+    """
+    mid = spec[S_MID]
+    if mid == M_DASHPOT or mid == M_DASHPOT_INERTER or mid == M_VISCOUS:
+        if spec[S_RELIEF] != 0 or spec[S_ASYM] != 0:
+            return _damper_force(spec, v, prm, ep) * v
+        return channel_power(mid, x, v, 0.0, prm)
+    dpc = 0.0
+    if spec[S_ROT] > 0:
+        dpc = rotating_heads(y, prm, ep)[0]
+    i1 = spec[S_I1]
+    if i1 >= 0:
+        dp = x[i1] - x[spec[S_I2]] + dpc
+    elif mid == M_MAXWELL:
+        dp = x[0] / prm[P_AP]
+    else:
+        dp = x[0] + dpc
+    q = loss_params(spec, x, v, prm, ep, dpc) if spec[S_ASYM] != 0 else prm
+    P = channel_power(mid, x, v, dp, q)
+    if spec[S_LEAK] != 0 and i1 >= 0:
+        P += ep[E_LEAK] * dp * dp
+    if spec[S_RELIEF] != 0:
+        P += _valve(dp, ep) * dp
+    return P
 
 
 @njit(cache=True, error_model="numpy", fastmath=_FM)
@@ -298,6 +410,9 @@ def model_rhs(spec, x, y, v, prm, ep, out):
             and spec[S_ASYM] == 0 and spec[S_ROT] <= 0):
         base_rhs_inline(spec[S_MID], x, y, v, prm, 0.0, 0.0, out)
         return
+    ith = spec[S_TH]
+    if ith >= 0:  # self-heating: the loss coefficients at the fluid's temperature
+        prm = thermal_params(law_temperature(x[ith], prm, ep), prm, ep)
     yi = y
     vi = v
     vpist = v  # the velocity of the friction at the piston (behind the dead band)
@@ -311,8 +426,11 @@ def model_rhs(spec, x, y, v, prm, ep, out):
             yi = x[ifp]
             vi = r
     icp = spec[S_IC]
+    yq = yi  # the piston stroke the fluid sees (self-heating's dissipation)
+    vq = vi
     if icp >= 0:
         yp = x[icp]
+        yq = yp
         k = ep[E_KC]
         if math.isinf(k):
             _fluid_rhs(spec, x, yp, vi, prm, ep, out)
@@ -331,8 +449,12 @@ def model_rhs(spec, x, y, v, prm, ep, out):
             for i in range(n_in):
                 out[i] = out[i] + vp * (d1[i] - out[i])
             out[icp] = vp
+            vq = vp
     else:
         _fluid_rhs(spec, x, yi, vi, prm, ep, out)
+    if ith >= 0:  # the fluid warms by what the flow paths dissipate, cools to ambient
+        out[ith] = heat_rate(x[ith], dissipated_power(spec, x, yq, vq, prm, ep), ep[E_TC],
+                             ep[E_THA], ep[E_TAMB])
     if iz >= 0:  # the bristles move with the rod, or with the piston behind the dead band
         vz = vpist if spec[S_ZPIST] != 0 else v
         out[iz] = lugre_rate(vz, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR],
@@ -366,6 +488,8 @@ def model_jac(spec, x, y, v, prm, ep, J):
         iel = spec[S_IEL]
         if iel >= 0:
             J[iel, iel] = -ep[E_K1] / ep[E_C1E]
+        if spec[S_FY] >= 0:
+            _field_yield_jac(spec[S_MID], x, spec[S_FY], prm, ep, J)
         return
     xp = x.copy()
     fp = np.empty(n)
@@ -402,11 +526,27 @@ def model_rhs_t(spec, x, y, v, yd, vd, prm, ep, out):
         iel = spec[S_IEL]
         if iel >= 0:
             out[iel] = ep[E_K1] * vd
+        ify = spec[S_FY]
+        if ify >= 0:  # the field lag through the measured input's rate
+            out[ify] = ep[E_ETA] * prm[P_CHD + int(ep[E_FYCH])]
         return
     dt = 1.0e-7
     fm = np.empty(n)
-    model_rhs(spec, x, y + dt * yd, v + dt * vd, prm, ep, out)
-    model_rhs(spec, x, y - dt * yd, v - dt * vd, prm, ep, fm)
+    moving = False  # measured input channels that change along the step (their rates)
+    for k in range(N_CH):
+        if prm[P_CHD + k] != 0.0:
+            moving = True
+    if moving:
+        qp = prm.copy()
+        qm = prm.copy()
+        for k in range(N_CH):
+            qp[P_CH + k] = prm[P_CH + k] + dt * prm[P_CHD + k]
+            qm[P_CH + k] = prm[P_CH + k] - dt * prm[P_CHD + k]
+        model_rhs(spec, x, y + dt * yd, v + dt * vd, qp, ep, out)
+        model_rhs(spec, x, y - dt * yd, v - dt * vd, qm, ep, fm)
+    else:
+        model_rhs(spec, x, y + dt * yd, v + dt * vd, prm, ep, out)
+        model_rhs(spec, x, y - dt * yd, v - dt * vd, prm, ep, fm)
     for i in range(n):
         out[i] = (out[i] - fm[i]) / (2.0 * dt)
 
@@ -422,6 +562,8 @@ def model_force(spec, x, y, v, a, prm, ep, with_friction):
     ``friction_N sign(v)`` (:attr:`DeviceParams.friction_N`).
     """
     mid = spec[S_MID]
+    if spec[S_TH] >= 0:  # self-heating: the loss coefficients at the fluid's temperature
+        prm = thermal_params(law_temperature(x[spec[S_TH]], prm, ep), prm, ep)
     yi = y
     vi = v
     ifp = spec[S_IFP]
@@ -455,7 +597,8 @@ def model_force(spec, x, y, v, a, prm, ep, with_friction):
     if spec[S_STOP] != 0:
         f += stop_force(y, v, ep[E_KS], ep[E_CS], ep[E_CLR], ep[E_CTR])
     if spec[S_GAS] != 0:  # the gas charge on the absolute rod stroke
-        f += gas_force(y + ep[E_Y0G], ep[E_AR], ep[E_PCH], ep[E_VG], ep[E_NG], ep[E_PAT])
+        f += gas_force(y + ep[E_Y0G], ep[E_AR], _charge(spec, x, prm, ep), ep[E_VG], ep[E_NG],
+                       ep[E_PAT])
     if spec[S_MASS] != 0:
         f += ep[E_MASS] * a
     if spec[S_OFF] != 0:
@@ -481,3 +624,20 @@ def force_series(spec, X, Y, V, A, prm, ep, with_friction, out):
             out[k] = model_force(spec, xk, Y[k], V[k], A[k], prm, ep, True)
         else:
             out[k] = model_force(spec, xk, Y[k], V[k], A[k], prm, ep, False)
+
+
+@njit(cache=True, error_model="numpy")
+def force_series_inputs(spec, X, Y, V, A, C, prm, ep, with_friction, out):
+    """:func:`force_series` with the measured input channels of every sample: ``C`` (N_CH, N)
+    the channel values in slot order (``prm[P_CH + k]``, see ``kernels_layout.CHANNELS``)."""
+    q = prm.copy()
+    xk = np.empty(X.shape[0])
+    for k in range(out.size):
+        for j in range(N_CH):
+            q[P_CH + j] = C[j, k]
+        for i in range(X.shape[0]):
+            xk[i] = X[i, k]
+        if with_friction:
+            out[k] = model_force(spec, xk, Y[k], V[k], A[k], q, ep, True)
+        else:
+            out[k] = model_force(spec, xk, Y[k], V[k], A[k], q, ep, False)

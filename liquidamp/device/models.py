@@ -153,6 +153,8 @@ class DeviceModel:
         check_choice("model base", self.base, K.MODEL_IDS)
         check_choice("model family", self.family, FAMILIES)
         object.__setattr__(self, "_spec", self._build_spec())
+        wanted = {c for e in self.effects for c in getattr(e, "input_channels", ())}
+        object.__setattr__(self, "_inputs", tuple(c for c in K.CHANNELS if c in wanted))
 
     # -------------------------------------------------------- packing
     @property
@@ -202,7 +204,7 @@ class DeviceModel:
             spec[K.S_I1], spec[K.S_I2] = names.index("p1"), names.index("p2")
         fd = spec[K.S_ICAV] >= 0 or spec[K.S_IC] >= 0 or spec[K.S_IFP] >= 0 or (
             spec[K.S_LEAK] and self.base not in ("full", "no_inertia")) or spec[K.S_RELIEF] \
-            or spec[K.S_ROT] > 0
+            or spec[K.S_ROT] > 0 or spec[K.S_TH] >= 0
         spec[K.S_ANALYTIC] = 0 if fd else 1
         spec[K.S_EFFECTS] = len(self.effects)
         return spec
@@ -221,10 +223,30 @@ class DeviceModel:
         spec, prm, ep = _packed(self, params)
         return spec, prm.copy(), ep
 
+    @property
+    def input_channels(self) -> tuple[str, ...]:
+        """Measured channels the model reads (its effects' ``input_channels``, slot order)."""
+        return self._inputs
+
+    def _with_inputs(self, prm, u, rates=None):
+        """Write the channel values ``u[3]`` (and ``rates[2]``) into ``prm``'s channel slots;
+        refuse a model that reads channels without them (Effect docstring)."""
+        if not self._inputs:
+            return
+        if len(u) < 4 or u[3] is None:
+            check_input_channels(self, (), "a drive u = (y, v, a) without channel values (an "
+                                 "analytic stroke or a coupled host)")
+        prm[K.P_CH:K.P_CH + K.N_CH] = np.asarray(u[3], float).reshape(K.N_CH)
+        if rates is not None and len(rates) > 2 and rates[2] is not None:
+            prm[K.P_CHD:K.P_CHD + K.N_CH] = np.asarray(rates[2], float).reshape(K.N_CH)
+
     # -------------------------------------------------------- physics
     def rhs(self, t, x, u, params) -> np.ndarray:
-        """dx/dt at state ``x`` under the rod stroke ``u = (y, v, a)`` [state units / s]."""
+        """dx/dt at state ``x`` under the rod stroke ``u = (y, v, a)`` [state units / s]
+        (``u = (y, v, a, c)`` with the input channel values ``c`` for a model that reads
+        measured channels: :class:`~liquidamp.device.effects_base.Effect`)."""
         spec, prm, ep = self.packed(params)
+        self._with_inputs(prm, u)
         out = np.empty(self.n_states)
         if out.size:
             K.model_rhs(spec, np.array(x, dtype=float), float(u[0]), float(u[1]), prm, ep, out)
@@ -233,14 +255,17 @@ class DeviceModel:
     def jacobian(self, t, x, u, params) -> np.ndarray:
         """d rhs / dx, shape (n, n): analytic or central differences (:attr:`analytic_jacobian`)."""
         spec, prm, ep = self.packed(params)
+        self._with_inputs(prm, u)
         J = np.zeros((self.n_states, self.n_states))
         if J.size:
             K.model_jac(spec, np.array(x, dtype=float), float(u[0]), float(u[1]), prm, ep, J)
         return J
 
     def rhs_t(self, t, x, u, rates, params) -> np.ndarray:
-        """d rhs / dt at fixed x through the stroke, ``rates = (dy/dt, dv/dt)``."""
+        """d rhs / dt at fixed x through the stroke, ``rates = (dy/dt, dv/dt)`` (and the
+        channel rates ``dc/dt`` third where the model reads channels)."""
         spec, prm, ep = self.packed(params)
+        self._with_inputs(prm, u, rates)
         out = np.zeros(self.n_states)
         if out.size:
             K.model_rhs_t(spec, np.array(x, dtype=float), float(u[0]), float(u[1]),
@@ -261,7 +286,12 @@ class DeviceModel:
         Y, V, A = (np.require(np.broadcast_to(q, shape).reshape(-1), float, "CW")
                    for q in (y, v, a))
         out = np.empty(N)
-        if self.effects:
+        if self._inputs and len(u) > 3 and u[3] is not None:
+            # the channel values per sample (rows in slot order) into the channel slots
+            C = np.require(np.broadcast_to(np.asarray(u[3], float).reshape(K.N_CH, -1),
+                                           (K.N_CH, N)), float, "CW")
+            K.force_series_inputs(spec, X2, Y, V, A, C, prm, ep, with_friction, out)
+        elif self.effects:
             K.force_series(spec, X2, Y, V, A, prm, ep, with_friction, out)
         else:
             K.base_force_series(int(spec[K.S_MID]), X2, Y, V, A, prm, with_friction, out)
@@ -301,6 +331,41 @@ use 'no_inertia' (eq. 11) for a channel without inertance
                     f"model {self.name!r} (eq. {self.equation}) needs {key} > 0 "
                     f"[{units.get(key, '-')}], got {value:g}{hints.get(key, '')}"
                 )
+
+
+def check_input_channels(model, available, where: str) -> None:
+    """Raise ParameterError, before any work, if ``model`` reads a channel ``available`` lacks.
+
+    Parameters
+    ----------
+    model : DeviceModel
+        The composed model.
+    available : iterable of str
+        Channels the drive carries (e.g. a record's ``channels``).
+    where : str
+        What drives the model, for the message (e.g. ``"record 'd10_cal'"``).
+
+    Raises
+    ------
+    ParameterError
+        Naming the effect, the channel it reads and the channels ``where`` carries.
+
+    Examples
+    --------
+    >>> from liquidamp.device.models import get_model
+    >>> check_input_channels(get_model("full"), (), "a harmonic stroke") is None
+    True
+    """
+    have = tuple(available)
+    for e in getattr(model, "effects", ()):
+        for c in e.input_channels:
+            if c not in have:
+                raise ParameterError(
+                    f"effect {e.name!r} reads the measured {c!r} channel, which {where} does "
+                    f"not carry (channels there: {', '.join(have) or 'none'}); drive it with "
+                    f"a record that has a {c} column "
+                    "(liquidamp.analysis.measured.record_model.simulate_record), or leave "
+                    "the effect out")
 
 
 @functools.lru_cache(maxsize=256)

@@ -17,7 +17,7 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -540,6 +540,11 @@ class RecordedStroke:
         Strictly increasing sample times [s].
     displacement, velocity, acceleration : array
         Samples [m], [m/s], [m/s^2] (see :func:`savgol_derivatives`).
+    channels : dict, optional
+        Measured input channels on the same time grid, name -> samples in SI (e.g.
+        ``{"voltage": volts}``), for a device model that reads them (issue #20; the
+        engines interpolate them linearly between the samples, as the stroke, and pass
+        them to the model at every stage: :class:`liquidamp.device.effects_base.Effect`).
 
     Examples
     --------
@@ -547,14 +552,32 @@ class RecordedStroke:
     >>> s = RecordedStroke.from_displacement(t, 0.001 * np.sin(2 * np.pi * 2 * t))
     >>> round(float(s(0.125)[0]), 6)
     0.001
+    >>> s = RecordedStroke(t, 0 * t, 0 * t, 0 * t, channels={"voltage": 2 * t})
+    >>> float(s.channel_values(0.25)["voltage"])
+    0.5
     """
 
     time: np.ndarray
     displacement: np.ndarray
     velocity: np.ndarray
     acceleration: np.ndarray
+    channels: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
+        chans = {}
+        n_t = np.size(self.time)
+        for name, arr in dict(self.channels).items():
+            a = np.array(arr, dtype=float)
+            if a.shape != (n_t,):
+                raise ParameterError(f"recorded stroke channel {name!r} must hold one sample "
+                                     f"per time ({n_t}), got shape {a.shape}")
+            bad = np.flatnonzero(~np.isfinite(a))
+            if bad.size:
+                raise ParameterError(f"recorded stroke channel {name!r} is not finite at "
+                                     f"sample {bad[0]}")
+            a.setflags(write=False)
+            chans[str(name)] = a
+        object.__setattr__(self, "channels", chans)
         arrays = {}
         for name in ("time", "displacement", "velocity", "acceleration"):
             arr = np.array(getattr(self, name), dtype=float)
@@ -596,3 +619,21 @@ class RecordedStroke:
             np.interp(t, tt, self.velocity),
             np.interp(t, tt, self.acceleration),
         )
+
+    def channel_values(self, t) -> dict:
+        """The measured channels interpolated linearly at ``t`` [s] (ends held): name ->
+        value(s) in SI."""
+        return {k: np.interp(t, self.time, v) for k, v in self.channels.items()}
+
+    def channel_rates(self, t) -> dict:
+        """Slopes of the channels' linear interpolant on the segment holding ``t`` (0 outside
+        the samples) [unit/s], name -> value(s)."""
+        tt = self.time
+        tq = np.asarray(t, float)
+        i = np.clip(np.searchsorted(tt, tq, side="right") - 1, 0, tt.size - 2)
+        inside = (tq >= tt[0]) & (tq < tt[-1])
+        out = {}
+        for k, v in self.channels.items():
+            r = np.where(inside, (v[i + 1] - v[i]) / (tt[i + 1] - tt[i]), 0.0)
+            out[k] = float(r) if r.ndim == 0 else r
+        return out

@@ -31,7 +31,11 @@ def _stroke(t):
 
 def _run(model, t_end=0.7, n=141, params=P):
     t = np.linspace(0, t_end, n)
-    X = integrate(model, params, _stroke, t, model.initial_state(params, 0.0), rtol=1e-9,
+    drive = _stroke
+    if model.input_channels:  # a measured input held at 1 (issue #20: u = (y, v, a, c))
+        def drive(tq):
+            return _stroke(tq) + (np.ones(4),)
+    X = integrate(model, params, drive, t, model.initial_state(params, 0.0), rtol=1e-9,
                   atol_scale=1e-11)
     u = STROKE(t)
     return t, X, u, np.asarray(model.force(t, X, u, params)) * np.ones(t.size)
@@ -47,7 +51,9 @@ ZERO = {"coulomb_friction": {"force_N": 0.0}, "smooth_friction": {"force_N": 0.0
         "rotating_frame": {"rotor_speed_rad_per_s": 0.0, "mounting_radius_m": 0.5},
         "gas_charge": {"rod_area_m2": 0.0},
         "digressive_valve": {"compression_conductance_m3_per_s_Pa": 0.0,
-                             "rebound_conductance_m3_per_s_Pa": 0.0}}
+                             "rebound_conductance_m3_per_s_Pa": 0.0},
+        "field_yield": {"yield_pressure_Pa": 0.0, "yield_pressure_per_input": 0.0},
+        "self_heating": {"beta_per_K": 0.0, "c2_exponent": 0.0}}
 
 
 @pytest.mark.parametrize("name", list(EFFECTS))

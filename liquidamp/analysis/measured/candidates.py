@@ -166,7 +166,8 @@ def probe_effect(name: str, result: CalibrationResult) -> Effect:
         resp = simulate_record(result.device_model, p, recs[0], options=FIT_OPTIONS)
         pmin = float(min(resp.p1.min(), resp.p2.min()))
         return cls(vapour_pressure_Pa=max(pmin + 0.3 * (p.p0 - pmin), 1.0))
-    return cls.probe(Fa, Y, w, p)  # the other catalogue effects state their own probe
+    # the other catalogue effects state their own probe (on the channel the records carry)
+    return _on_records(cls.probe(Fa, Y, w, p), result)
 
 
 @dataclass(frozen=True)
@@ -423,9 +424,38 @@ def candidate_change(name: str, result: CalibrationResult) -> Change:
     if name in COMPOSITES:
         return COMPOSITES[name].change(result)
     e = probe_effect(name, result)
+    if getattr(e, "proposed_by", ()):
+        return _drifting_change(e, result)
     key = e.fit_keys[0]
     return Change(tuple(result.effects) + (e,), free=tuple((name, k) for k in e.fit_keys),
                   lead=(name, key), base=0.0, probe=float(getattr(e, key)), added=name)
+
+
+def _measured(result: CalibrationResult, channel: str) -> bool:
+    """Whether every calibration and held-out record carries the measured ``channel``."""
+    recs = tuple(result.calibration) + tuple(getattr(result, "validation", ()) or ())
+    return bool(recs) and all(channel in getattr(r, "channels", {}) for r in recs)
+
+
+def _drifting_change(e: Effect, result: CalibrationResult) -> Change:
+    """Self-heating proposed by a drift or a measured temperature (``Effect.proposed_by``).
+
+    With the temperature measured on every record it drives the viscosity law: the
+    coefficient beta (``fit_keys_measured``) is the one freed, the lead from beta = 0
+    (the device without the effect).  Without it each record's start temperature is its
+    own (``start="record"``), the law's beta stays at its probe (only beta / h_A and
+    C_th / h_A show in a force), and the heat capacity and conductance (``fit_keys``) are
+    freed, the lead again beta from 0.
+    """
+    if _measured(result, "temperature"):
+        e = e.replace(start="given", temperature="measured")
+        free = e.fit_keys_measured
+    else:
+        e = e.replace(start="record")
+        free = e.fit_keys
+    return Change(tuple(result.effects) + (e,), free=tuple((e.name, k) for k in free),
+                  lead=(e.name, "beta_per_K"), base=0.0, probe=float(e.beta_per_K),
+                  added=e.name)
 
 
 def applicable(name: str, result: CalibrationResult) -> str:
@@ -433,7 +463,45 @@ def applicable(name: str, result: CalibrationResult) -> str:
     if name in COMPOSITES:
         return COMPOSITES[name].applicable(result)
     try:
-        with_effects(result.device_model, EFFECTS[name]())
+        e = _on_records(EFFECTS[name](), result)
+        with_effects(result.device_model, e)
     except ParameterError as exc:
         return str(exc)
-    return ""
+    return _proposed(EFFECTS[name], result)
+
+
+def _proposed(cls, result: CalibrationResult) -> str:
+    """Why an effect proposed only by what a record shows (``Effect.proposed_by``: a drift of
+    its force, a measured temperature) is not proposed by these records ('' when it is): a
+    stationary record without the channel has nothing such an effect could follow."""
+    why = getattr(cls, "proposed_by", ())
+    if not why:
+        return ""
+    recs = tuple(result.calibration)
+    if "temperature" in why and _measured(result, "temperature"):
+        return ""
+    if "drift" in why:
+        from liquidamp.analysis.measured.drift import record_drift
+
+        if any(r.periodic and record_drift(r).nonstationary for r in recs):
+            return ""
+    return ("proposed only by a record whose force drifts from cycle to cycle or that "
+            "carries a measured temperature; these records do neither")
+
+
+def _on_records(effect: Effect, result: CalibrationResult) -> Effect:
+    """``effect`` reading the measured channel the records carry (an effect with an ``input``
+    composition field, e.g. ``field_yield``: voltage or current); ParameterError naming why
+    where a record carries none it can read (so that such an effect is screened only on
+    records with its input, issue #20)."""
+    if not effect.input_channels:
+        return effect
+    records = tuple(result.calibration) + tuple(getattr(result, "validation", ()) or ())
+    choices = effect.composition_keys().get("input", effect.input_channels)
+    for c in choices:
+        if all(c in r.channels for r in records):
+            return effect.replace(input=c) if "input" in effect.composition_keys() else effect
+    have = sorted({k for r in records for k in r.channels})
+    raise ParameterError(
+        f"effect {effect.name!r} follows a measured {' or '.join(choices)} channel, which "
+        f"not every record carries (channels there: {', '.join(have) or 'none'})")

@@ -114,11 +114,21 @@ from liquidamp.errors import ConvergenceError, ParameterError, PressureError
 __all__ = ["DEVICE_CLASSES", "FLUID_FLOOR", "VISCOUS_FLOOR", "QUADRATIC_SHARE", "START_NFEV",
            "HELD_OUT_TOLERANCE", "BIC_STRONG", "BIC_POSITIVE", "DEFAULT_CLASS", "LoopReading",
            "read_loop", "ClassStart",
-           "fluid_matched", "friction_start", "viscous_start", "StartOutcome", "choose_start",
+           "fluid_matched", "friction_start", "viscous_start", "field_input", "field_start",
+           "StartOutcome", "choose_start",
            "calibrate_by_class"]
 
-#: The structurally different starts, in the order they are tried.
-DEVICE_CLASSES = ("fluid", "friction", "viscous")
+#: The structurally different starts, in the order they are tried (``field`` only where
+#: every record carries a control input, :func:`field_input`).
+DEVICE_CLASSES = ("fluid", "friction", "viscous", "field")
+#: Control inputs a field-controlled (MR/ER) device follows, in the order they are read.
+FIELD_CHANNELS = ("voltage", "current")
+#: Field lag rates eta tried by the field start's loop reading [1/s] (MR valves: field time
+#: constants of a few to some tens of ms, Spencer et al. 1997).
+FIELD_RATES = tuple(float(x) for x in np.geomspace(10.0, 1000.0, 11))
+#: The field start's smoothing mass flow m_eps as a share of the records' RMS piston mass
+#: flow rho A_p v_rms [-] (a numerical start; fitted).
+FIELD_SMOOTHING = 0.02
 #: Least share of |K*| the fluid keeps in the friction start (each of K', K''), where the
 #: record's noise floor (as an NRMSE) is lower [-].
 FLUID_FLOOR = 1e-3
@@ -360,6 +370,134 @@ def viscous_start(base: DeviceParams, effects, records, reading: LoopReading) ->
     return ClassStart("viscous", p, effs, FitSpec.default(vary=("c1",), effects=effs), why)
 
 
+def field_input(records) -> str | None:
+    """The control input every record carries (``voltage``, else ``current``), or None."""
+    for c in FIELD_CHANNELS:
+        if all(c in r.channels for r in records):
+            return c
+    return None
+
+
+def _lagged(u, dt: float, eta: float):
+    """u through the first-order lag du_f/dt = eta (u - u_f), exact for u held over each
+    sample, settled on u[0] at the start."""
+    from scipy.signal import lfilter
+
+    a = math.exp(-eta * dt)
+    out, _ = lfilter([1.0 - a], [1.0, -a], u, zi=[a * u[0]])
+    return out
+
+
+def _air_factor(p: DeviceParams, k_target: float) -> float | None:
+    """The factor on both air ratios that gives the device the air stiffness k_D =
+    ``k_target`` [N/m] (bisection in log; k_D falls as the air grows), or None where the
+    bounds of :meth:`FitSpec.default` (0.05 to 20) cannot reach it."""
+    def k(f):
+        return p.scaled(inv_gamma1=f, inv_gamma2=f).k_D
+
+    lo, hi = 0.05, 20.0
+    if not k(hi) <= k_target <= k(lo):
+        return lo if k_target > k(lo) else hi
+    for _ in range(60):
+        mid = math.sqrt(lo * hi)
+        if k(mid) > k_target:
+            lo = mid
+        else:
+            hi = mid
+    return math.sqrt(lo * hi)
+
+
+def field_start(base: DeviceParams, effects, records, reading: LoopReading) -> ClassStart:
+    """A field-controlled (MR/ER) device: the fluid with ``field_yield`` on the channel.
+
+    Read off the records by least squares, F ~ F0 + k y + c v + c_q v|v| + (A + B u_f) z(t):
+    z the Dahl bristle state of :func:`read_loop` (a yield that opposes the flow, smoothed
+    at reversal) and u_f the control input through the field lag (:func:`_lagged`), the
+    pre-sliding stroke dy0 and the lag rate on grids (:data:`FIELD_RATES`), the least
+    residual winning.  The device is the starting one stretched to the stroke (its piston
+    kept: any piston carries the force at its own pressures), filled at p0 = max(p0,
+    max |F - F0| / A_p) so that its low-pressure chamber keeps at least half the filling
+    pressure under the records' force (a field-controlled damper is pressurized: the yield
+    drop would otherwise pull a chamber to zero), its air giving the pre-yield stiffness
+    k_D = (A + B mean u) / dy0 (the yield force builds up over dy0 by compressing the
+    fluid), its channel's losses c1 = c / A_p^2, c2 = c_q / A_p^3 read off the line, with
+    the yield drops dp_y0 = A / A_p, dp_y1 = B / A_p, the lag rate read and m_eps =
+    :data:`FIELD_SMOOTHING` of the records' RMS mass flow.  The air ratios, losses, the
+    channel's inertance and the yield's four parameters are fitted.
+
+    Raises
+    ------
+    ParameterError
+        Where a record carries neither a voltage nor a current.
+    """
+    from liquidamp.device.effects_field import FieldYield
+
+    c = field_input(records)
+    if c is None:
+        raise ParameterError("the field start needs a voltage or current channel in every "
+                             "record")
+    Y = max(r.stroke_scale for r in records)
+    deltas = np.geomspace(1e-3 * Y, Y, 13)
+    zs = [_bristle(r, deltas) for r in records]
+    F = np.concatenate([r.force for r in records])
+    v = np.concatenate([r.velocity for r in records])
+    base_cols = np.column_stack((
+        np.ones_like(F), np.concatenate([r.displacement - r.offset for r in records]),
+        v, v * np.abs(v)))
+    best = None
+    for eta in FIELD_RATES:
+        uf = np.concatenate([_lagged(r.channels[c], float(np.median(np.diff(r.time))), eta)
+                             for r in records])
+        for j, _ in enumerate(deltas):
+            z = np.concatenate([q[j] for q in zs])
+            X = np.column_stack((base_cols, z, uf * z))
+            coef, *_ = np.linalg.lstsq(X, F, rcond=None)
+            rss = float(np.sum((X @ coef - F) ** 2))
+            if best is None or rss < best[0]:
+                best = (rss, eta, coef, deltas[j])
+    _, eta, (F0, k, cv, cq, A, B), dy0 = best
+    # the device stretched to the stroke (its piston kept: any piston carries the force at
+    # its own pressures); its air from the pre-yield stiffness: the yield force builds up
+    # over the pre-sliding stroke dy0 by compressing the fluid, k_D = (A + B mean u) / dy0
+    p = _reference(base, records)
+    f_peak = float(np.max(np.abs(F - F0)))
+    p = p.replace(p0=max(p.p0, f_peak / p.A_p))
+    how = f"pre-sliding stroke {dy0 * 1e3:.3g} mm"
+    u_mean = float(np.mean(np.concatenate([r.channels[c] for r in records])))
+    k_target = max(float(A) + float(B) * u_mean, 1e-6) / dy0
+    f_air = _air_factor(p, k_target)
+    if f_air is not None:
+        p = p.scaled(inv_gamma1=f_air, inv_gamma2=f_air)
+        how += f", air x{f_air:.3g} (k_D {p.k_D:.3g} N/m)"
+    # the channel's losses read off the line: c v + c_q v|v| = A_p (c1 Q + c2 Q|Q|), Q = A_p v
+    c1 = max(float(cv), 0.0) / p.A_p ** 2
+    c2 = max(float(cq), 0.0) / p.A_p ** 3
+    if c1 > 0.0 or c2 > 0.0:
+        p = p.replace(c1=max(c1, 1e-3 * p.c1), c2=max(c2, 1e-3 * p.c2))
+        how += f", losses read: c1 {p.c1:.3g}, c2 {p.c2:.3g}"
+    p0 = p.p0
+    p = p.replace(name=f"{base.name or 'device'} field start ({how}, p0 "
+                  f"{p0:.3g} Pa)")
+    Fa = float(np.sqrt(np.mean((F - F.mean()) ** 2)))
+    dp0 = max(float(A), 0.01 * Fa) / p.A_p
+    dp1 = max(float(B), 0.0) / p.A_p
+    v_rms = float(np.sqrt(np.mean(np.concatenate([r.velocity for r in records]) ** 2)))
+    meps = FIELD_SMOOTHING * p.rho0 * p.A_p * max(v_rms, 1e-12)
+    fy = FieldYield(dp0, dp1, float(eta), meps, input=c)
+    effs = tuple(e for e in effects if e.name != "field_yield") + (fy,)
+    # the air ratios, losses and inertance (the channel is the device's own: an MR valve's is
+    # not the preset's), the yield's drops, lag rate and smoothing
+    spec = FitSpec.default(vary=("inv_gamma1", "inv_gamma2", "c1", "c2", "S_t"),
+                           effects=effs).with_effect(fy, keys=("smoothing_flow_kg_per_s",))
+    why = (f"field_yield on the {c}: A_p dp_y = {A:.4g} N + {B:.4g} N per unit {c}, lag "
+           f"rate {eta:.3g} 1/s (least squares on F0 + k y + c v + c_q v|v| + (A + B u_f) "
+           "z), m_eps "
+           f"{meps:.3g} kg/s; fluid from k {k:.4g} N/m, c {cv:.4g} N s/m, c_q {cq:.4g} "
+           "N s^2/m^2, filled at "
+           f"{p0:.3g} Pa (max |F - F0| / A_p) ({how})")
+    return ClassStart("field", p, effs, spec, why)
+
+
 # ---------------------------------------------------------------------------
 # the choice
 
@@ -559,6 +697,8 @@ def calibrate_by_class(fit, records, validate, *, params: DeviceParams, effects,
     reading = read_loop(records)
     fits, reasons = {}, {}
     for name in classes:
+        if name == "field" and field_input(tuple(records) + validate) is None:
+            continue  # a field-controlled start only where every record carries its input
         if name == "fluid":  # first: a record the data checks refuse is refused here
             reasons[name] = "the device sized to the records, air and losses from K', K''"
             try:
@@ -571,7 +711,8 @@ def calibrate_by_class(fit, records, validate, *, params: DeviceParams, effects,
                 fits[name] = exc
             continue
         try:
-            make = friction_start if name == "friction" else viscous_start
+            make = {"friction": friction_start, "viscous": viscous_start,
+                    "field": field_start}[name]
             st = make(params, effects, records, reading)
             reasons[name] = st.reason
             fits[name] = fit(records, params=st.params, effects=st.effects, spec=st.spec,
@@ -615,6 +756,23 @@ def calibrate_by_class(fit, records, validate, *, params: DeviceParams, effects,
             break
         extend(choose_start(rivals, math.inf)[0])
     chosen, outcomes, note = choose_start(pool, reasons=reasons, eligible=tuple(cont))
+    without = None
+    if chosen == "field":  # the best fit that does not read the input, converged, beside it
+        rest = {n: r for n, r in pool.items() if n != "field"
+                and not isinstance(r, BaseException)}
+        if rest:
+            m = choose_start(rest, reasons=reasons)[0]
+            if m not in cont:
+                extend(m)
+            r = cont[m]
+            without = {"class": m, "input": field_input(records),
+                       "nrmse_calibration": r.nrmse_calibration,
+                       "nrmse_validation": r.nrmse_validation,
+                       "validation_records": {e.label: e.nrmse for e in r.record_errors
+                                              if e.role == "validation"},
+                       "converged": bool(r.converged),
+                       "how": "the start chosen among those that do not read the control "
+                              "input (the device-class rule), fitted to convergence"}
     outcomes = tuple(dataclasses.replace(o, continued=o.name in cont) for o in outcomes)
     first, final = fits[chosen], cont[chosen]
     others = "; ".join(o.describe() for o in outcomes if not o.chosen)
@@ -626,6 +784,7 @@ def calibrate_by_class(fit, records, validate, *, params: DeviceParams, effects,
                  "dominated (better held-out without losing on a record), the lowest BIC, "
                  f"unless one better held-out is within {BIC_STRONG:g} of it"),
              **({"held_out_note": note} if note else {}),
+             **({"without_input": without} if without else {}),
              "loop": reading.as_dict(),
              "classes": [o.as_dict() for o in outcomes]}
     warns = [w for w in final.warnings if not w.startswith("implausible: ")]

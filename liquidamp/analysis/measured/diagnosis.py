@@ -100,8 +100,11 @@ map per direction are fitted on the same split
 (:mod:`~liquidamp.analysis.measured.reference_models`); where the physics model does not
 beat the line on a held-out record, the first line of :meth:`Diagnosis.summary` says so.
 The force of every periodic record as read is tested for a drift from cycle to cycle
-(:func:`~liquidamp.analysis.measured.stationarity.cycle_drift`); a drifting record is
-reported first as non-stationary and its drift is kept out of its noise floor.
+(:func:`~liquidamp.analysis.measured.stationarity.cycle_drift`, the one drift test); a
+drifting record is reported first as non-stationary, its drift is kept out of its noise
+floor, it is not averaged (the baseline fitted on its averaged cycles is continued on it as
+it runs) and it proposes ``self_heating``, marched over each whole record (as does a record
+with a measured temperature, which then drives the viscosity law).
 
 When the loop ends with the residual above ``structure_factor`` (2) times
 the noise floor, the diagnosis says that structure remains that no candidate
@@ -127,6 +130,7 @@ References
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings as _warnings
 
@@ -200,26 +204,14 @@ def _candidate_names(candidates) -> tuple:
     return names
 
 
-def _stationarity(records, sel: SelectionRule) -> tuple[list, str]:
-    """Stage "check": the cycle drift of every record as read, and the sentence that says
-    which drift (empty when none); the record-quality checks' own verdict is added by
-    :func:`_quality_drift`."""
-    drifts, said = [], []
-    for r in records:
-        d = cycle_drift(r, noise_ratio=sel.structure_factor)
-        drifts.append(d)
-        if d is not None and d.non_stationary:
-            said.append(d.describe())
+def _stationarity(records) -> tuple[list, str]:
+    """Stage "check": the drift test of every record as read (the one test,
+    :func:`~liquidamp.analysis.measured.drift.record_drift`, which the record-quality checks
+    and the noise floor read too; None where it cannot test), and the sentence that says
+    which records drift (empty when none)."""
+    drifts = [cycle_drift(r) for r in records]
+    said = [d.describe() for d in drifts if d is not None and d.non_stationary]
     return drifts, "; ".join(said)
-
-
-def _quality_drift(result: CalibrationResult) -> str:
-    """Non-stationarity stated by the record-quality checks (``DataQuality.drift``,
-    :func:`~liquidamp.analysis.measured.drift.record_drift`): one phrase per drifting
-    record."""
-    return "; ".join(f"{q.source}: " + (q.drift.reason
-                                         or "its cycles drift (record-quality check)")
-                     for q in result.data_quality if q.nonstationary)
 
 
 def _holdout(calibration) -> tuple[tuple, tuple, str]:
@@ -251,14 +243,14 @@ def _holdout(calibration) -> tuple[tuple, tuple, str]:
 
 
 def _prepare(calibration, validation, model, params, effects, spec, options, config,
-             baseline):
+             baseline, drifts=None):
     """Stages "condition", "start" and "fit": the conditioned records, what was done, the
     records as given, and the baseline calibration."""
     bud = config.budget
     raw = (calibration, validation)
     if baseline is None:
-        conds = [condition(r, **config.conditioning.keywords())
-                 for r in calibration + validation]
+        kw = config.conditioning.keywords()
+        conds = [condition(r, **kw) for r in calibration + validation]
         nc = len(calibration)
         calibration = tuple(r for r, _ in conds[:nc])
         validation = tuple(r for r, _ in conds[nc:])
@@ -267,6 +259,31 @@ def _prepare(calibration, validation, model, params, effects, spec, options, con
                              spec=spec, validate=validation, options=options,
                              max_nfev=bud.max_nfev, preroll=bud.preroll, tol=bud.tol,
                              warn=False, sizing=config.sizing, outliers=config.outliers)
+        drifts = drifts or [None] * len(conds)
+        if kw.get("average", "auto") == "auto" and any(
+                d is not None and d.non_stationary and c.cycles_averaged > 1
+                for d, (_, c) in zip(drifts, conds, strict=True)):
+            # a drifting record is not averaged over its cycles (they differ by the drift,
+            # which a drifting model follows over the whole record): the stationary baseline
+            # fitted on the averages (least squares on every cycle, the same optimum) is
+            # continued on the records as they run
+            conds = [condition(r, **{**kw, "average": False})
+                     if d is not None and d.non_stationary else rc
+                     for r, d, rc in zip(raw[0] + raw[1], drifts, conds, strict=True)]
+            calibration = tuple(r for r, _ in conds[:nc])
+            validation = tuple(r for r, _ in conds[nc:])
+            conditioning = tuple(c for _, c in conds)
+            averaged = baseline
+            baseline = calibrate(calibration, model=baseline.model,
+                                 params=baseline.start_params, effects=baseline.effects,
+                                 spec=baseline.spec, validate=validation, options=options,
+                                 start="spec", max_nfev=bud.max_nfev, preroll=bud.preroll,
+                                 tol=bud.tol, warn=False, sizing="auto",
+                                 outliers=config.outliers)
+            # the class choice was made on the averages: its starts (and the runner-up a
+            # revisit diagnoses) are the averaged baseline's
+            baseline = dataclasses.replace(baseline, device_class=averaged.device_class,
+                                           class_starts=averaged.class_starts)
     else:
         calibration = baseline.calibration
         conditioning = tuple(r.meta.get("conditioning")
@@ -276,8 +293,12 @@ def _prepare(calibration, validation, model, params, effects, spec, options, con
     if baseline.status == "max_nfev":
         # score candidates only against a converged model: a fit stopped on its budget
         # leaves structure that a candidate would "explain" spuriously
+        prior = baseline
         baseline = _converge(baseline, validation, options, bud.preroll, bud.max_nfev,
                              bud.tol, "preset" if config.sizing == "preset" else "auto")
+        if "without_input" in (prior.start or {}):  # the fit without the input, kept beside
+            baseline = dataclasses.replace(baseline, start={
+                **(baseline.start or {}), "without_input": prior.start["without_input"]})
     return calibration, validation, conditioning, raw, baseline
 
 
@@ -303,20 +324,15 @@ def _device_round(current, validation, options, bud, names):
     return cands, changes, refits
 
 
-def _noise(calibration, conditioning, drifts) -> tuple[tuple, float, float]:
+def _noise(calibration, conditioning) -> tuple[tuple, float, float]:
     """The noise floor of each conditioned calibration record, the pooled force noise [N]
-    and its NRMSE; a record whose cycles drift counts the noise about its trend (the drift
-    is not noise)."""
+    and its NRMSE; the floor of a record whose cycles drift is the scatter about the drift
+    (:func:`~liquidamp.analysis.measured.record_quality.noise_floor` removes it, once)."""
     meas = np.concatenate([r.force for r in calibration])
     den = float(np.sqrt(np.mean((meas - meas.mean()) ** 2)))
     floors = tuple(c.noise if c.noise is not None else noise_floor(r)
                    for c, r in zip(conditioning, calibration, strict=False))
-    stds = []
-    for f, c, d in zip(floors, conditioning, drifts, strict=False):
-        s = f.std
-        if d is not None and d.non_stationary:
-            s = min(s, d.noise_std / math.sqrt(max(c.cycles_averaged, 1)))
-        stds.append(s)
+    stds = [f.std for f in floors]
     noise_std = float(np.sqrt(sum(s ** 2 * r.time.size
                                   for s, r in zip(stds, calibration, strict=True))
                               / meas.size))
@@ -567,12 +583,13 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
         if baseline is not None:
             raise ParameterError("diagnose with a baseline needs its validation records")
         calibration, validation, holdout = _holdout(calibration)
-    drifts, non_stat = _stationarity(calibration + validation, sel)
-    # stages "condition", "start", "fit"
+    drifts, non_stat = _stationarity(calibration + validation)
+    # stages "condition", "start", "fit"; a drifting record is not averaged over its cycles
+    # (they differ by the drift, which a drifting model follows over the whole record)
     calibration, validation, conditioning, raw, baseline = _prepare(
-        calibration, validation, model, params, effects, spec, options, config, baseline)
-    non_stat = "; ".join(x for x in (non_stat, _quality_drift(baseline)) if x)
-    floors, noise_std, noise_nrmse = _noise(calibration, conditioning, drifts)
+        calibration, validation, model, params, effects, spec, options, config, baseline,
+        drifts)
+    floors, noise_std, noise_nrmse = _noise(calibration, conditioning)
     run = _loop(baseline, names, device_names, validation, options, config, spec,
                 noise_nrmse)
     alt = runner_up(baseline, run, sel.noise_factor * noise_nrmse)

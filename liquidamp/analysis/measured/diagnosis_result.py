@@ -136,6 +136,13 @@ class Diagnosis:
         return heldout_per_record(self.final)
 
     @property
+    def without_input(self) -> dict | None:
+        """The best fit that does not read the records' control input, beside a model that
+        does (the field-controlled device class, issue #20): class, input, NRMSE; None
+        where the model reads no input."""
+        return (self.baseline.start or {}).get("without_input")
+
+    @property
     def loses_to_line(self) -> str:
         """Where the final physics model does not beat the line held out ('' otherwise)."""
         return comparison(self.heldout, self.references)
@@ -145,7 +152,12 @@ class Diagnosis:
         effects added and the held-out NRMSE per record, pooled beside), then the
         reference models held out, then why the loop stopped."""
         first = []
-        if self.non_stationary:
+        drifting = [e.name for e in self.final.effects if not getattr(e, "stationary", True)]
+        if self.non_stationary and drifting:
+            first.append("NON-STATIONARY: the records drift (" + self.non_stationary + "); "
+                         "followed by " + ", ".join(drifting) + ", a drifting model marched "
+                         "over each whole record")
+        elif self.non_stationary:
             first.append("NON-STATIONARY: the residual is non-stationary (" +
                          self.non_stationary + "); no stationary effect explains a drift, "
                          "and no effect with a parameter at a bound is kept")
@@ -166,6 +178,13 @@ class Diagnosis:
                      + (f" (pooled {pooled:.3g})" if pooled is not None else "")
                      + "; before: " + ", ".join(f"{k} {v:.3g}" for k, v in base.items()))
         lines = ["; ".join(first)]
+        wi = self.without_input
+        if wi:
+            lines.append(f"without the {wi['input']} input: the best fit ({wi['class']} "
+                         "start) held out " + ", ".join(
+                             f"{k} {v:.3g}" for k, v in wi["validation_records"].items())
+                         + f" (pooled {wi['nrmse_validation']:.3g}, calibration "
+                         f"{wi['nrmse_calibration']:.3g})")
         if self.references:
             lines.append("reference models held out: " + "; ".join(
                 f"{name} " + ", ".join(f"{lab} {v:.3g}" for lab, v in ref.validation)
@@ -233,6 +252,7 @@ class Diagnosis:
                 "nrmse_raw": dict(self.nrmse_raw),
                 "reference_models": {k: v.as_dict() for k, v in self.references.items()},
                 "physics_loses_to_line": self.loses_to_line,
+                "without_input": self.without_input,
                 "bic_samples": self.bic_samples(),
                 "drift": [d.as_dict() for d in self.drifts],
                 "non_stationary": self.non_stationary, "holdout": self.holdout,

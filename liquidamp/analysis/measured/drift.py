@@ -120,10 +120,37 @@ class Drift:
     series: dict | None = None
     alpha: float = ALPHA
     reason: str = ""
+    source: str = ""
+    span: float = 0.0
+    noise_std: float = 0.0
+
+    @property
+    def non_stationary(self) -> bool:
+        """Alias of :attr:`nonstationary` (the name of the former ``stationarity.Drift``)."""
+        return self.nonstationary
+
+    @property
+    def relative_change(self) -> float:
+        """Change of the first-harmonic amplitude over the record's whole span on the fitted
+        line, as a share of its mean [-] (``span`` cycles or windows; without it, first to
+        last whole cycle: :attr:`amplitude_change`)."""
+        if self.span > 0:
+            return self.amplitude_trend / 100.0 * self.span
+        return self.amplitude_change
+
+    def describe(self) -> str:
+        """One phrase, e.g. ``"a.csv: first-harmonic force -18.7 % over 30 cycles"``."""
+        unit = "cycles" if self.method == "cycles" else "windows"
+        return (f"{self.source}: first-harmonic force {self.relative_change:+.1%} "
+                f"({self.relative_change * self.amplitude:+.3g} N), mean force "
+                f"{self.mean_change:+.3g} N over {self.segments} {unit}")
 
     def as_dict(self) -> dict:
         """JSON-ready summary (units in the keys)."""
-        return {"tested": self.tested, "nonstationary": self.nonstationary,
+        return {"record": self.source, "non_stationary": self.nonstationary,
+                "relative_amplitude_change": self.relative_change,
+                "noise_std [N]": self.noise_std,
+                "tested": self.tested, "nonstationary": self.nonstationary,
                 "method": self.method, "segments": self.segments,
                 "amplitude_trend [%/cycle]": self.amplitude_trend,
                 "amplitude_t": self.amplitude_t, "amplitude_p": self.amplitude_p,
@@ -192,7 +219,8 @@ def _degree(series, n):
 
 
 def _cycles(record):
-    """Per whole cycle: (first-harmonic force amplitude [N], mean force [N])."""
+    """Per whole cycle: (first-harmonic force amplitude [N], mean force [N]), and the mean
+    samples per cycle [-]."""
     t = record.time - record.time[0]
     f = record.frequency
     T = 1.0 / f
@@ -200,7 +228,7 @@ def _cycles(record):
     n_cyc = int(math.floor((t[-1] + dt) / T + 1e-9))
     w = 2 * math.pi * f
     nyq = 0.5 * record.sampling_rate
-    amps, means = [], []
+    amps, means, counts = [], [], []
     for c in range(n_cyc):
         m = (t >= c * T - 0.5 * dt) & (t < (c + 1) * T - 0.5 * dt)
         if m.sum() < 8:
@@ -213,7 +241,8 @@ def _cycles(record):
         coef, *_ = np.linalg.lstsq(np.column_stack(cols), record.force[m], rcond=None)
         amps.append(math.hypot(coef[1], coef[2]))
         means.append(float(coef[0]))
-    return np.array(amps), np.array(means)
+        counts.append(int(m.sum()))
+    return np.array(amps), np.array(means), (float(np.mean(counts)) if counts else 0.0)
 
 
 def _windows(record):
@@ -277,11 +306,12 @@ def record_drift(record, alpha: float = ALPHA, min_change: float = MIN_CHANGE) -
             "not tested: the stroke amplitude changes by design (tapered), so a drift of the "
             "device cannot be told from its amplitude dependence without a model"))
     if kind == "periodic":
-        amps, means = _cycles(record)
+        amps, means, counts = _cycles(record)
         method, unit = "cycles", "cycle"
     else:
         amps, means = _windows(record)
         method, unit = "windows", "window"
+        counts = record.time.size / amps.size if amps is not None and amps.size else 0.0
     if amps is None or amps.size < MIN_SEGMENTS:
         got = 0 if amps is None else amps.size
         return Drift(False, False, "not tested", segments=got, reason=(
@@ -310,13 +340,30 @@ def record_drift(record, alpha: float = ALPHA, min_change: float = MIN_CHANGE) -
     else:
         reason = (f"stationary: no trend both significant (p < {alpha:g}) and at least "
                   f"{min_change:.0%} of the amplitude over the record: {figures}")
+    # the per-sample force noise about the trend: a cycle's amplitude from n samples has
+    # standard error sigma sqrt(2 / n), its mean sigma / sqrt(n)
+    sa = _scatter(amps, deg if nonstat else 1)
+    sm = _scatter(means, deg if nonstat else 1)
+    sigma = min(sa * math.sqrt(counts / 2.0), sm * math.sqrt(counts)) if counts else 0.0
+    span = ((record.time[-1] - record.time[0]) * record.frequency if method == "cycles"
+            else float(n))
     return Drift(True, nonstat, method, segments=n, amplitude_trend=float(pct),
                  amplitude_t=float(ta), amplitude_p=float(pa), amplitude_change=float(ca),
                  mean_trend=float(bm), mean_t=float(tm), mean_p=float(pm),
                  mean_change=float(cm), amplitude=A, degree=deg,
                  series={"amplitude [N]": [float(a) for a in amps],
                          "mean [N]": [float(m) for m in means]},
-                 alpha=float(alpha), reason=reason)
+                 alpha=float(alpha), reason=reason, source=getattr(record, "label", ""),
+                 span=float(span), noise_std=float(sigma))
+
+
+def _scatter(s, degree: int) -> float:
+    """Standard deviation of the series ``s`` about its Legendre fit of ``degree`` [unit]."""
+    n = s.size
+    V = np.polynomial.legendre.legvander(np.linspace(-1.0, 1.0, n), max(degree, 1))
+    c, *_ = np.linalg.lstsq(V, s, rcond=None)
+    r = s - V @ c
+    return math.sqrt(float(r @ r) / max(n - V.shape[1], 1))
 
 
 def drift_columns(A, t, degree: int):
