@@ -58,7 +58,7 @@ from liquidamp.errors import ParameterError
 
 __all__ = ["Change", "Composite", "COMPOSITES", "DEVICE_REFINEMENTS", "REDUCTIONS",
            "probe_effect",
-           "candidate_change", "applicable", "backlash_gap", "GAP_GRID"]
+           "candidate_change", "applicable", "backlash_gap", "GAP_GRID", "free_columns"]
 
 #: Candidates that contain another as a limit (candidate -> the simpler one it reduces to).
 #: A relief valve whose cracking pressure falls towards zero is a laminar bypass of
@@ -136,6 +136,36 @@ class Change:
             out[f"{name} multiplier"] = result.values.get(name, 1.0)
             out[name] = getattr(result.params, name)
         return out
+
+
+def free_columns(result, r, tol: float = 1e-3):
+    """Jacobian columns of the fitted parameters that can still move to mimic an effect.
+
+    ``result`` is a :class:`CalibrationResult`, ``r`` its residual [N] (model minus record,
+    or its negative: only the sign of the gradient matters); returns the columns of
+    ``result.jacobian`` not pinned at a bound.
+
+    A parameter held at a bound by the residual (within ``tol`` of it in the fit
+    coordinate, with the descent direction -J^T r pointing out of the bounds) is
+    effectively fixed at the constrained optimum (Kuhn-Tucker): the fit cannot move it
+    to absorb an effect's signature, so its column must not be projected out of the
+    signature.  Otherwise a parameter stuck at its bound in the direction the missing
+    effect pulls it (c1 at its lower bound for a bypass leak) hides the effect from the
+    score test.
+    """
+    J = result.jacobian
+    if not J.size:
+        return J
+    g = J.T @ r
+    keep = []
+    for i, name in enumerate(result.varying):
+        p = result.spec[name]
+        lo, hi = p.x_bounds()
+        x = p.to_x(result.values[name])
+        pinned = (x - lo < tol and g[i] > 0) or (hi - x < tol and g[i] < 0)
+        if not pinned:
+            keep.append(i)
+    return J[:, keep]
 
 
 def probe_effect(name: str, result: CalibrationResult) -> Effect:
@@ -267,7 +297,6 @@ def backlash_gap(result: CalibrationResult) -> tuple[float, float]:
     .. [1] M. A. Krasnosel'skii, A. V. Pokrovskii, Systems with Hysteresis, Springer, 1989
        (the play operator).
     """
-    from liquidamp.analysis.measured.diagnosis_evidence import _free_columns  # its user
 
     recs = result.calibration
     e = -np.concatenate(result.residuals("calibration"))
@@ -275,7 +304,7 @@ def backlash_gap(result: CalibrationResult) -> tuple[float, float]:
     Y = float(np.mean([r.amplitude for r in recs]))
     # as the score test: the part of each signature the fitted parameters cannot mimic (a
     # fluid fit without the friction has bent its losses towards it)
-    J = _free_columns(result, -e)
+    J = free_columns(result, -e)
     P = np.linalg.pinv(J) if J.size else None
     best = (0.0, 0.0)
     for f in GAP_GRID:

@@ -34,6 +34,7 @@ from liquidamp.analysis.measured.candidates import (
     REDUCTIONS,
     applicable,
     candidate_change,
+    free_columns,
     probe_effect,
 )
 from liquidamp.analysis.measured.record_model import simulate_record
@@ -166,32 +167,6 @@ def signatures(result: CalibrationResult) -> dict:
     return out
 
 
-def _free_columns(result, r, tol: float = 1e-3):
-    """Jacobian columns of the fitted parameters that can still move to mimic an effect.
-
-    A parameter held at a bound by the residual (within ``tol`` of it in the fit
-    coordinate, with the descent direction -J^T r pointing out of the bounds) is
-    effectively fixed at the constrained optimum (Kuhn-Tucker): the fit cannot move it
-    to absorb an effect's signature, so its column must not be projected out of the
-    signature.  Otherwise a parameter stuck at its bound in the direction the missing
-    effect pulls it (c1 at its lower bound for a bypass leak) hides the effect from the
-    score test.
-    """
-    J = result.jacobian
-    if not J.size:
-        return J
-    g = J.T @ r
-    keep = []
-    for i, name in enumerate(result.varying):
-        p = result.spec[name]
-        lo, hi = p.x_bounds()
-        x = p.to_x(result.values[name])
-        pinned = (x - lo < tol and g[i] > 0) or (hi - x < tol and g[i] < 0)
-        if not pinned:
-            keep.append(i)
-    return J[:, keep]
-
-
 def score(name: str, result: CalibrationResult, options, preroll: int):
     """Score test of one candidate against a calibrated model.
 
@@ -223,7 +198,7 @@ def score(name: str, result: CalibrationResult, options, preroll: int):
     scale = float(np.sqrt(np.mean((meas - meas.mean()) ** 2))) * math.sqrt(meas.size)
     r = (np.concatenate(result.predictions_calibration) - meas) / scale
     s = (np.concatenate(Fp) - np.concatenate(result.predictions_calibration)) / scale
-    J = _free_columns(result, r)
+    J = free_columns(result, r)
     s_perp = s - J @ (np.linalg.pinv(J) @ s) if J.size else s
     ss = float(s_perp @ s_perp)
     rss = float(r @ r)
