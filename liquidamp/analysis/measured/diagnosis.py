@@ -139,7 +139,7 @@ from liquidamp.analysis.measured.calibration import (
     with_progress,
 )
 from liquidamp.analysis.measured.checks import check_records, drop_outliers, keep_outliers
-from liquidamp.analysis.measured.class_revisit import revisit, runner_up
+from liquidamp.analysis.measured.class_revisit import fluid_alternatives, revisit, runner_up
 from liquidamp.analysis.measured.conditioning import condition
 from liquidamp.analysis.measured.diagnosis_evidence import (
     COMPOSITES,
@@ -170,6 +170,7 @@ from liquidamp.analysis.measured.stationarity import cycle_drift
 from liquidamp.device.effects import EFFECTS
 from liquidamp.errors import (
     ConvergenceError,
+    LiquidampError,
     LiquidampWarning,
     ParameterError,
     check_choice,
@@ -575,24 +576,30 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
     floors, noise_std, noise_nrmse = _noise(calibration, conditioning, drifts)
     run = _loop(baseline, names, device_names, validation, options, config, spec,
                 noise_nrmse)
-    alt = runner_up(baseline, run, sel.noise_factor * noise_nrmse)
-    if alt:
+    level = sel.noise_factor * noise_nrmse
+    alts = [(a, {"device_class": a, "sizing": config.sizing}, "")
+            for a in (runner_up(baseline, run, level),) if a]
+    alts += [(label, kw, "fluid") for label, kw in fluid_alternatives(
+        baseline, run, level, check_params, config.sizing)]
+    for alt, kw, cls in alts:
+        if run["current"].nrmse_calibration <= level:
+            break  # the model held has reached the noise: nothing is left to explain
         try:
-            base2 = calibrate(calibration, model=model, params=params, effects=effects,
-                              spec=spec, validate=validation, options=options,
-                              max_nfev=bud.max_nfev, preroll=bud.preroll, tol=bud.tol,
-                              warn=False, sizing=config.sizing, outliers=config.outliers,
-                              device_class=alt)
+            base2 = calibrate(calibration, model=model, effects=effects, spec=spec,
+                              validate=validation, options=options, max_nfev=bud.max_nfev,
+                              preroll=bud.preroll, tol=bud.tol, warn=False,
+                              outliers=config.outliers,
+                              **{"params": params, **kw})
             if base2.status == "max_nfev":
                 base2 = _converge(base2, validation, options, bud.preroll, bud.max_nfev,
-                                  bud.tol, "preset" if config.sizing == "preset" else "auto")
+                                  bud.tol, "preset" if kw["sizing"] == "preset" else "auto")
             run2 = _loop(base2, names, device_names, validation, options, config, spec,
                          noise_nrmse)
-        except (ConvergenceError, ParameterError) as exc:
+        except LiquidampError as exc:  # an alternative that cannot be run is reported
             run["warnings"].append(f"device class revisited: the {alt} start could not be "
                                    f"diagnosed ({exc})")
         else:
-            run = revisit(run, run2, baseline.device_class, alt, sel)
+            run = revisit(run, run2, run["baseline"].device_class, alt, sel, cls)
     baseline, steps, current = run["baseline"], run["steps"], run["current"]
     stop, last_round, device_steps = run["stop"], run["last_round"], run["device_steps"]
     device_evidence = run["device_evidence"]
