@@ -80,9 +80,12 @@ velocity):
    Without validation records the last of several calibration records is held out, or the
    second half of the whole cycles of one periodic record (``Diagnosis.holdout``).
 6. Repeat from 2 with the effect included, at most ``max_steps`` times.
-7. Where the class choice continued another start and the loop ends above the noise level,
-   that runner-up start is diagnosed too and its final model replaces this one only where
-   it passes the rule of 5 against it (:mod:`~liquidamp.analysis.measured.class_revisit`).
+7. Where the loop ends above the noise level, the class choice's runner-up start (where it
+   continued one) and the fluid family's other starts (the device as given where the fluid
+   start was sized for its force alone; the family's channels beyond the fit's reach,
+   :func:`~liquidamp.analysis.measured.class_revisit.fluid_alternatives`) are diagnosed too,
+   in turn; each final model replaces the one held only where it passes the rule of 5
+   against it (:mod:`~liquidamp.analysis.measured.class_revisit`).
 
 Besides the catalogue effects, :data:`COMPOSITES` lists candidates that change how
 effects compose or behave (:mod:`liquidamp.analysis.measured.candidates`):
