@@ -49,9 +49,10 @@ The fluid family's other starts (:func:`fluid_alternatives`)
       a basin where the elastomer's branch stands in for the fluid: held-out 0.37 against
       0.13 from the Device B channel).
 
-    Each is diagnosed like the runner-up start and replaces the model held only where its
-    final model passes the selection rule against it, in turn (so every alternative must
-    beat the best model so far).
+    Each is diagnosed one step first (its best first effect); only where that model passes
+    the selection rule against the model held (:func:`passes`) is its loop continued, and its
+    final model replaces the model held only where it passes the rule against it, in turn (so
+    every alternative must beat the best model so far).
 
 The price is a second loop where the class was in doubt or the first loop ends above the
 noise level; nothing changes where the first loop reached the noise floor.
@@ -71,7 +72,8 @@ from liquidamp.analysis.measured.diagnosis_result import heldout_per_record
 from liquidamp.analysis.measured.selection import judge, sample_count
 from liquidamp.analysis.measured.start import stroke_factor
 
-__all__ = ["CHANNEL_REACH", "runner_up", "design_channels", "fluid_alternatives", "revisit"]
+__all__ = ["CHANNEL_REACH", "runner_up", "design_channels", "fluid_alternatives",
+           "alternative_outcome", "passes", "revisit"]
 
 #: Largest factor on the channel inertance S_t that the fit reaches from its start (the
 #: inertance refinement probes at 0.9 and a local fit moves a multiplier by about this
@@ -192,11 +194,7 @@ def alternative_outcome(label: str, result, cls: str = "fluid") -> StartOutcome:
                         sized=bool(result.start.get("sized", False)))
 
 
-def revisit(run: dict, alt_run: dict, chosen: str, alt: str, sel, cls: str = "") -> dict:
-    """The loop's state to report: ``alt_run`` where its final model passes the selection
-    rule ``sel`` against ``run``'s (module docstring), else ``run``; a warning says which
-    and why.  ``cls``: the device class of an alternative start that is not one of the
-    class choice's (its outcome is added to ``class_starts``)."""
+def _verdict(run: dict, alt_run: dict, sel):
     a, b = run["current"], alt_run["current"]
     now, new = heldout_per_record(a), heldout_per_record(b)
     v = judge(a.residuals("calibration"), b.residuals("calibration"),
@@ -204,6 +202,21 @@ def revisit(run: dict, alt_run: dict, chosen: str, alt: str, sel, cls: str = "")
               bic_threshold=sel.bic_threshold, validation_tolerance=sel.validation_tolerance,
               n_eff=sample_count(b.calibration, b.residuals("calibration"),
                                  sel.sample_count))
+    return v, now, new
+
+
+def passes(run: dict, alt_run: dict, sel) -> bool:
+    """Whether ``alt_run``'s final model passes the selection rule ``sel`` against
+    ``run``'s (as :func:`revisit` judges)."""
+    return _verdict(run, alt_run, sel)[0].accepted
+
+
+def revisit(run: dict, alt_run: dict, chosen: str, alt: str, sel, cls: str = "") -> dict:
+    """The loop's state to report: ``alt_run`` where its final model passes the selection
+    rule ``sel`` against ``run``'s (module docstring), else ``run``; a warning says which
+    and why.  ``cls``: the device class of an alternative start that is not one of the
+    class choice's (its outcome is added to ``class_starts``)."""
+    v, now, new = _verdict(run, alt_run, sel)
     added = ", ".join(s.effect for s in alt_run["steps"]) or "nothing added"
     what = (f"the {alt} start diagnosed too ({added}; held-out "
             + ", ".join(f"{k} {new[k]:.3g}" for k in now) + f" against {chosen}'s "
