@@ -52,7 +52,10 @@ The fluid family's other starts (:func:`fluid_alternatives`)
     Each is diagnosed one step first (its best first effect); only where that model passes
     the selection rule against the model held (:func:`passes`) is its loop continued, and its
     final model replaces the model held only where it passes the rule against it, in turn (so
-    every alternative must beat the best model so far).
+    every alternative must beat the best model so far).  An alternative whose baseline the
+    records cannot support (:func:`unsupported`: a fluid device sized far from the one given
+    with its fluid at a bound, as on a friction damper's records) is reported, not
+    diagnosed.
 
 The price is a second loop where the class was in doubt or the first loop ends above the
 noise level; nothing changes where the first loop reached the noise floor.
@@ -73,7 +76,7 @@ from liquidamp.analysis.measured.selection import judge, sample_count
 from liquidamp.analysis.measured.start import stroke_factor
 
 __all__ = ["CHANNEL_REACH", "runner_up", "design_channels", "fluid_alternatives",
-           "alternative_outcome", "passes", "revisit"]
+           "alternative_outcome", "unsupported", "UNSUPPORTED", "passes", "revisit"]
 
 #: Largest factor on the channel inertance S_t that the fit reaches from its start (the
 #: inertance refinement probes at 0.9 and a local fit moves a multiplier by about this
@@ -182,6 +185,19 @@ def fluid_alternatives(baseline, run: dict, noise_level: float, params,
                                                       f"with S_t x{f:g} of the reference"),
                              "sizing": sizing, "device_class": "fluid"}))
     return out
+
+
+#: Plausibility findings that make a fluid start's baseline a device the records cannot
+#: support (:mod:`~liquidamp.analysis.measured.plausibility`): its loop is not run.
+UNSUPPORTED = ("fluid_unsupported", "piston_too_large")
+
+
+def unsupported(result) -> str:
+    """Why an alternative fluid start's baseline ``result`` is not diagnosed ('' when it is):
+    its fitted geometry is one the records cannot support (a piston sized far from the
+    device with the fluid at a bound, or too large for the force; :data:`UNSUPPORTED`)."""
+    return "; ".join(f.message for f in getattr(result, "plausibility", ())
+                     if f.kind in UNSUPPORTED)
 
 
 def alternative_outcome(label: str, result, cls: str = "fluid") -> StartOutcome:

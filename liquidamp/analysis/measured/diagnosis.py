@@ -147,6 +147,7 @@ from liquidamp.analysis.measured.class_revisit import (
     passes,
     revisit,
     runner_up,
+    unsupported,
 )
 from liquidamp.analysis.measured.conditioning import condition
 from liquidamp.analysis.measured.diagnosis_evidence import (
@@ -601,6 +602,11 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
             if base2.status == "max_nfev":
                 base2 = _converge(base2, validation, options, bud.preroll, bud.max_nfev,
                                   bud.tol, "preset" if kw["sizing"] == "preset" else "auto")
+            why = unsupported(base2) if cls else ""
+            if why:
+                run["warnings"].append(f"device class revisited: the {alt} start is not "
+                                       f"diagnosed: the records cannot support it ({why})")
+                continue
             run2 = _alternative_loop(base2, run, bool(cls), names, device_names, validation,
                                      options, config, spec, noise_nrmse)
         except LiquidampError as exc:  # an alternative that cannot be run is reported
