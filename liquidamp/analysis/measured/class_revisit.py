@@ -39,12 +39,16 @@ The fluid family's other starts (:func:`fluid_alternatives`)
       moves, so the sized start can never draw the unsized device plus the effect.  Where the
       fluid start was sized for its force alone (the stroke fits the device as given, the
       stroke factor is 1), the device as given is a start too (``sizing='preset'``).
+      Where the stroke does not fit the device as given, no other start is tried: the
+      device had to be sized, and the published designs say nothing of a sized device's
+      channel.
     * its *channel*: the fit varies the air ratios and losses, not the channel inertance
       S_t; the inertance refinement probes it near its value, and a local fit cannot cross a
       decade.  The family's published designs with air (Table 3) have channels a decade
       apart (Device B, the spring and the damper designs at S_t x0.1 of the reference, the
       reference and Device A within a factor 2 of it), so each channel of the family more
-      than a factor :data:`CHANNEL_REACH` (2) from the starting device's is a start too (an
+      than a factor :data:`CHANNEL_REACH` (2) from the device given is a start too, on the
+      device given otherwise, not sized (an
       elastomer beside a Device B channel is otherwise fitted from the reference channel into
       a basin where the elastomer's branch stands in for the fluid: held-out 0.37 against
       0.13 from the Device B channel).
@@ -168,12 +172,13 @@ def fluid_alternatives(baseline, run: dict, noise_level: float, params,
     if run["current"].nrmse_calibration <= noise_level or params is None or not starts:
         return []  # at the noise, or the caller fixed the structure (no class choice)
     fluid = next((o for o in starts if o.name == "fluid"), None)
+    if sizing == "data" or stroke_factor(baseline.calibration, params) > 1.0:
+        return []  # the device as given cannot take the stroke: sized for it, no other start
     out = []
-    if (fluid is not None and fluid.sized and sizing != "preset"
-            and stroke_factor(baseline.calibration, params) <= 1.0):
+    if fluid is not None and fluid.sized and sizing != "preset":
         out.append((f"fluid ({params.name or 'device'} as given, not sized)",
                     {"params": params, "sizing": "preset", "device_class": "fluid"}))
-    if params.S_t > 0 and sizing != "data":
+    if params.S_t > 0:
         from liquidamp.device import preset
 
         own = params.S_t / preset("reference").S_t
@@ -183,7 +188,7 @@ def fluid_alternatives(baseline, run: dict, noise_level: float, params,
                             {"params": params.replace(S_t=f * preset("reference").S_t,
                                                       name=f"{params.name or 'device'} "
                                                       f"with S_t x{f:g} of the reference"),
-                             "sizing": sizing, "device_class": "fluid"}))
+                             "sizing": "preset", "device_class": "fluid"}))
     return out
 
 

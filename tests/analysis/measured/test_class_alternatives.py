@@ -65,13 +65,14 @@ def test_fluid_alternatives_follow_the_size_and_the_channel():
     # sized for its force (the 3 mm stroke fits paper_initial's 25 mm chamber): as given,
     # unsized; and Device B's channel, a decade below paper_initial's (x1, the reference's)
     assert labels[0][1:] == ("preset", 1.0) and "as given" in labels[0][0]
-    assert labels[1][1:] == ("auto", pytest.approx(0.1)) and len(labels) == 2
-    # not sized: the device as given is the fluid start already
+    assert labels[1][1:] == ("preset", pytest.approx(0.1)) and len(labels) == 2
+    # not sized: the device as given is the fluid start already; the channel start stays
     alts = fluid_alternatives(_baseline(False), above, 0.01, p)
-    assert [kw["sizing"] for _, kw in alts] == ["auto"]
-    # sized for the stroke (15 mm past half of the 25 mm chamber): no unsized start
-    alts = fluid_alternatives(_baseline(True, 0.015), above, 0.01, p)
-    assert [kw["sizing"] for _, kw in alts] == ["auto"]
+    assert [kw["params"].S_t / p.S_t for _, kw in alts] == [pytest.approx(0.1)]
+    # sized for the stroke (15 mm past half of the 25 mm chamber): the device as given
+    # cannot take it, no other start (a friction damper's 12.7 mm on paper_initial)
+    assert fluid_alternatives(_baseline(True, 0.015), above, 0.01, p) == []
+    assert fluid_alternatives(_baseline(False), above, 0.01, p, sizing="data") == []
     # a device on Device B's channel: the reference channel (x10) is the one out of reach,
     # Device A's (x18) too; within CHANNEL_REACH nothing
     b = preset("device_b")
