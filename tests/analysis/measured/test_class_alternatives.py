@@ -173,16 +173,22 @@ def test_default_diagnosis_finds_the_fluid_class_and_the_effect(case):
     assert any(o.name == "friction" and not o.chosen for o in d.baseline.class_starts)
 
 
-def test_shared_elastomer_record_is_read_as_a_fluid_device(independent_records):
+@pytest.mark.parametrize("case", ["d03_elastomer", "d04_end_stops_2kHz"])
+def test_shared_records_are_read_as_a_fluid_device(independent_records, case):
     if os.environ.get("LIQUIDAMP_INDEPENDENT") != "all":
         pytest.skip("long held-out check: set LIQUIDAMP_INDEPENDENT=all to run it")
-    case = "d03_elastomer"
     d = diagnose([read_record(independent_records / f"{case}_cal.csv")],
                  [read_record(independent_records / f"{case}_val.csv")])
     truth = json.loads((independent_records / "truth.json").read_text())[case]
-    assert truth["parameters"]["parallel stiffness k_e"]["value"] == 2e4
-    # old rule: the friction start, nothing added, held-out 0.21 (the line: 0.646)
+    # old rule: the friction start, nothing added (held-out 0.21 on d03, 0.537 on d04,
+    # where the line F = c v + k y + F0 reaches 0.383)
     assert d.baseline.device_class == "fluid", d.summary()
-    assert d.added[:1] == ("elastomer",), d.summary()
+    assert d.added[:1] == (case.split("_", 1)[1].replace("_2kHz", ""),), d.summary()
     assert d.final.nrmse_validation <= 0.5 * d.baseline.nrmse_validation
-    assert d.final.nrmse_validation < 0.5 * 0.2096
+    assert d.final.nrmse_validation < 0.5 * {"d03_elastomer": 0.2096,
+                                             "d04_end_stops_2kHz": 0.5367}[case]
+    if case == "d04_end_stops_2kHz":
+        clearance = truth["parameters"]["clearance (stroke where contact starts)"]["value"]
+        assert d.steps[0].parameters["clearance_m"] == pytest.approx(clearance, rel=0.3)
+    # d03's parallel stiffness is not asserted: one 2 Hz record does not determine it (its
+    # standard error exceeds its value; 3.1 kN/m found against 20 kN/m, see issue 19)
