@@ -78,9 +78,11 @@ from liquidamp.analysis.measured.device_class import BIC_STRONG, StartOutcome
 from liquidamp.analysis.measured.diagnosis_result import heldout_per_record
 from liquidamp.analysis.measured.selection import judge, sample_count
 from liquidamp.analysis.measured.start import stroke_factor
+from liquidamp.errors import LiquidampError
 
 __all__ = ["CHANNEL_REACH", "runner_up", "design_channels", "fluid_alternatives",
-           "alternative_outcome", "unsupported", "UNSUPPORTED", "passes", "revisit"]
+           "alternative_outcome", "unsupported", "UNSUPPORTED", "passes", "revisit",
+           "revisit_starts"]
 
 #: Largest factor on the channel inertance S_t that the fit reaches from its start (the
 #: inertance refinement probes at 0.9 and a local fit moves a multiplier by about this
@@ -257,3 +259,73 @@ def revisit(run: dict, alt_run: dict, chosen: str, alt: str, sel, cls: str = "")
     alt_run["warnings"] = [f"device class revisited: {what}: it passes the selection rule, "
                            f"the {alt} start replaces the {chosen} start"] + alt_run["warnings"]
     return alt_run
+
+
+def _alternative_loop(base2, run, gated: bool, loop, config) -> dict:
+    """The loop from an alternative start.  ``gated`` (the fluid family's other starts): one
+    step first, the rest only where that one-step model already passes the selection rule
+    against the model held (``run``): a start is compared after its best first effect, and
+    one that does not beat the model held then costs one round, not a whole loop."""
+    if not gated:
+        return loop(base2, config)
+    bud = config.budget
+    run1 = loop(base2, dataclasses.replace(config, budget=bud.replace(max_steps=1)))
+    if (not run1["steps"] or bud.max_steps <= 1 or not run1["stop"].startswith("max_steps")
+            or not passes(run, run1, config.selection)):
+        return run1
+    rest = dataclasses.replace(config, budget=bud.replace(max_steps=bud.max_steps - 1))
+    run2 = loop(run1["current"], rest)
+    return dict(run2, baseline=run1["baseline"], steps=run1["steps"] + run2["steps"],
+                device_steps=run1["device_steps"] + run2["device_steps"],
+                warnings=run1["warnings"] + run2["warnings"])
+
+
+def revisit_starts(run: dict, baseline, level: float, params, config, fit, loop) -> dict:
+    """The loop's state after the other starts are diagnosed too (module docstring).
+
+    Parameters
+    ----------
+    run : dict
+        The loop's state from the chosen start.
+    baseline : CalibrationResult
+        The chosen start's calibration (its ``class_starts``).
+    level : float
+        Calibration NRMSE at or below which the residual is noise [-]: once the model held
+        reaches it, no further start is tried.
+    params : DeviceParams
+        The device the calibration was given.
+    config : DiagnoseOptions
+        The diagnosis's options (``selection``, ``budget``, ``sizing``).
+    fit : callable
+        ``fit(keywords) -> CalibrationResult``: the baseline of a start (``keywords`` for
+        :func:`~liquidamp.analysis.measured.calibration.calibrate`).
+    loop : callable
+        ``loop(baseline, config) -> dict``: the diagnosis loop from a baseline.
+
+    Returns
+    -------
+    dict
+        The loop's state to report; every start tried is named in its ``warnings``.
+    """
+    sel = config.selection
+    alts = [(a, {"device_class": a, "sizing": config.sizing}, "")
+            for a in (runner_up(baseline, run, level),) if a]
+    alts += [(label, kw, "fluid") for label, kw in fluid_alternatives(
+        baseline, run, level, params, config.sizing)]
+    for alt, kw, cls in alts:
+        if run["current"].nrmse_calibration <= level:
+            break  # the model held has reached the noise: nothing is left to explain
+        try:
+            base2 = fit(kw)
+            why = unsupported(base2) if cls else ""
+            if why:
+                run["warnings"].append(f"device class revisited: the {alt} start is not "
+                                       f"diagnosed: the records cannot support it ({why})")
+                continue
+            run2 = _alternative_loop(base2, run, bool(cls), loop, config)
+        except LiquidampError as exc:  # an alternative that cannot be run is reported
+            run["warnings"].append(f"device class revisited: the {alt} start could not be "
+                                   f"diagnosed ({exc})")
+        else:
+            run = revisit(run, run2, run["baseline"].device_class, alt, sel, cls)
+    return run

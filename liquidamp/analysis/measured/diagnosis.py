@@ -142,13 +142,7 @@ from liquidamp.analysis.measured.calibration import (
     with_progress,
 )
 from liquidamp.analysis.measured.checks import check_records, drop_outliers, keep_outliers
-from liquidamp.analysis.measured.class_revisit import (
-    fluid_alternatives,
-    passes,
-    revisit,
-    runner_up,
-    unsupported,
-)
+from liquidamp.analysis.measured.class_revisit import revisit_starts
 from liquidamp.analysis.measured.conditioning import condition
 from liquidamp.analysis.measured.diagnosis_evidence import (
     COMPOSITES,
@@ -179,7 +173,6 @@ from liquidamp.analysis.measured.stationarity import cycle_drift
 from liquidamp.device.effects import EFFECTS
 from liquidamp.errors import (
     ConvergenceError,
-    LiquidampError,
     LiquidampWarning,
     ParameterError,
     check_choice,
@@ -585,35 +578,20 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
     floors, noise_std, noise_nrmse = _noise(calibration, conditioning, drifts)
     run = _loop(baseline, names, device_names, validation, options, config, spec,
                 noise_nrmse)
-    level = sel.noise_factor * noise_nrmse
-    alts = [(a, {"device_class": a, "sizing": config.sizing}, "")
-            for a in (runner_up(baseline, run, level),) if a]
-    alts += [(label, kw, "fluid") for label, kw in fluid_alternatives(
-        baseline, run, level, check_params, config.sizing)]
-    for alt, kw, cls in alts:
-        if run["current"].nrmse_calibration <= level:
-            break  # the model held has reached the noise: nothing is left to explain
-        try:
-            base2 = calibrate(calibration, model=model, effects=effects, spec=spec,
-                              validate=validation, options=options, max_nfev=bud.max_nfev,
-                              preroll=bud.preroll, tol=bud.tol, warn=False,
-                              outliers=config.outliers,
-                              **{"params": params, **kw})
-            if base2.status == "max_nfev":
-                base2 = _converge(base2, validation, options, bud.preroll, bud.max_nfev,
-                                  bud.tol, "preset" if kw["sizing"] == "preset" else "auto")
-            why = unsupported(base2) if cls else ""
-            if why:
-                run["warnings"].append(f"device class revisited: the {alt} start is not "
-                                       f"diagnosed: the records cannot support it ({why})")
-                continue
-            run2 = _alternative_loop(base2, run, bool(cls), names, device_names, validation,
-                                     options, config, spec, noise_nrmse)
-        except LiquidampError as exc:  # an alternative that cannot be run is reported
-            run["warnings"].append(f"device class revisited: the {alt} start could not be "
-                                   f"diagnosed ({exc})")
-        else:
-            run = revisit(run, run2, run["baseline"].device_class, alt, sel, cls)
+
+    def fit(kw):  # an alternative start's baseline (stages "start", "fit")
+        base2 = calibrate(calibration, model=model, effects=effects, spec=spec,
+                          validate=validation, options=options, max_nfev=bud.max_nfev,
+                          preroll=bud.preroll, tol=bud.tol, warn=False,
+                          outliers=config.outliers, **{"params": params, **kw})
+        if base2.status == "max_nfev":
+            base2 = _converge(base2, validation, options, bud.preroll, bud.max_nfev,
+                              bud.tol, "preset" if kw["sizing"] == "preset" else "auto")
+        return base2
+
+    run = revisit_starts(run, baseline, sel.noise_factor * noise_nrmse, check_params, config,
+                         fit, lambda base, cfg: _loop(base, names, device_names, validation,
+                                                      options, cfg, spec, noise_nrmse))
     baseline, steps, current = run["baseline"], run["steps"], run["current"]
     stop, last_round, device_steps = run["stop"], run["last_round"], run["device_steps"]
     device_evidence = run["device_evidence"]
@@ -724,32 +702,6 @@ def _loop(baseline, names, device_names, validation, options, config, spec,
     return {"baseline": baseline, "steps": steps, "current": current, "stop": stop,
             "last_round": last_round, "device_steps": device_steps,
             "device_evidence": device_evidence, "warnings": warnings}
-
-
-def _alternative_loop(base2, run, gated, names, device_names, validation, options, config,
-                      spec, noise_nrmse) -> dict:
-    """The loop from an alternative start.  ``gated`` (the fluid family's other starts): one
-    step first, the rest only where that one-step model already passes the selection rule
-    against the model held (``run``): a start is compared after its best first effect, and
-    one that does not beat the model held then costs one round, not a whole loop."""
-    if not gated:
-        return _loop(base2, names, device_names, validation, options, config, spec,
-                     noise_nrmse)
-    from dataclasses import replace
-
-    bud = config.budget
-    one = replace(config, budget=bud.replace(max_steps=1))
-    run1 = _loop(base2, names, device_names, validation, options, one, spec, noise_nrmse)
-    if not run1["steps"] or bud.max_steps <= 1 or not run1["stop"].startswith("max_steps"):
-        return run1
-    if not passes(run, run1, config.selection):
-        return run1
-    rest = replace(config, budget=bud.replace(max_steps=bud.max_steps - 1))
-    run2 = _loop(run1["current"], names, device_names, validation, options, rest, spec,
-                 noise_nrmse)
-    return dict(run2, baseline=run1["baseline"], steps=run1["steps"] + run2["steps"],
-                device_steps=run1["device_steps"] + run2["device_steps"],
-                warnings=run1["warnings"] + run2["warnings"])
 
 
 def _linear_delta_bic(cand: Candidate, change, n_eff: float) -> float:
