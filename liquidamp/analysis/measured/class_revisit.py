@@ -26,8 +26,43 @@ on the models the diagnosis ends with:
   over the honest sample count lower by more than the threshold, the parameters of
   both models counted; non-nested models compare on BIC as nested ones do [1]_).
 
-The price is a second loop where the class was in doubt; nothing changes where it was
-not (one continued start) or where the first loop reached the noise floor.
+The fluid family's other starts (:func:`fluid_alternatives`)
+    The class choice judges starts on their baselines, before any effect, and the fluid
+    start holds two things fixed that an undeclared effect can put out of the fit's reach:
+
+    * its *size*: the device is sized to the records when the RMS force of the device as
+      given is more than :data:`~liquidamp.analysis.measured.start.NEAR_FORCE_RATIO` (4)
+      off, and an effect inflates that RMS (the contact spikes of end stops: a reference
+      design with stops at 3.2 mm of a 3.5 mm stroke reads 5.9x the RMS of
+      ``paper_initial``).  A similar device scaled by the force factor a carries a times
+      the fluid inertance b_L = rho S_t A_p^2, which none of the four fitted multipliers
+      moves, so the sized start can never draw the unsized device plus the effect.  Where the
+      fluid start was sized for its force alone (the stroke fits the device as given, the
+      stroke factor is 1), the device as given is a start too (``sizing='preset'``).
+      Where the stroke does not fit the device as given, no other start is tried: the
+      device had to be sized, and the published designs say nothing of a sized device's
+      channel.
+    * its *channel*: the fit varies the air ratios and losses, not the channel inertance
+      S_t; the inertance refinement probes it near its value, and a local fit cannot cross a
+      decade.  The family's published designs with air (Table 3) have channels a decade
+      apart (Device B, the spring and the damper designs at S_t x0.1 of the reference, the
+      reference and Device A within a factor 2 of it), so each channel of the family more
+      than a factor :data:`CHANNEL_REACH` (2) from the device given is a start too, on the
+      device given otherwise, not sized (an
+      elastomer beside a Device B channel is otherwise fitted from the reference channel into
+      a basin where the elastomer's branch stands in for the fluid: held-out 0.37 against
+      0.13 from the Device B channel).
+
+    Each is diagnosed one step first (its best first effect); only where that model passes
+    the selection rule against the model held (:func:`passes`) is its loop continued, and its
+    final model replaces the model held only where it passes the rule against it, in turn (so
+    every alternative must beat the best model so far).  An alternative whose baseline the
+    records cannot support (:func:`unsupported`: a fluid device sized far from the one given
+    with its fluid at a bound, as on a friction damper's records) is reported, not
+    diagnosed.
+
+The price is a second loop where the class was in doubt or the first loop ends above the
+noise level; nothing changes where the first loop reached the noise floor.
 
 References
 ----------
@@ -39,11 +74,23 @@ from __future__ import annotations
 
 import dataclasses
 
-from liquidamp.analysis.measured.device_class import BIC_STRONG
+from liquidamp.analysis.measured.device_class import BIC_STRONG, StartOutcome
 from liquidamp.analysis.measured.diagnosis_result import heldout_per_record
 from liquidamp.analysis.measured.selection import judge, sample_count
+from liquidamp.analysis.measured.start import stroke_factor
+from liquidamp.errors import LiquidampError
 
-__all__ = ["runner_up", "revisit"]
+__all__ = ["CHANNEL_REACH", "runner_up", "design_channels", "fluid_alternatives",
+           "alternative_outcome", "unsupported", "UNSUPPORTED", "passes", "revisit",
+           "revisit_starts"]
+
+#: Largest factor on the channel inertance S_t that the fit reaches from its start (the
+#: inertance refinement probes at 0.9 and a local fit moves a multiplier by about this
+#: much); the family's channels further away are starts of their own [-].
+CHANNEL_REACH = 2.0
+#: Least air ratio of a design "with air": the inerter design (1e-5) is the family's
+#: air-free limit (eqs. 19-20), the damper design (0.015) the least air of the others [-].
+_AIR = 1e-3
 
 
 def runner_up(baseline, run: dict, noise_level: float) -> str:
@@ -77,10 +124,100 @@ def runner_up(baseline, run: dict, noise_level: float) -> str:
     return min(others, key=lambda o: o.nrmse_validation).name
 
 
-def revisit(run: dict, alt_run: dict, chosen: str, alt: str, sel) -> dict:
-    """The loop's state to report: ``alt_run`` where its final model passes the selection
-    rule ``sel`` against ``run``'s (module docstring), else ``run``; a warning says which
-    and why."""
+def design_channels() -> tuple[float, ...]:
+    """Channel inertances of the family's published designs with air (air ratios of at least
+    1e-3), as factors on the reference design's S_t [-], distinct and sorted (Table 3;
+    module docstring).
+
+    Examples
+    --------
+    >>> design_channels()
+    (0.1, 1.0, 1.8)
+    """
+    from liquidamp.device import preset, preset_names
+
+    ref = preset("reference").S_t
+    out = set()
+    for name in preset_names():
+        p = preset(name)
+        if min(p.inv_gamma1, p.inv_gamma2) >= _AIR and p.S_t > 0:
+            out.add(round(p.S_t / ref, 6))
+    return tuple(sorted(out))
+
+
+def fluid_alternatives(baseline, run: dict, noise_level: float, params,
+                       sizing: str = "auto") -> list:
+    """The fluid family's other starts to diagnose as well (module docstring).
+
+    Parameters
+    ----------
+    baseline : CalibrationResult
+        The chosen start's calibration (its ``class_starts``).
+    run : dict
+        The loop's state from the chosen start (``current``: the final fit).
+    noise_level : float
+        Calibration NRMSE at or below which the residual is noise [-] (nothing is tried
+        then).
+    params : DeviceParams
+        The device the calibration was given.
+    sizing : str
+        The diagnosis's sizing choice ('preset': the device as given is the fluid start
+        already, no other size is tried).
+
+    Returns
+    -------
+    list of (str, dict)
+        A label and the keywords of :func:`~liquidamp.analysis.measured.calibration.
+        calibrate` (``params``, ``sizing``) for each start, in the order to try them.
+    """
+    starts = getattr(baseline, "class_starts", ())
+    if run["current"].nrmse_calibration <= noise_level or params is None or not starts:
+        return []  # at the noise, or the caller fixed the structure (no class choice)
+    fluid = next((o for o in starts if o.name == "fluid"), None)
+    if sizing == "data" or stroke_factor(baseline.calibration, params) > 1.0:
+        return []  # the device as given cannot take the stroke: sized for it, no other start
+    out = []
+    if fluid is not None and fluid.sized and sizing != "preset":
+        out.append((f"fluid ({params.name or 'device'} as given, not sized)",
+                    {"params": params, "sizing": "preset", "device_class": "fluid"}))
+    if params.S_t > 0:
+        from liquidamp.device import preset
+
+        own = params.S_t / preset("reference").S_t
+        for f in design_channels():
+            if max(f / own, own / f) > CHANNEL_REACH:
+                out.append((f"fluid (channel S_t x{f:g} of the reference design)",
+                            {"params": params.replace(S_t=f * preset("reference").S_t,
+                                                      name=f"{params.name or 'device'} "
+                                                      f"with S_t x{f:g} of the reference"),
+                             "sizing": "preset", "device_class": "fluid"}))
+    return out
+
+
+#: Plausibility findings that make a fluid start's baseline a device the records cannot
+#: support (:mod:`~liquidamp.analysis.measured.plausibility`): its loop is not run.
+UNSUPPORTED = ("fluid_unsupported", "piston_too_large")
+
+
+def unsupported(result) -> str:
+    """Why an alternative fluid start's baseline ``result`` is not diagnosed ('' when it is):
+    its fitted geometry is one the records cannot support (a piston sized far from the
+    device with the fluid at a bound, or too large for the force; :data:`UNSUPPORTED`)."""
+    return "; ".join(f.message for f in getattr(result, "plausibility", ())
+                     if f.kind in UNSUPPORTED)
+
+
+def alternative_outcome(label: str, result, cls: str = "fluid") -> StartOutcome:
+    """The :class:`StartOutcome` of an alternative start's baseline ``result``."""
+    val = {e.label: e.nrmse for e in result.record_errors if e.role == "validation"}
+    return StartOutcome(label, f"a start of the {cls} class beside the class choice's",
+                        result.nrmse_calibration, result.nrmse_validation, val,
+                        len(result.varying), None, True, False, result.nfev,
+                        continued=True,
+                        sized=bool(result.start.get("sized", False)))
+
+
+def _verdict(run: dict, alt_run: dict, sel):
     a, b = run["current"], alt_run["current"]
     now, new = heldout_per_record(a), heldout_per_record(b)
     v = judge(a.residuals("calibration"), b.residuals("calibration"),
@@ -88,6 +225,21 @@ def revisit(run: dict, alt_run: dict, chosen: str, alt: str, sel) -> dict:
               bic_threshold=sel.bic_threshold, validation_tolerance=sel.validation_tolerance,
               n_eff=sample_count(b.calibration, b.residuals("calibration"),
                                  sel.sample_count))
+    return v, now, new
+
+
+def passes(run: dict, alt_run: dict, sel) -> bool:
+    """Whether ``alt_run``'s final model passes the selection rule ``sel`` against
+    ``run``'s (as :func:`revisit` judges)."""
+    return _verdict(run, alt_run, sel)[0].accepted
+
+
+def revisit(run: dict, alt_run: dict, chosen: str, alt: str, sel, cls: str = "") -> dict:
+    """The loop's state to report: ``alt_run`` where its final model passes the selection
+    rule ``sel`` against ``run``'s (module docstring), else ``run``; a warning says which
+    and why.  ``cls``: the device class of an alternative start that is not one of the
+    class choice's (its outcome is added to ``class_starts``)."""
+    v, now, new = _verdict(run, alt_run, sel)
     added = ", ".join(s.effect for s in alt_run["steps"]) or "nothing added"
     what = (f"the {alt} start diagnosed too ({added}; held-out "
             + ", ".join(f"{k} {new[k]:.3g}" for k in now) + f" against {chosen}'s "
@@ -100,8 +252,80 @@ def revisit(run: dict, alt_run: dict, chosen: str, alt: str, sel) -> dict:
     base = alt_run["baseline"]
     starts = tuple(dataclasses.replace(o, chosen=o.name == alt)
                    for o in run["baseline"].class_starts)
+    if cls:
+        starts += (dataclasses.replace(alternative_outcome(alt, base, cls), chosen=True),)
     alt_run = dict(alt_run, baseline=dataclasses.replace(base, class_starts=starts,
-                                                         device_class=alt))
+                                                         device_class=cls or alt))
     alt_run["warnings"] = [f"device class revisited: {what}: it passes the selection rule, "
                            f"the {alt} start replaces the {chosen} start"] + alt_run["warnings"]
     return alt_run
+
+
+def _alternative_loop(base2, run, gated: bool, loop, config) -> dict:
+    """The loop from an alternative start.  ``gated`` (the fluid family's other starts): one
+    step first, the rest only where that one-step model already passes the selection rule
+    against the model held (``run``): a start is compared after its best first effect, and
+    one that does not beat the model held then costs one round, not a whole loop."""
+    if not gated:
+        return loop(base2, config)
+    bud = config.budget
+    run1 = loop(base2, dataclasses.replace(config, budget=bud.replace(max_steps=1)))
+    if (not run1["steps"] or bud.max_steps <= 1 or not run1["stop"].startswith("max_steps")
+            or not passes(run, run1, config.selection)):
+        return run1
+    rest = dataclasses.replace(config, budget=bud.replace(max_steps=bud.max_steps - 1))
+    run2 = loop(run1["current"], rest)
+    return dict(run2, baseline=run1["baseline"], steps=run1["steps"] + run2["steps"],
+                device_steps=run1["device_steps"] + run2["device_steps"],
+                warnings=run1["warnings"] + run2["warnings"])
+
+
+def revisit_starts(run: dict, baseline, level: float, params, config, fit, loop) -> dict:
+    """The loop's state after the other starts are diagnosed too (module docstring).
+
+    Parameters
+    ----------
+    run : dict
+        The loop's state from the chosen start.
+    baseline : CalibrationResult
+        The chosen start's calibration (its ``class_starts``).
+    level : float
+        Calibration NRMSE at or below which the residual is noise [-]: once the model held
+        reaches it, no further start is tried.
+    params : DeviceParams
+        The device the calibration was given.
+    config : DiagnoseOptions
+        The diagnosis's options (``selection``, ``budget``, ``sizing``).
+    fit : callable
+        ``fit(keywords) -> CalibrationResult``: the baseline of a start (``keywords`` for
+        :func:`~liquidamp.analysis.measured.calibration.calibrate`).
+    loop : callable
+        ``loop(baseline, config) -> dict``: the diagnosis loop from a baseline.
+
+    Returns
+    -------
+    dict
+        The loop's state to report; every start tried is named in its ``warnings``.
+    """
+    sel = config.selection
+    alts = [(a, {"device_class": a, "sizing": config.sizing}, "")
+            for a in (runner_up(baseline, run, level),) if a]
+    alts += [(label, kw, "fluid") for label, kw in fluid_alternatives(
+        baseline, run, level, params, config.sizing)]
+    for alt, kw, cls in alts:
+        if run["current"].nrmse_calibration <= level:
+            break  # the model held has reached the noise: nothing is left to explain
+        try:
+            base2 = fit(kw)
+            why = unsupported(base2) if cls else ""
+            if why:
+                run["warnings"].append(f"device class revisited: the {alt} start is not "
+                                       f"diagnosed: the records cannot support it ({why})")
+                continue
+            run2 = _alternative_loop(base2, run, bool(cls), loop, config)
+        except LiquidampError as exc:  # an alternative that cannot be run is reported
+            run["warnings"].append(f"device class revisited: the {alt} start could not be "
+                                   f"diagnosed ({exc})")
+        else:
+            run = revisit(run, run2, run["baseline"].device_class, alt, sel, cls)
+    return run

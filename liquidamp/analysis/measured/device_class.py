@@ -530,6 +530,8 @@ class StartOutcome:
     continued : bool
         Its fit was continued with the full budget (its figures are the continued
         fit's).
+    sized : bool
+        Its device was sized to the records (a similar device, not the one given).
     """
 
     name: str
@@ -544,6 +546,7 @@ class StartOutcome:
     nfev: int = 0
     error: str = ""
     continued: bool = False
+    sized: bool = False
 
     def describe(self) -> str:
         """'friction: calibration 0.21, validation 0.25 (chosen)'."""
@@ -773,7 +776,10 @@ def calibrate_by_class(fit, records, validate, *, params: DeviceParams, effects,
                        "converged": bool(r.converged),
                        "how": "the start chosen among those that do not read the control "
                               "input (the device-class rule), fitted to convergence"}
-    outcomes = tuple(dataclasses.replace(o, continued=o.name in cont) for o in outcomes)
+    outcomes = tuple(dataclasses.replace(
+        o, continued=o.name in cont,
+        sized=bool(not isinstance(fits[o.name], BaseException)
+                   and fits[o.name].start.get("sized", False))) for o in outcomes)
     first, final = fits[chosen], cont[chosen]
     others = "; ".join(o.describe() for o in outcomes if not o.chosen)
     start = {**first.start, "device_class": chosen,

@@ -80,9 +80,12 @@ velocity):
    Without validation records the last of several calibration records is held out, or the
    second half of the whole cycles of one periodic record (``Diagnosis.holdout``).
 6. Repeat from 2 with the effect included, at most ``max_steps`` times.
-7. Where the class choice continued another start and the loop ends above the noise level,
-   that runner-up start is diagnosed too and its final model replaces this one only where
-   it passes the rule of 5 against it (:mod:`~liquidamp.analysis.measured.class_revisit`).
+7. Where the loop ends above the noise level, the class choice's runner-up start (where it
+   continued one) and the fluid family's other starts (the device as given where the fluid
+   start was sized for its force alone; the family's channels beyond the fit's reach,
+   :func:`~liquidamp.analysis.measured.class_revisit.fluid_alternatives`) are diagnosed too,
+   in turn; each final model replaces the one held only where it passes the rule of 5
+   against it (:mod:`~liquidamp.analysis.measured.class_revisit`).
 
 Besides the catalogue effects, :data:`COMPOSITES` lists candidates that change how
 effects compose or behave (:mod:`liquidamp.analysis.measured.candidates`):
@@ -143,7 +146,7 @@ from liquidamp.analysis.measured.calibration import (
     with_progress,
 )
 from liquidamp.analysis.measured.checks import check_records, drop_outliers, keep_outliers
-from liquidamp.analysis.measured.class_revisit import revisit, runner_up
+from liquidamp.analysis.measured.class_revisit import revisit_starts
 from liquidamp.analysis.measured.conditioning import condition
 from liquidamp.analysis.measured.diagnosis_evidence import (
     COMPOSITES,
@@ -592,24 +595,20 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
     floors, noise_std, noise_nrmse = _noise(calibration, conditioning)
     run = _loop(baseline, names, device_names, validation, options, config, spec,
                 noise_nrmse)
-    alt = runner_up(baseline, run, sel.noise_factor * noise_nrmse)
-    if alt:
-        try:
-            base2 = calibrate(calibration, model=model, params=params, effects=effects,
-                              spec=spec, validate=validation, options=options,
-                              max_nfev=bud.max_nfev, preroll=bud.preroll, tol=bud.tol,
-                              warn=False, sizing=config.sizing, outliers=config.outliers,
-                              device_class=alt)
-            if base2.status == "max_nfev":
-                base2 = _converge(base2, validation, options, bud.preroll, bud.max_nfev,
-                                  bud.tol, "preset" if config.sizing == "preset" else "auto")
-            run2 = _loop(base2, names, device_names, validation, options, config, spec,
-                         noise_nrmse)
-        except (ConvergenceError, ParameterError) as exc:
-            run["warnings"].append(f"device class revisited: the {alt} start could not be "
-                                   f"diagnosed ({exc})")
-        else:
-            run = revisit(run, run2, baseline.device_class, alt, sel)
+
+    def fit(kw):  # an alternative start's baseline (stages "start", "fit")
+        base2 = calibrate(calibration, model=model, effects=effects, spec=spec,
+                          validate=validation, options=options, max_nfev=bud.max_nfev,
+                          preroll=bud.preroll, tol=bud.tol, warn=False,
+                          outliers=config.outliers, **{"params": params, **kw})
+        if base2.status == "max_nfev":
+            base2 = _converge(base2, validation, options, bud.preroll, bud.max_nfev,
+                              bud.tol, "preset" if kw["sizing"] == "preset" else "auto")
+        return base2
+
+    run = revisit_starts(run, baseline, sel.noise_factor * noise_nrmse, check_params, config,
+                         fit, lambda base, cfg: _loop(base, names, device_names, validation,
+                                                      options, cfg, spec, noise_nrmse))
     baseline, steps, current = run["baseline"], run["steps"], run["current"]
     stop, last_round, device_steps = run["stop"], run["last_round"], run["device_steps"]
     device_evidence = run["device_evidence"]
