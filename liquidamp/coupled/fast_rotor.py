@@ -194,7 +194,7 @@ def _kernel_arrays(structure, W, system, X0, opts):
     nd = len(system.devices)
     doff = np.zeros(nd + 1, np.int64)
     DSPEC = np.zeros((nd, DK.N_SPEC), np.int64)
-    PRM = np.zeros((nd, DK.N_PRM))
+    PRM = np.zeros((nd, DK.N_PRM_ALL))  # the parameters and the input channel slots
     DEP = np.zeros((nd, DK.N_EP + max([d.n_states for d in system.devices] + [0])))
     fi = np.full((nd, 2), -1, np.int64)
     lim = np.empty(nd)

@@ -191,3 +191,30 @@ def test_a_coupled_host_refuses_a_model_that_reads_a_channel():
 
     system = rotor_system(load_rotor("hammond1974"), 27.2, Device(MODEL, P))
     assert "'field_yield' reads the measured 'voltage' channel" in compiled_support(system)
+
+
+def test_a_record_that_is_not_periodic_starts_in_motion():
+    """The lead-in (steady flow at the first sample's velocity) against starting from rest:
+    the record cut from a longer run, whose earlier part is the true history."""
+    import liquidamp.analysis.measured.record_model as RM
+
+    long = _record(duration=0.4, voltage=lambda t: 1.0 + 0 * t)
+    truth = simulate_record(MODEL, P, long, options=OPTS["compiled"])
+    k = truth.time.size // 2
+    cut = Record.from_arrays(long.time[k - 10:], long.displacement[k - 10:],
+                             0 * long.time[k - 10:],
+                             channels={"voltage": long.channels["voltage"][k - 10:]})
+    assert not cut.periodic
+    ref = np.interp(cut.time, truth.time, truth.force)
+    lead = simulate_record(MODEL, P, cut, options=OPTS["compiled"])
+    assert lead.solver_stats["lead_in"] > 0
+    share = RM.LEAD_IN_SHARE
+    try:
+        RM.LEAD_IN_SHARE = 0.0
+        rest = simulate_record(MODEL, P, cut, options=OPTS["compiled"])
+    finally:
+        RM.LEAD_IN_SHARE = share
+    first = slice(0, 20)
+    e_lead = np.sqrt(np.mean((lead.force[first] - ref[first]) ** 2))
+    e_rest = np.sqrt(np.mean((rest.force[first] - ref[first]) ** 2))
+    assert e_lead < 0.3 * e_rest, (e_lead, e_rest)

@@ -123,11 +123,9 @@ __all__ = ["DEVICE_CLASSES", "FLUID_FLOOR", "VISCOUS_FLOOR", "QUADRATIC_SHARE", 
 DEVICE_CLASSES = ("fluid", "friction", "viscous", "field")
 #: Control inputs a field-controlled (MR/ER) device follows, in the order they are read.
 FIELD_CHANNELS = ("voltage", "current")
-#: Field lag rates eta tried by the field start's loop reading [1/s] (MR valves: field time
-#: constants of a few to some tens of ms, Spencer et al. 1997).
+#: Field lag rates eta tried by the field start [1/s] (MR field time constants of a few to
+#: tens of ms, Spencer et al. 1997); its m_eps as a share of the RMS mass flow [-] (fitted).
 FIELD_RATES = tuple(float(x) for x in np.geomspace(10.0, 1000.0, 11))
-#: The field start's smoothing mass flow m_eps as a share of the records' RMS piston mass
-#: flow rho A_p v_rms [-] (a numerical start; fitted).
 FIELD_SMOOTHING = 0.02
 #: Least share of |K*| the fluid keeps in the friction start (each of K', K''), where the
 #: record's noise floor (as an NRMSE) is lower [-].
