@@ -2,11 +2,12 @@
 
 :func:`choose_start` judges the starts of
 :func:`~liquidamp.analysis.measured.device_class.calibrate_by_class` on the data: the
-held-out records first (a start that another beats on the pooled held-out records by more
-than :data:`HELD_OUT_TOLERANCE`, while not worse on any record, is out), then the Bayesian information criterion on the
-calibration records with an honest sample count
-(:func:`~liquidamp.analysis.measured.selection.effective_samples`), Kass and Raftery's evidence grades (:data:`BIC_POSITIVE`, :data:`BIC_STRONG`); each start's
-outcome is kept as a :class:`StartOutcome` for the JSON and the report.
+held-out records first (a start that another beats on the pooled held-out records by
+more than :data:`HELD_OUT_TOLERANCE`, while not worse on any record, is out), then the
+Bayesian information criterion on the calibration records with an honest sample count
+(:func:`~liquidamp.analysis.measured.selection.effective_samples`), graded by Kass and
+Raftery's evidence scale (:data:`BIC_POSITIVE`, :data:`BIC_STRONG`).  Each start's outcome
+is kept as a :class:`StartOutcome` for the JSON and the report.
 
 References
 ----------
