@@ -67,7 +67,7 @@ from liquidamp.errors import ConvergenceError, ParameterError, PressureError, ch
 
 __all__ = ["periodic_state", "PeriodicState", "ShootingOptions", "ROUTES", "invariants",
            "project_level_set", "state_swing", "FD_STEP", "STEP_LENGTHS", "STALL_RATIO",
-           "MIN_RTOL", "RHO_STALL", "FIRST_CHUNK"]
+           "MIN_RTOL", "RHO_STALL", "FIRST_CHUNK", "FINE_GRID_FACTOR"]
 
 #: Routes of :func:`periodic_state`: march then shoot, march alone, shoot alone.
 ROUTES = ("auto", "march", "shooting")
@@ -95,6 +95,14 @@ FIRST_CHUNK = 40
 
 #: Largest relative drift of an invariant over one period for it to be held [-].
 INVARIANT_DRIFT = 1e-6
+
+#: A ``grid`` of more than this many times ``options.samples_per_period`` points is not
+#: marched on: the march compares the force waveforms on the uniform grid and the states at
+#: ``grid`` come from one run of the final period from its start (a record at 3 kHz
+#: conditioned by decimation and averaging needs the model at all its 60 000 raw phases,
+#: and the force at every one of them after every marched cycle cost 25x the
+#: integration) [-].
+FINE_GRID_FACTOR = 4
 
 
 @dataclass(frozen=True)
@@ -559,6 +567,7 @@ def periodic_state(rig, engine, x0, options, *, route: str = "auto",
     stats: dict = {}
     where = stroke.describe() if hasattr(stroke, "describe") else "this stroke"
     name = f"model {model.name!r}"
+    fine = None
     if grid is not None:
         grid = np.asarray(grid, float)
         T = stroke.period
@@ -566,6 +575,18 @@ def periodic_state(rig, engine, x0, options, *, route: str = "auto",
                 or abs(grid[-1] - T) > 1e-12 * T):
             raise ParameterError(f"grid must be increasing times in [0, {T:g}] s ending at the "
                                  "period's end")
+        if grid.size > FINE_GRID_FACTOR * options.samples_per_period + 1:
+            # march on the uniform grid; the fine grid from the final period (FINE_GRID_FACTOR)
+            fine, grid = grid, None
+
+    def on_grid(X):
+        """The last marched period ``X`` (both ends, on the march's grid) at ``fine``."""
+        if fine is None:
+            return X
+        from liquidamp.coupled.fast import step_period
+
+        return engine.march(rig, X[:, 0], 0.0, stroke.period, fine, options,
+                            options.max_step_fraction * step_period(stroke), {})
     if route == "march":
         X, cycles, residual, change, ok = engine.march_cycles(rig, x0, options, stats, grid)
         if not ok:
@@ -574,7 +595,7 @@ def periodic_state(rig, engine, x0, options, *, route: str = "auto",
                 f"{where}; last relative change per cycle {change:.2e}, estimated remaining "
                 f"{residual:.2e} (allowed {options.steady_tol:g}); raise max_cycles or "
                 "steady_tol")
-        X = X[:, :-1]
+        X = on_grid(X)[:, :-1]
         stats.update(route="march", march_cycles=cycles, shooting_runs=0, newton_iterations=0)
         msg = (f"periodic steady state after {cycles} cycles (march); estimated remaining "
                f"change {residual:.2e} of peak force ({engine.name} engine)")
@@ -588,11 +609,13 @@ def periodic_state(rig, engine, x0, options, *, route: str = "auto",
                          newton_iterations=0)
             msg = (f"periodic steady state after {cycles} cycles (march); estimated remaining "
                    f"change {residual:.2e} of peak force ({engine.name} engine)")
-            return PeriodicState(X[:, :-1], "march", cycles, 0, 0, residual, msg, stats)
+            return PeriodicState(on_grid(X)[:, :-1], "march", cycles, 0, 0, residual, msg,
+                                 stats)
         x = X[:, -1]
     try:
         X, runs, iters, newton, marched, res, rtol = _shoot(rig, engine, x, target, options,
-                                                            shooting, grid)
+                                                            shooting,
+                                                            grid if fine is None else fine)
     except ConvergenceError as exc:
         if route == "shooting":
             raise ConvergenceError(f"{name} at {where}: {exc}") from None
@@ -603,7 +626,7 @@ def periodic_state(rig, engine, x0, options, *, route: str = "auto",
             "or the shooting's max_iter")
         # the last marched period (on ``grid``, end point excluded), for a caller that can
         # use a state that is not periodic and says so
-        err.marched = (X[:, :-1], cycles, change)
+        err.marched = (on_grid(X)[:, :-1], cycles, change)
         raise err from None
     stats.update(route="shooting", march_cycles=cycles, shooting_runs=runs,
                  newton_iterations=iters)

@@ -403,13 +403,7 @@ def _simulate_periodic(model, params, record, cond, options, x0, route):
     rest = model.initial_state(params, y0)
     guess = rest if x0 is None else _onto_invariants(model, params, np.asarray(x0, float), rest,
                                                      y0)
-    if cond is not None:
-        tq, at_record = cond.model_times(t)
-    else:
-        tq, at_record = t, np.arange(t.size)
-    phase = np.mod(tq - origin, T)
-    phase[phase >= T * (1.0 - 1e-12)] = 0.0
-    uniq, inverse = np.unique(phase, return_inverse=True)
+    phase, uniq, inverse, at_record, uq = _phases(record, cond, t, rig_stroke, origin)
     warn = []
     if model.n_states:
         # the orbit is found on the phases the record needs (no extra period to sample it)
@@ -438,7 +432,6 @@ def _simulate_periodic(model, params, record, cond, options, x0, route):
     else:
         Xq = np.zeros((0, phase.size))
         stats, how = {"route": "algebraic"}, "by a model without states (no orbit needed)"
-    uq = rig_stroke(phase)
     fq = np.broadcast_to(np.asarray(model.force(phase, Xq, uq, params), float), phase.shape)
     X = np.ascontiguousarray(Xq[:, at_record])
     u = tuple(np.asarray(q)[at_record] for q in uq)
@@ -622,6 +615,32 @@ def _start_temperature(model) -> float:
     return float(th.initial_temperature_K)
 
 
+def _phases(record, cond, t, rig_stroke, origin):
+    """The phases [s] of the times the record needs in the rig's time, their sorted unique
+    values and the inverse map, the record's samples among them and the stroke there: the
+    same for every run of one record, so kept in ``record.meta`` (a conditioned 3 kHz
+    record needs 60 000 phases; their stroke series cost as much as the orbit)."""
+    T = rig_stroke.period
+    key = (float(T), float(origin), float(t[0]), float(t[-1]), t.size, rig_stroke.sine.tobytes(),
+           rig_stroke.cosine.tobytes(), id(cond))
+    cached = record.meta.get("_phases")
+    if cached is not None and cached[0] == key:
+        return cached[1]
+    if cond is not None:
+        tq, at_record = cond.model_times(t)
+    else:
+        tq, at_record = t, np.arange(t.size)
+    phase = np.mod(tq - origin, T)
+    phase[phase >= T * (1.0 - 1e-12)] = 0.0
+    uniq, inverse = np.unique(phase, return_inverse=True)
+    uq = rig_stroke(phase)
+    out = (phase, uniq, inverse, at_record, uq)
+    for a in (phase, uniq, inverse, at_record, *uq):
+        a.setflags(write=False)
+    record.meta["_phases"] = (key, out)
+    return out
+
+
 def _onto_invariants(model, params, x, rest, y=0.0):
     """``x`` moved (minimum-norm, in state scales) onto the invariants of ``rest``, both at
     stroke ``y`` [m] (the total mass depends on the chamber volumes there)."""
@@ -631,6 +650,8 @@ def _onto_invariants(model, params, x, rest, y=0.0):
         raise ParameterError(f"x0 must hold the {rest.size} states of model {model.name!r}, "
                              f"got shape {x.shape}")
     target, _ = invariants(model, params, rest, y)
+    rows = _conserved_rows(model, target.size)
+    target = target[rows]
     if not target.size:
         return x
     scale = np.asarray(model.state_scales(params), float)
@@ -638,9 +659,22 @@ def _onto_invariants(model, params, x, rest, y=0.0):
 
     def gap(z):
         v, G = invariants(model, params, z, y)
-        return (v - target) / size, G * scale / size[:, None]
+        return (v[rows] - target) / size, G[rows] * scale / size[:, None]
 
     return project_level_set(x, gap, scale)
+
+
+def _conserved_rows(model, m: int) -> np.ndarray:
+    """The rows of :func:`~liquidamp.coupled.periodic.invariants` the model's equations
+    conserve whatever the state: all, except with vapour cavities (``cavitation``), where a
+    chamber's density leaves its pressure curve while its cavity is open, so that only the
+    total mass (the last row; vapour mass neglected) is conserved.  A warm start keeps the
+    chamber rows of the orbit it came from there: projected onto those of rest it would
+    restart the slow drift of the cavities from rest (0.3-1 s of marching and shooting per
+    model run in a fit instead of a few cycles)."""
+    if m > 1 and model.effect("cavitation") is not None:
+        return np.arange(m - 1, m)
+    return np.arange(m)
 
 
 def _response(model, params, t, X, u, options, stats=None, force=None,
