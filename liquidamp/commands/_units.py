@@ -423,6 +423,7 @@ COMPOSITE_NAMES = ("backlash", "friction_asymmetry", "friction_transition")
 EFFECT_CHOICES = {"coulomb_friction": {"location": ("rod", "piston")},
                   "smooth_friction": {"location": ("rod", "piston")},
                   "field_yield": {"input": ("voltage", "current")},
+                  "freeplay": {"drives": ("piston", "friction")},
                   "self_heating": {"law": ("exponential", "water", "walther"),
                                    "start": ("given", "record"),
                                    "temperature": ("state", "measured")}}

@@ -62,7 +62,9 @@ def test_friction_damper_friction_and_dead_band_are_found(diagnosis):
     the sharper slip; validation NRMSE 0.84 -> 0.236 -> 0.201 -> 0.120 -> 0.115; every
     parameter at a bound is warned about."""
     d = diagnosis
-    assert d.added[0] in FRICTION, d.added
+    # friction first: alone, or already behind its dead band (the backlash composite, which
+    # since issue #19's from-scratch composite may add friction and dead band in one step)
+    assert d.added[0] in FRICTION or d.added[0] == "backlash", d.added
     # the asymmetry (+13 / -10 kN) is expressed by the friction's reverse ratio or by a force
     # offset: the two tie on these records (the offset also acts inside the dead band), and
     # judged record by record on held-out data (issue #19) either may be the better one
