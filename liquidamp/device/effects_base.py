@@ -229,10 +229,13 @@ class Effect:
     def check_small_signal(self, params) -> None:
         """Raise ParameterError if the linearization at rest cannot represent the effect."""
         if self.small_signal_reason is not None:
+            hint = ("give an amplitude and a frequency for an equivalent linearization, or "
+                    "use the time domain" if getattr(self, "stationary", True) else
+                    "it drifts, so there is no periodic steady state to linearize about "
+                    "either: use the time domain (simulate)")
             raise ParameterError(
                 f"effect {self.name!r} has no small-signal model at rest: "
-                f"{self.small_signal_reason}; give an amplitude and a frequency for an "
-                "equivalent linearization, or use the time domain")
+                f"{self.small_signal_reason}; {hint}")
 
     def describing_function(self, amplitude: float, omega: float, params, model=None
                             ) -> tuple[float, float, float]:

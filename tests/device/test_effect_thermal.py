@@ -160,6 +160,9 @@ def test_errors_and_refusals():
     with pytest.raises(ParameterError, match="no equivalent linearization"):
         SelfHeating().describing_function(0.001, 10.0, P)
     assert SelfHeating().held(310.0).heat_capacity_J_per_K == math.inf
+    # at rest it points to the time domain, not to an equivalent linearization it refuses too
+    with pytest.raises(ParameterError, match="no periodic steady state to linearize about"):
+        SelfHeating().check_small_signal(P)
 
 
 def test_the_gas_charge_follows_the_fluid_temperature():
