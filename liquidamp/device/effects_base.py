@@ -118,6 +118,9 @@ class Effect:
     #: True where a diagnosis screens the effect when no candidates are named; the
     #: others are candidates on request (``diagnose(..., candidates=...)``).
     screened: ClassVar[bool] = True
+    #: False for an effect that drifts by design (``self_heating``): it has no periodic
+    #: steady state, so a record with it is marched whole and never averaged into a cycle.
+    stationary: ClassVar[bool] = True
     #: Measured channels the effect reads (names of ``kernels.CHANNELS``; see above).
     input_channels: ClassVar[tuple] = ()
 
@@ -230,7 +233,7 @@ class Effect:
         """Raise ParameterError if the linearization at rest cannot represent the effect."""
         if self.small_signal_reason is not None:
             hint = ("give an amplitude and a frequency for an equivalent linearization, or "
-                    "use the time domain" if getattr(self, "stationary", True) else
+                    "use the time domain" if self.stationary else
                     "it drifts, so there is no periodic steady state to linearize about "
                     "either: use the time domain (simulate)")
             raise ParameterError(

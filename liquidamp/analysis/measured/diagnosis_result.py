@@ -41,15 +41,28 @@ class Step:
     result: CalibrationResult | None = field(default=None, repr=False)
     confounded: dict = field(default_factory=dict)
 
+    def fitted_parameters(self) -> dict:
+        """The step's parameters its refit varied (all of them where the refit is not
+        kept): a measured temperature leaves a heat capacity at its default, which is not
+        a finding."""
+        if self.result is None:
+            return dict(self.parameters)
+        vary = set(self.result.varying)
+        out = {k: v for k, v in self.parameters.items()
+               if k in vary or f"{self.effect}.{k}" in vary}
+        return out or dict(self.parameters)
+
     def as_dict(self) -> dict:
-        """JSON-ready step (``fit``: whether the refit converged; ``confounded``: evidence
-        that a fitted device parameter mimics the effect, see ``CONFOUNDED``;
+        """JSON-ready step (``fitted``: the names of the parameters the refit varied;
+        ``fit``: whether the refit converged; ``confounded``: evidence that a fitted
+        device parameter mimics the effect, see ``CONFOUNDED``;
         ``heldout_records``: held-out NRMSE per record)."""
         fit = ({"converged": self.result.converged, "status": self.result.status,
                 "message": self.result.message, "nfev": self.result.nfev}
                if self.result is not None else {})
         per = heldout_per_record(self.result) if self.result is not None else {}
         return {"effect": self.effect, "parameters": self.parameters,
+                "fitted": list(self.fitted_parameters()),
                 "nrmse": {"calibration": self.nrmse_calibration,
                           "validation": self.nrmse_validation},
                 "heldout_records": per,
@@ -152,7 +165,7 @@ class Diagnosis:
         effects added and the held-out NRMSE per record, pooled beside), then the
         reference models held out, then why the loop stopped."""
         first = []
-        drifting = [e.name for e in self.final.effects if not getattr(e, "stationary", True)]
+        drifting = [e.name for e in self.final.effects if not e.stationary]
         if self.non_stationary and drifting:
             first.append("NON-STATIONARY: the records drift (" + self.non_stationary + "); "
                          "followed by " + ", ".join(drifting) + ", a drifting model marched "
@@ -169,7 +182,8 @@ class Diagnosis:
         per = ", ".join(f"{k} {v:.3g}" for k, v in self.heldout.items())
         pooled = self.final.nrmse_validation
         base = heldout_per_record(self.baseline)
-        added = (", ".join(f"{s.effect} ({_short(s.parameters)})" for s in self.steps)
+        added = (", ".join(f"{s.effect} ({_short(s.fitted_parameters())})"
+                           for s in self.steps)
                  or "nothing")
         if self.device_steps:
             added += "; device parameters freed: " + ", ".join(

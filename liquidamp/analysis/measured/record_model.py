@@ -446,7 +446,7 @@ def _simulate_periodic(model, params, record, cond, options, x0, route):
 def stationary(model) -> bool:
     """Whether ``model`` has a periodic steady state under a periodic stroke: False where
     an effect drifts by design (``Effect.stationary`` False: ``self_heating``)."""
-    return all(getattr(e, "stationary", True) for e in getattr(model, "effects", ()))
+    return all(e.stationary for e in getattr(model, "effects", ()))
 
 
 def _held_model(model, params, T0):
@@ -455,7 +455,7 @@ def _held_model(model, params, T0):
     device whose periodic orbit a warming record starts on."""
     from liquidamp.device.effects import with_effects
 
-    th = next(e for e in model.effects if not getattr(e, "stationary", True))
+    th = next(e for e in model.effects if not e.stationary)
     others = tuple(e for e in model.effects if e is not th)
     bare = get_model(model.base) if model.base != "viscous" else None
     if bare is None:
@@ -488,7 +488,7 @@ def _simulate_drifting(model, params, record, cond, options, route, chans=()):
         tq, at_record = cond.model_times(t)
     else:
         tq, at_record = t, np.arange(t.size)
-    th = next(e for e in model.effects if not getattr(e, "stationary", True))
+    th = next(e for e in model.effects if not e.stationary)
     _, options = prepare_run(model, params, rig_stroke, options)
     stats: dict = {}
     s = tq - origin
@@ -570,7 +570,7 @@ def _estimate_start(model, params, record, rig_stroke, origin, options, route) -
     """
     from scipy.optimize import minimize_scalar
 
-    th = next(e for e in model.effects if not getattr(e, "stationary", True))
+    th = next(e for e in model.effects if not e.stationary)
     t = record.time
     m = t <= t[0] + START_CYCLES * rig_stroke.period
     s = t[m] - origin
@@ -611,7 +611,7 @@ def _estimate_start(model, params, record, rig_stroke, origin, options, route) -
 
 def _start_temperature(model) -> float:
     """The drifting effect's start temperature [K]."""
-    th = next(e for e in model.effects if not getattr(e, "stationary", True))
+    th = next(e for e in model.effects if not e.stationary)
     return float(th.initial_temperature_K)
 
 

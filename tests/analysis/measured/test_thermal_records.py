@@ -136,3 +136,22 @@ def test_only_a_drift_or_a_temperature_proposes_self_heating(warming):
     c = candidate_change("self_heating", result(no_channel))
     assert {k for _, k in c.free} == {"heat_capacity_J_per_K", "conductance_W_per_K"}
     assert c.effect("self_heating").start == "record"
+
+
+def test_a_step_reports_only_the_parameters_its_refit_varied():
+    """With a measured temperature only beta is fitted: the summary's step must not
+    present the thermal state's default heat capacity and conductance as findings."""
+    from liquidamp.analysis.measured.diagnosis_result import Step
+
+    params = {"heat_capacity_J_per_K": 4.83, "conductance_W_per_K": 0.483,
+              "beta_per_K": 0.0303}
+    measured = Step("self_heating", params, 0.007, 0.02, (),
+                    result=SimpleNamespace(varying=("self_heating.beta_per_K",)))
+    assert measured.fitted_parameters() == {"beta_per_K": 0.0303}
+    state = Step("self_heating", params, 0.007, 0.02, (),
+                 result=SimpleNamespace(varying=("self_heating.heat_capacity_J_per_K",
+                                                 "self_heating.conductance_W_per_K")))
+    assert list(state.fitted_parameters()) == ["heat_capacity_J_per_K",
+                                               "conductance_W_per_K"]
+    # a step with no refit kept reports everything it holds
+    assert Step("self_heating", params, 0.007, 0.02, ()).fitted_parameters() == params
