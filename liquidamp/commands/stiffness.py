@@ -161,11 +161,13 @@ def run(args) -> int:
     from liquidamp.analysis.response.linear import linearize, transfer_function
     from liquidamp.analysis.response.stiffness import equivalent_sweep, linear_stiffness
     from liquidamp.device.effects import with_effects
-    from liquidamp.device.models import get_model
+    from liquidamp.device.models import check_input_channels, get_model
 
     params, effects = device_and_effects(args)
     model = get_model(args.model).name
     nl_model = with_effects(get_model(model), *effects) if effects else model
+    # an effect that reads a measured channel is refused here, before any sweep
+    check_input_channels(get_model(nl_model), (), "a harmonic stroke (the dynamic stiffness)")
 
     # the equivalent sweep is cheap and checks every frequency and amplitude first
     eq = equivalent_sweep(params, freqs, amps, model=model)

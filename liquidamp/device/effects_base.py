@@ -234,8 +234,10 @@ class Effect:
         if self.small_signal_reason is not None:
             hint = ("give an amplitude and a frequency for an equivalent linearization, or "
                     "use the time domain" if self.stationary else
-                    "it drifts, so there is no periodic steady state to linearize about "
-                    "either: use the time domain (simulate)")
+                    "it drifts with the power it dissipates, so no amplitude-independent "
+                    "linearization holds it either: use the time domain (simulate, or the "
+                    "nonlinear points of stiffness: its periodic steady state is the "
+                    "thermal equilibrium)")
             raise ParameterError(
                 f"effect {self.name!r} has no small-signal model at rest: "
                 f"{self.small_signal_reason}; {hint}")

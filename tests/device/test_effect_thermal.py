@@ -161,7 +161,7 @@ def test_errors_and_refusals():
         SelfHeating().describing_function(0.001, 10.0, P)
     assert SelfHeating().held(310.0).heat_capacity_J_per_K == math.inf
     # at rest it points to the time domain, not to an equivalent linearization it refuses too
-    with pytest.raises(ParameterError, match="no periodic steady state to linearize about"):
+    with pytest.raises(ParameterError, match="no amplitude-independent linearization holds it"):
         SelfHeating().check_small_signal(P)
 
 

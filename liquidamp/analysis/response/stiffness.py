@@ -64,7 +64,7 @@ from liquidamp._compat import renamed
 from liquidamp.analysis.response.harmonics import DynamicStiffness, dynamic_stiffness
 from liquidamp.analysis.response.linear import Linearization, linearize, tf_frequency_response
 from liquidamp.device.fluid import density_constant_bulk, density_gholizadeh
-from liquidamp.device.models import get_model
+from liquidamp.device.models import check_input_channels, get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import (
     LiquidampError,
@@ -636,6 +636,7 @@ def nonlinear_stiffness(params: DeviceParams, frequencies_hz, amplitudes_m,
         raise ParameterError(f"params must be DeviceParams, got {type(params).__name__}")
     m = get_model(model)
     m.check_params(params)
+    check_input_channels(m, (), "a harmonic stroke (the dynamic stiffness)")
     check_choice("on_error", on_error, ("raise", "skip"))
     f = _frequencies(frequencies_hz)
     a = _amplitudes(amplitudes_m, params)
@@ -646,7 +647,10 @@ def nonlinear_stiffness(params: DeviceParams, frequencies_hz, amplitudes_m,
     cyc = np.zeros(value.shape, int)
     status = np.full(value.shape, "ok", dtype=object)
     warns, fails = [], []
-    use_warm = warm_start and m.n_states > 0 and (m.pressures is None or m.conserves_mass)
+    # a warm start from the linearization at rest needs one: an effect without a small-
+    # signal model at rest (a drifting one) starts from the march instead
+    use_warm = (warm_start and m.n_states > 0 and (m.pressures is None or m.conserves_mass)
+                and all(e.small_signal_reason is None for e in getattr(m, "effects", ())))
     for i, Y in enumerate(a):
         for j, fj in enumerate(f):
             x0 = _warm(m, params, float(fj), float(Y)) if use_warm else None

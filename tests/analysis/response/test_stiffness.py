@@ -96,3 +96,45 @@ def test_equivalent_sweep_shape_and_validity():
     assert e.value.shape == (2, 2)
     assert e.valid[0, 0] and not e.valid[1, 1]
     assert e.curve(1).amplitude == 3e-3
+
+
+def test_a_self_heating_device_has_a_stiffness_at_its_thermal_equilibrium():
+    """A drifting effect has no linearization at rest, but with cooling its periodic
+    steady state exists (heat in = heat out). beta = 0 decouples the temperature: the
+    passive device's stiffness. beta > 0: the loop's dissipated power pi Y^2 Im K f sets
+    the equilibrium temperature T = T_amb + P / h_A (energy balance), and the passive
+    device with c1 scaled by the viscosity ratio there has the same stiffness (a second,
+    independent route; the ripple of T within a cycle is the difference)."""
+    import math
+
+    from liquidamp.analysis.response.stiffness import nonlinear_stiffness
+    from liquidamp.device import preset
+    from liquidamp.device.effects import SelfHeating, with_effects
+    from liquidamp.device.models import get_model
+
+    p, f, Y = preset("reference"), 5.0, 1e-3
+    passive = nonlinear_stiffness(p, [f], [Y], model="full").value[0, 0]
+    cold = nonlinear_stiffness(p, [f], [Y], model=with_effects(
+        get_model("full"), SelfHeating(beta_per_K=0.0))).value[0, 0]
+    assert abs(cold - passive) <= 1e-5 * abs(passive)
+    e = SelfHeating(beta_per_K=0.05, c2_exponent=0.0)
+    warm = nonlinear_stiffness(p, [f], [Y], model=with_effects(get_model("full"), e)
+                               ).value[0, 0]
+    T = e.ambient_temperature_K + f * math.pi * Y ** 2 * warm.imag / e.conductance_W_per_K
+    ratio = math.exp(-e.beta_per_K * (T - e.reference_temperature_K))
+    assert 0.85 < ratio < 0.95  # a warming of about 2 K: the test is not vacuous
+    held = nonlinear_stiffness(p.replace(c1=p.c1 * ratio), [f], [Y], model="full").value[0, 0]
+    assert abs(warm - held) <= 1e-3 * abs(held)
+    assert abs(warm - passive) > 1e-2 * abs(passive)
+
+
+def test_stiffness_refuses_a_measured_input_before_any_work():
+    from liquidamp.analysis.response.stiffness import nonlinear_stiffness
+    from liquidamp.device import preset
+    from liquidamp.device.effects import FieldYield, with_effects
+    from liquidamp.device.models import get_model
+    from liquidamp.errors import ParameterError
+
+    with pytest.raises(ParameterError, match="field_yield.*voltage"):
+        nonlinear_stiffness(preset("reference"), [5.0], [1e-3],
+                            model=with_effects(get_model("full"), FieldYield()))
