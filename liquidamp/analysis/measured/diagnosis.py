@@ -161,7 +161,13 @@ from liquidamp.analysis.measured.diagnosis_evidence import (
     score,
     signatures,
 )
-from liquidamp.analysis.measured.diagnosis_fits import _converge, _refit, _restart
+from liquidamp.analysis.measured.diagnosis_fits import (
+    _converge,
+    _profile_step,
+    _profile_warning,
+    _refit,
+    _restart,
+)
 from liquidamp.analysis.measured.diagnosis_options import (
     Budget,
     ConditioningOptions,
@@ -707,13 +713,18 @@ def _loop(baseline, names, device_names, validation, options, config, spec,
                                      res.nrmse_validation, tuple(ranked), tie, res, {}))
             current, last_round = res, ()
             continue
+        res, chosen, prof = _profile_step(res, chosen, probes, current, validation, options,
+                                          bud, sel)
+        if prof is not None:
+            warnings.append(_profile_warning(chosen.effect, prof))
         if not res.converged:
             warnings.append(f"NOT CONVERGED: fit with {chosen.effect} ({res.status}): "
                             f"{res.message}")
         warnings += confounding_warnings(chosen.effect, current, res)
         steps.append(Step(chosen.effect, chosen.parameters, res.nrmse_calibration,
                           res.nrmse_validation, tuple(ranked), tie, res,
-                          confounding(chosen.effect, current, res)))
+                          confounding(chosen.effect, current, res),
+                          prof.as_dict() if prof is not None else {}))
         current = res
         last_round = ()
     return {"baseline": baseline, "steps": steps, "current": current, "stop": stop,

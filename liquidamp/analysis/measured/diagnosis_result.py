@@ -40,11 +40,14 @@ class Step:
     tie: tuple = ()
     result: CalibrationResult | None = field(default=None, repr=False)
     confounded: dict = field(default_factory=dict)
+    profile: dict = field(default_factory=dict)
 
     def as_dict(self) -> dict:
         """JSON-ready step (``fit``: whether the refit converged; ``confounded``: evidence
         that a fitted device parameter mimics the effect, see ``CONFOUNDED``;
-        ``heldout_records``: held-out NRMSE per record)."""
+        ``heldout_records``: held-out NRMSE per record; ``profile``: the profile of a freed
+        parameter the records hardly determine, :class:`~.profile.Profile`, empty when
+        none)."""
         fit = ({"converged": self.result.converged, "status": self.result.status,
                 "message": self.result.message, "nfev": self.result.nfev}
                if self.result is not None else {})
@@ -54,6 +57,7 @@ class Step:
                           "validation": self.nrmse_validation},
                 "heldout_records": per,
                 "fit": fit, "tie": list(self.tie), "confounded": self.confounded,
+                "profile": self.profile,
                 "evidence": [c.as_dict() for c in self.candidates]}
 
 
