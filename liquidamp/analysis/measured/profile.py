@@ -25,8 +25,10 @@ where the linearized interval is not (N / N_eff: the residual's correlation infl
 10^(1/4) about the fit's value, each point refitted from its neighbour's optimum (a
 continuation along the valley), outward on each side while D stays below 3.84 and within a
 decade of the fitted value (the fit's own start came from a linearized estimate; a decade
-either way covers what the start could have missed), then refits every parameter from the
-grid's minimum where that is lower than the fit.  It reports the profile and the interval,
+either way covers what the start could have missed), halves the step about the least cost
+twice (the valley's floor is flat: a free fit started a grid step away stops where it
+arrives), then refits every parameter from the least cost where that is lower than the
+fit.  It reports the profile and the interval,
 open on a side where the decade scanned did not reach D = 3.84: there the records do not
 bound the parameter, and the report says so rather than quoting a standard error.
 
@@ -174,7 +176,8 @@ def _s2(result) -> float:
 
 
 def profile_restart(result, name: str, fit, *, step: float = PROFILE_STEP,
-                    span: float = PROFILE_SPAN, level: float = PROFILE_LEVEL):
+                    span: float = PROFILE_SPAN, level: float = PROFILE_LEVEL,
+                    refine: int = 2):
     """Profile ``name`` in ``result`` and restart the fit from the profile's minimum.
 
     Parameters
@@ -193,6 +196,8 @@ def profile_restart(result, name: str, fit, *, step: float = PROFILE_STEP,
         Largest factor from the fitted value on each side (>= step) [-].
     level : float
         Bound on D = 2 (C_p - min C_p) / s^2 of the interval and of the scan [-].
+    refine : int
+        Halvings of the step about the least cost after the scan (two points each) [-].
 
     Returns
     -------
@@ -236,6 +241,22 @@ def profile_restart(result, name: str, fit, *, step: float = PROFILE_STEP,
             best = min(c for c, _ in points.values())
             if 2.0 * (r.cost - best) / s2 > level:
                 break
+    # the valley's floor between grid values: halve the step about the least cost twice
+    # (the resolution 10^(1/16), 15 %), each point refitted from the least one's optimum
+    h = math.log(step)
+    for _ in range(refine):
+        h *= 0.5
+        v_best = min(points, key=lambda v: points[v][0])
+        seed = points[v_best][1]
+        for direction in (+1.0, -1.0):
+            v = v_best * math.exp(direction * h)
+            if not p.min <= v <= p.max or v in points:
+                continue
+            try:
+                r = fit(fixed.with_values({**_values(seed), name: v}))
+            except (ConvergenceError, ParameterError, PressureError):
+                continue
+            points[v] = (r.cost, r)
     out, restarted = result, False
     i_best = min(points, key=lambda v: points[v][0])
     if i_best != v0:
