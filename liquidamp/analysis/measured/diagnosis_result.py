@@ -181,6 +181,10 @@ class Diagnosis:
         first.append(f"added {added}: held-out NRMSE per record {per}"
                      + (f" (pooled {pooled:.3g})" if pooled is not None else "")
                      + "; before: " + ", ".join(f"{k} {v:.3g}" for k, v in base.items()))
+        loose = [s.profile["description"] for s in self.steps
+                 if s.profile and (s.profile["open_low"] or s.profile["open_high"])]
+        if loose:
+            first.append("not determined by the calibration records: " + "; ".join(loose))
         lines = ["; ".join(first)]
         wi = self.without_input
         if wi:
