@@ -79,6 +79,10 @@ velocity):
    others within ``tie_tolerance`` (10 %) of it are reported as tied with their evidence.
    Without validation records the last of several calibration records is held out, or the
    second half of the whole cycles of one periodic record (``Diagnosis.holdout``).
+   A parameter the added effect frees with a standard error above its value (a flat valley:
+   an elastomer's parallel spring against its branch's relaxation time) is profiled, the fit
+   restarted from the profile's minimum where it still passes the rule, and its 95 %
+   profile interval reported (:mod:`~liquidamp.analysis.measured.profile`, ``Step.profile``).
 6. Repeat from 2 with the effect included, at most ``max_steps`` times.
 7. Where the loop ends above the noise level, the class choice's runner-up start (where it
    continued one) and the fluid family's other starts (the device as given where the fluid
