@@ -168,7 +168,6 @@ from liquidamp.analysis.measured.diagnosis_evidence import (
 from liquidamp.analysis.measured.diagnosis_fits import (
     _converge,
     _profile_step,
-    _profile_warning,
     _refit,
     _restart,
 )
@@ -718,9 +717,7 @@ def _loop(baseline, names, device_names, validation, options, config, spec,
             current, last_round = res, ()
             continue
         res, chosen, prof = _profile_step(res, chosen, probes, current, validation, options,
-                                          bud, sel)
-        if prof is not None:
-            warnings.append(_profile_warning(chosen.effect, prof))
+                                          bud, sel, warnings)
         if not res.converged:
             warnings.append(f"NOT CONVERGED: fit with {chosen.effect} ({res.status}): "
                             f"{res.message}")

@@ -159,11 +159,20 @@ def _profiled(res, change, validation, options, preroll, max_nfev, tol, validati
     return res2, prof
 
 
-def _profile_step(res, chosen, probes, current, validation, options, bud, sel):
+def _profile_step(res, chosen, probes, current, validation, options, bud, sel, warnings):
     """Stage "select", part 4: the chosen effect's fit after the profile restart over its
-    least determined freed parameter (:func:`~.diagnosis_fits._profiled`), kept only where it
-    still passes the selection rule against ``current``; the candidate's parameters follow
-    it.  Returns the fit, the candidate and the profile (None: nothing undetermined)."""
+    least determined freed parameter (:func:`_profiled`), kept only where it still passes the
+    selection rule against ``current``; the candidate's parameters follow it, and
+    ``warnings`` (a list) gains the profile's report.  Returns the fit, the candidate and the
+    profile (None: nothing undetermined)."""
+    res, chosen, prof = _profile_judged(res, chosen, probes, current, validation, options,
+                                        bud, sel)
+    if prof is not None:
+        warnings.append(_profile_warning(chosen.effect, prof))
+    return res, chosen, prof
+
+
+def _profile_judged(res, chosen, probes, current, validation, options, bud, sel):
     res2, prof = _profiled(res, probes[chosen.effect], validation, options, bud.preroll,
                            bud.max_nfev, bud.tol, sel.validation_tolerance)
     if prof is None or res2 is res:
