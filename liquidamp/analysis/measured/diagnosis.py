@@ -79,6 +79,10 @@ velocity):
    others within ``tie_tolerance`` (10 %) of it are reported as tied with their evidence.
    Without validation records the last of several calibration records is held out, or the
    second half of the whole cycles of one periodic record (``Diagnosis.holdout``).
+   A parameter the added effect frees with a standard error above its value (a flat valley:
+   an elastomer's parallel spring against its branch's relaxation time) is profiled, the fit
+   restarted from the profile's minimum where it still passes the rule, and its 95 %
+   profile interval reported (:mod:`~liquidamp.analysis.measured.profile`, ``Step.profile``).
 6. Repeat from 2 with the effect included, at most ``max_steps`` times.
 7. Where the loop ends above the noise level, the class choice's runner-up start (where it
    continued one) and the fluid family's other starts (the device as given where the fluid
@@ -161,7 +165,12 @@ from liquidamp.analysis.measured.diagnosis_evidence import (
     score,
     signatures,
 )
-from liquidamp.analysis.measured.diagnosis_fits import _converge, _refit, _restart
+from liquidamp.analysis.measured.diagnosis_fits import (
+    _converge,
+    _profile_step,
+    _refit,
+    _restart,
+)
 from liquidamp.analysis.measured.diagnosis_options import (
     Budget,
     ConditioningOptions,
@@ -707,13 +716,16 @@ def _loop(baseline, names, device_names, validation, options, config, spec,
                                      res.nrmse_validation, tuple(ranked), tie, res, {}))
             current, last_round = res, ()
             continue
+        res, chosen, prof = _profile_step(res, chosen, probes, current, validation, options,
+                                          bud, sel, warnings)
         if not res.converged:
             warnings.append(f"NOT CONVERGED: fit with {chosen.effect} ({res.status}): "
                             f"{res.message}")
         warnings += confounding_warnings(chosen.effect, current, res)
         steps.append(Step(chosen.effect, chosen.parameters, res.nrmse_calibration,
                           res.nrmse_validation, tuple(ranked), tie, res,
-                          confounding(chosen.effect, current, res)))
+                          confounding(chosen.effect, current, res),
+                          prof.as_dict() if prof is not None else {}))
         current = res
         last_round = ()
     return {"baseline": baseline, "steps": steps, "current": current, "stop": stop,

@@ -1,4 +1,5 @@
-"""The refits of the residual diagnosis: a candidate's fit, its restart, a continued fit.
+"""The refits of the residual diagnosis: a candidate's fit, its restart, a continued fit, and
+the profile restart of a chosen effect's parameter the records hardly determine.
 
 Helpers of :func:`liquidamp.analysis.measured.diagnosis.diagnose` (stage "fit"): each calls
 :func:`~liquidamp.analysis.measured.calibration.calibrate` on the records the diagnosis holds.
@@ -10,9 +11,13 @@ References
 
 from __future__ import annotations
 
+import dataclasses
+
 from liquidamp.analysis.measured.calibration import FitSpec, calibrate
 from liquidamp.analysis.measured.diagnosis_result import heldout_per_record
 from liquidamp.analysis.measured.fit_spec import Parameter
+from liquidamp.analysis.measured.profile import profile_restart, undetermined_parameter
+from liquidamp.analysis.measured.selection import judge, sample_count
 from liquidamp.errors import ConvergenceError
 
 __all__: list = []
@@ -118,3 +123,84 @@ def _converge(result, validation, options, preroll, max_nfev, tol, sizing):
                      effects=result.effects, spec=result.spec, validate=validation,
                      options=options, start="spec", max_nfev=max_nfev, preroll=preroll,
                      tol=tol, warn=False, sizing=sizing)
+
+
+def _profiled(res, change, validation, options, preroll, max_nfev, tol, validation_tolerance):
+    """The chosen candidate's fit after a profile restart over its least determined freed
+    parameter (:func:`~liquidamp.analysis.measured.profile.profile_restart`), and the
+    profile (None where every freed parameter is determined: standard error below its value).
+
+    A freed parameter whose linearized standard error exceeds its value sits on a nearly
+    flat valley of the objective (it trades with other fitted parameters: an elastomer's
+    parallel spring with its Maxwell branch's relaxation time), where the fit stops wherever
+    it arrives.  The profile finds the valley's minimum and the interval the records allow;
+    the fit restarted from that minimum is kept where its calibration cost is lower and, as
+    :func:`_restart` judges two optima of one model, no held-out record is worse by more
+    than ``validation_tolerance`` (relative)."""
+    name = undetermined_parameter(res, [f"{n}.{k}" for n, k in change.free])
+    if not name:
+        return res, None
+
+    def fit(spec):
+        r = calibrate(res.calibration, model=res.model, params=res.start_params,
+                      effects=res.effects, spec=spec, validate=validation, options=options,
+                      start="spec", max_nfev=max_nfev, preroll=preroll, tol=tol, warn=False,
+                      sizing="preset")
+        if r.status == "max_nfev":
+            r = _converge(r, validation, options, preroll, max_nfev, tol, "preset")
+        return r
+
+    res2, prof = profile_restart(res, name, fit)
+    if res2 is res:
+        return res, prof
+    a, b = heldout_per_record(res), heldout_per_record(res2)
+    if any(b[k] > (1.0 + validation_tolerance) * a[k] for k in a if k in b):
+        return res, dataclasses.replace(prof, restarted=False)
+    return res2, prof
+
+
+def _profile_step(res, chosen, probes, current, validation, options, bud, sel, warnings):
+    """Stage "select", part 4: the chosen effect's fit after the profile restart over its
+    least determined freed parameter (:func:`_profiled`), kept only where it still passes the
+    selection rule against ``current``; the candidate's parameters follow it, and
+    ``warnings`` (a list) gains the profile's report.  Returns the fit, the candidate and the
+    profile (None: nothing undetermined)."""
+    res, chosen, prof = _profile_judged(res, chosen, probes, current, validation, options,
+                                        bud, sel)
+    if prof is not None:
+        warnings.append(_profile_warning(chosen.effect, prof))
+    return res, chosen, prof
+
+
+def _profile_judged(res, chosen, probes, current, validation, options, bud, sel):
+    res2, prof = _profiled(res, probes[chosen.effect], validation, options, bud.preroll,
+                           bud.max_nfev, bud.tol, sel.validation_tolerance)
+    if prof is None or res2 is res:
+        return res, chosen, prof
+    now, new = heldout_per_record(current), heldout_per_record(res2)
+    v = judge(current.residuals("calibration"), res2.residuals("calibration"),
+              len(res2.varying) - len(current.varying), [now[k] for k in now],
+              [new[k] for k in now], bic_threshold=sel.bic_threshold,
+              validation_tolerance=sel.validation_tolerance,
+              n_eff=sample_count(res2.calibration, res2.residuals("calibration"),
+                                 sel.sample_count))
+    if not v.accepted:
+        return res, chosen, dataclasses.replace(prof, restarted=False)
+    chosen = dataclasses.replace(chosen, parameters=probes[chosen.effect].parameters(res2),
+                   nrmse_calibration=res2.nrmse_calibration,
+                   nrmse_validation=res2.nrmse_validation,
+                   relative_reduction=v.relative_reduction, delta_bic=v.delta_bic,
+                   validation_records=new)
+    return res2, chosen, prof
+
+
+def _profile_warning(effect: str, prof) -> str:
+    """The sentence that reports a profiled parameter of an added effect."""
+    what = ("the fit restarted from the profile's minimum" if prof.restarted else
+            "the fit kept where it stopped (the restart from the profile's minimum did not "
+            "lower the calibration cost, or lost on a held-out record)")
+    honest = ("" if prof.determined else
+              "; the calibration records do not determine it: read the value as the "
+              "least-squares point of a flat valley, not a measurement")
+    return (f"profiled: {effect}'s {prof.name.split('.', 1)[-1]} had a standard error above "
+            f"its value; {prof.describe()}; {what}{honest}")

@@ -40,6 +40,7 @@ class Step:
     tie: tuple = ()
     result: CalibrationResult | None = field(default=None, repr=False)
     confounded: dict = field(default_factory=dict)
+    profile: dict = field(default_factory=dict)
 
     def fitted_parameters(self) -> dict:
         """The step's parameters its refit varied (all of them where the refit is not
@@ -55,8 +56,9 @@ class Step:
     def as_dict(self) -> dict:
         """JSON-ready step (``fitted``: the names of the parameters the refit varied;
         ``fit``: whether the refit converged; ``confounded``: evidence that a fitted
-        device parameter mimics the effect, see ``CONFOUNDED``;
-        ``heldout_records``: held-out NRMSE per record)."""
+        device parameter mimics the effect, see ``CONFOUNDED``; ``heldout_records``:
+        held-out NRMSE per record; ``profile``: the profile of a freed parameter the
+        records hardly determine, :class:`~.profile.Profile`, empty when none)."""
         fit = ({"converged": self.result.converged, "status": self.result.status,
                 "message": self.result.message, "nfev": self.result.nfev}
                if self.result is not None else {})
@@ -67,6 +69,7 @@ class Step:
                           "validation": self.nrmse_validation},
                 "heldout_records": per,
                 "fit": fit, "tie": list(self.tie), "confounded": self.confounded,
+                "profile": self.profile,
                 "evidence": [c.as_dict() for c in self.candidates]}
 
 
@@ -191,6 +194,10 @@ class Diagnosis:
         first.append(f"added {added}: held-out NRMSE per record {per}"
                      + (f" (pooled {pooled:.3g})" if pooled is not None else "")
                      + "; before: " + ", ".join(f"{k} {v:.3g}" for k, v in base.items()))
+        loose = [s.profile["description"] for s in self.steps
+                 if s.profile and (s.profile["open_low"] or s.profile["open_high"])]
+        if loose:
+            first.append("not determined by the calibration records: " + "; ".join(loose))
         lines = ["; ".join(first)]
         wi = self.without_input
         if wi:

@@ -190,5 +190,13 @@ def test_shared_records_are_read_as_a_fluid_device(independent_records, case):
     if case == "d04_end_stops_2kHz":
         clearance = truth["parameters"]["clearance (stroke where contact starts)"]["value"]
         assert d.steps[0].parameters["clearance_m"] == pytest.approx(clearance, rel=0.3)
-    # d03's parallel stiffness is not asserted: one 2 Hz record does not determine it (its
-    # standard error exceeds its value; 3.1 kN/m found against 20 kN/m, see issue 19)
+    # d03's parallel stiffness: one 2 Hz record hardly determines it (the fit stopped at
+    # 3.1 kN/m, standard error 28 kN/m); the profile over it (liquidamp.analysis.measured.
+    # profile) restarts the fit from its minimum and reports its 95 % interval, which holds
+    # the truth and is open below (the record does not bound k_e below: D < 2 at 0.3 kN/m)
+    if case == "d03_elastomer":
+        k_e = truth["parameters"]["parallel stiffness k_e"]["value"]
+        prof = d.steps[0].profile
+        assert prof and prof["open_low"], d.summary()
+        assert prof["interval"][0] <= k_e <= prof["interval"][1]
+        assert d.steps[0].parameters["parallel_stiffness_N_per_m"] == pytest.approx(k_e, rel=0.3)
