@@ -267,7 +267,7 @@ def _damper_force(spec, y, v, prm, ep):
         if v >= 0.0:
             return relief_force(v, c, ep[E_PR] * area, ep[E_GR] / (area * area))
         return relief_force(v, c, ep[E_PR2] * area, ep[E_GR2] / (area * area))
-    return c * v
+    return c * v + c2 * v * abs(v)
 
 
 @njit(cache=True, error_model="numpy")
