@@ -40,8 +40,8 @@ factor, ``S_CPIST``; the elastomer branch ``S_IEL``, :func:`elastomer_rate`;
 end stops ``S_STOP``, :func:`stop_force`).
 
 The Jacobian is analytic for every base model, with leakage on ``full`` and
-``no_inertia``, with smooth friction, the elastomer and direction-dependent
-losses; compositions with cavitation, series compliance, freeplay, a relief
+``no_inertia``, with smooth friction, the elastomer, direction-dependent
+losses and the bypass groove; compositions with cavitation, series compliance, freeplay, a relief
 valve or leakage on the reductions use central differences of the same
 compiled right-hand side (exact to about 1e-10 relative, which the
 Rosenbrock stepper's error control absorbs).
