@@ -93,7 +93,9 @@ class BypassGroove(Effect):
 
     Over a band of the piston stroke y the channel has a path in parallel (a groove in the
     pressure tube, a metering pin), so its loss coefficients are multiplied by
-    s(y) = 1 - d exp(-((y - y_c) / w)^2) (module docstring: the profile and why): c1, c2
+    s(y) = 1 - d exp(-((y + y_0 - y_c) / w)^2) (module docstring: the profile and why), the
+    centre y_c on the absolute stroke (the groove is cut at a fixed place in the tube; y_0 =
+    ``stroke_offset_m``, the absolute stroke of the model's zero, a record's mean): c1, c2
     (volumetric models), g1, g2 (mass-flow models), T_D = c1 / B (``maxwell``), c_L
     (``dashpot``, ``dashpot_inerter``) and the viscous c and c2, where y is the stroke the
     fluid sees (behind the kinematic effects).  With a rigid fluid at a fixed stroke the
@@ -120,6 +122,9 @@ class BypassGroove(Effect):
         y_c [m]: the stroke at the groove's middle (in the stroke the fluid sees).
     half_width_m : float
         w > 0 [m]: the 1/e half-width of the band.
+    stroke_offset_m : float
+        y_0 [m]: absolute stroke at the model's y = 0 (set per record by
+        :func:`~liquidamp.device.effects.with_stroke_offset`; not fitted).
 
     References
     ----------
@@ -140,11 +145,17 @@ class BypassGroove(Effect):
     depth: float = 0.0
     centre_m: float = 0.0
     half_width_m: float = 1.0e-3
+    stroke_offset_m: float = 0.0
     name: ClassVar[str] = "bypass_groove"
-    units: ClassVar[dict] = {"depth": "-", "centre_m": "m", "half_width_m": "m"}
+    units: ClassVar[dict] = {"depth": "-", "centre_m": "m", "half_width_m": "m",
+                             "stroke_offset_m": "m"}
     fit_keys: ClassVar[tuple] = ("depth", "half_width_m", "centre_m")
     bounds: ClassVar[dict] = {"depth": (0.0, 0.95), "centre_m": (-1e-1, 1e-1),
-                              "half_width_m": (1e-6, 1e-1)}
+                              "half_width_m": (1e-6, 1e-1), "stroke_offset_m": (-1.0, 1.0)}
+    #: The groove sits at a fixed place in the tube: its centre is on the absolute stroke,
+    #: the model's y + ``stroke_offset_m`` (set to a record's mean stroke by
+    #: :func:`~liquidamp.device.effects.with_stroke_offset`, as ``simulate_record`` does).
+    absolute_stroke: ClassVar[bool] = True
     order: ClassVar[int] = 4
     description: ClassVar[str] = "channel losses softer over a band of the stroke"
     slot: ClassVar[int] = K.S_GROOVE
@@ -157,6 +168,7 @@ class BypassGroove(Effect):
                                  f"the centre is 1 - depth times the channel's), got {d:g}")
         check_finite("bypass_groove centre_m", self.centre_m, "m")
         check_positive("bypass_groove half_width_m", self.half_width_m, "m")
+        check_finite("bypass_groove stroke_offset_m", self.stroke_offset_m, "m")
 
     def check(self, model):
         if model.base in ("spring", "inerter"):
@@ -166,10 +178,13 @@ class BypassGroove(Effect):
 
     def pack(self, ep):
         ep[K.E_GD], ep[K.E_GC], ep[K.E_GW] = self.depth, self.centre_m, self.half_width_m
+        ep[K.E_GY0] = self.stroke_offset_m
 
     def scale(self, y):
-        """Loss scale s(y) = 1 - d phi((y - y_c) / w) at piston stroke y [m] [-]."""
-        return 1.0 - self.depth * groove_profile(y, self.centre_m, self.half_width_m)
+        """Loss scale s(y) = 1 - d phi((y + y_0 - y_c) / w) at the model's piston stroke y [m]
+        (y_0 = ``stroke_offset_m``) [-]."""
+        return 1.0 - self.depth * groove_profile(np.asarray(y, float) + self.stroke_offset_m,
+                                                 self.centre_m, self.half_width_m)
 
     describing_reason: ClassVar[str | None] = (
         "on a model with chamber states the scaled losses change the fluid equations and "
@@ -202,7 +217,7 @@ class BypassGroove(Effect):
             c, c2 = float(params.c), float(getattr(params, "c2", 0.0))
         else:
             c, c2 = float(params.c_L), 0.0
-        a1, a2 = groove_averages(Y, self.centre_m, self.half_width_m)
+        a1, a2 = groove_averages(Y, self.centre_m - self.stroke_offset_m, self.half_width_m)
         dc = -self.depth * (c * a1 + 8.0 * c2 * w * Y * a2 / (3.0 * math.pi))
         return 0.0, float(dc), 0.0
 

@@ -130,6 +130,7 @@ from liquidamp.device.kernels_layout import (  # noqa: F401 (the public face)
     E_GR,
     E_GR2,
     E_GW,
+    E_GY0,
     E_K0,
     E_K1,
     E_KC,

@@ -112,11 +112,12 @@ E_TC, E_THA, E_TAMB, E_TREF, E_TBETA, E_TG2, E_TLAW, E_TA, E_TB = range(40, 49)
 E_TSRC = 49
 # ---- s8-groove slot additions (all in this block; renumber here on merge) ----
 #: Bypass groove (:func:`~liquidamp.device.kernels_position.groove_scale`): depth d [-],
-#: centre y_c [m] and half-width w [m] of the Gaussian band of the stroke where the
-#: channel's loss coefficients are scaled by 1 - d exp(-((y - y_c) / w)^2).
-E_GD, E_GC, E_GW = 50, 51, 52
+#: centre y_c [m] and half-width w [m] of the Gaussian band of the ABSOLUTE stroke where the
+#: channel's loss coefficients are scaled by 1 - d exp(-((y + y_0 - y_c) / w)^2), and the
+#: absolute stroke y_0 of the model's zero (the record's mean stroke) [m].
+E_GD, E_GC, E_GW, E_GY0 = 50, 51, 52, 53
 #: The effect slots; the state scales follow from ``ep[N_EP]`` on.
-N_EP = 53
+N_EP = 54
 
 # ------------------------------------------------------- measured input channels
 #: Measured input channels a model may read by name (issue #20), in their slot order: an

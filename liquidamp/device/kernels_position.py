@@ -4,8 +4,9 @@ Part of :mod:`liquidamp.device.kernels` (the public face, which re-exports every
 
 A bypass groove cut into the pressure tube (or a tapered metering pin) opens a second
 path around the piston over a band of the stroke: the channel's loss coefficients are
-multiplied there by s(y) = 1 - d phi((y - y_c) / w), phi(xi) = exp(-xi^2), depth
-0 <= d < 1, centre y_c [m], half-width w [m] (the 1/e half-width).  Every loss of the
+multiplied there by s(y) = 1 - d phi((y + y_0 - y_c) / w), phi(xi) = exp(-xi^2), depth
+0 <= d < 1, centre y_c [m] and half-width w [m] (the 1/e half-width) on the absolute stroke
+(y_0 the absolute stroke of the model's zero).  Every loss of the
 base equations is a multiple of s (the volumetric c1, c2, the mass-flow g1, g2, the
 Maxwell time T_D = c1 / B, the dashpot c_L and the viscous c, c2), so the right-hand side
 at fixed stroke is the base one with the scaled coefficients; s does not depend on the
@@ -31,6 +32,7 @@ from liquidamp.device.kernels_layout import (
     E_GC,
     E_GD,
     E_GW,
+    E_GY0,
     M_CONSTANT_BULK,
     M_FULL,
     M_INERTIAL,
@@ -82,9 +84,10 @@ def groove_scale(y, depth, centre, half_width):
 
 @njit(cache=True, error_model="numpy")
 def groove_ep_scale(y, ep):
-    """:func:`groove_scale` with the parameters of the effect slots ``E_GD``, ``E_GC``,
-    ``E_GW``."""
-    return groove_scale(y, ep[E_GD], ep[E_GC], ep[E_GW])
+    """:func:`groove_scale` at the absolute stroke y + ``ep[E_GY0]`` with the parameters of
+    the effect slots ``E_GD``, ``E_GC``, ``E_GW`` (the groove is cut at a fixed place in the
+    tube; the model's y is about the record's mean stroke)."""
+    return groove_scale(y + ep[E_GY0], ep[E_GD], ep[E_GC], ep[E_GW])
 
 
 @njit(cache=True, error_model="numpy")

@@ -82,6 +82,11 @@ def test_rigid_steady_flow_follows_the_scaled_quadratic_law():
     d = with_effects(get_model("dashpot"), g)
     assert d.force(0.0, np.zeros(0), (y, 0.02, 0.0), P) == pytest.approx(s * P.c_L * 0.02,
                                                                            rel=1e-14)
+    # the groove sits on the absolute stroke: a model whose zero is 3 mm along the tube
+    # sees it 3 mm nearer (as a record about a mean stroke of 3 mm does)
+    shifted = with_effects(get_model("dashpot"), g.replace(stroke_offset_m=3e-3))
+    assert shifted.force(0.0, np.zeros(0), (y - 3e-3, 0.02, 0.0), P) == pytest.approx(
+        s * P.c_L * 0.02, rel=1e-12)
 
 
 @pytest.mark.parametrize("name", STATEFUL)

@@ -205,7 +205,8 @@ def probe_effect(name: str, result: CalibrationResult) -> Effect:
 
 
 #: Groove centres of the band profile, as fractions of the stroke amplitude about the
-#: records' mean stroke [-] (:func:`groove_band`): across the stroke, its ends included.
+#: records' mean absolute stroke [-] (:func:`groove_band`): across the stroke, its ends
+#: included.
 GROOVE_CENTRES = tuple(float(c) for c in np.linspace(-1.0, 1.0, 21))
 #: Groove half-widths of the band profile, as fractions of the stroke amplitude [-]: from a
 #: twentieth of the stroke (about two samples of a 200 Hz record at the centre) to the whole
@@ -222,35 +223,37 @@ def groove_band(result: CalibrationResult) -> tuple[float, float, float]:
     with a groove wider than the stroke); a groove of centre y_c and half-width w lowers
     them only where the piston is, so to first order, and where the fluid follows the
     loss faster than the stroke moves, its signature is phi((y(t) - y_c) / w) U(t), y the
-    piston stroke about the records' mean.  As in :func:`backlash_gap` the fitted
-    parameters' span is projected out (a uniform change is c1's and c2's), and for each
-    (y_c, w) on :data:`GROOVE_CENTRES` x :data:`GROOVE_WIDTHS` times the stroke amplitude
-    the least-squares drop (s . e)^2 / (s . s) / (e . e) of a softer band (s . e > 0) is a
-    closed form; the profile maximum places the probe (the score test then runs the exact
-    model).  Returns the middle of the grid and 0 where no band softens.
+    absolute stroke (the groove is cut at a fixed place in the tube).  As in
+    :func:`backlash_gap` the fitted parameters' span is projected out (a uniform change is
+    c1's and c2's), and for each (y_c, w) on :data:`GROOVE_CENTRES` x
+    :data:`GROOVE_WIDTHS` times the stroke amplitude the least-squares drop
+    (s . e)^2 / (s . s) / (e . e) of a softer band (s . e > 0) is a closed form; the
+    profile maximum places the probe (the score test then runs the exact model).
+    Returns the mid stroke, half the amplitude and 0 where no band softens.
     """
     recs = result.calibration
     Y = float(np.mean([r.amplitude for r in recs]))
-    fallback = (0.0, 0.5 * Y, 0.0)
+    mid = float(np.mean([r.offset for r in recs]))
+    fallback = (mid, 0.5 * Y, 0.0)
     meas = np.concatenate([r.force for r in recs])
     model = np.concatenate(result.predictions_calibration)
     e = meas - model
     ee = float(e @ e)
-    wide = EFFECTS["bypass_groove"](depth=0.05, centre_m=0.0, half_width_m=1e3 * Y)
+    wide = EFFECTS["bypass_groove"](depth=0.05, centre_m=mid, half_width_m=1e3 * Y)
     try:
         Fu = predict(result.model, result.params, tuple(result.effects) + (wide,), recs,
                      options=FIT_OPTIONS)
     except LiquidampError:  # the probe run itself reports the failure
         return fallback
     U = np.concatenate(Fu) - model
-    y = np.concatenate([r.smoothed - r.offset for r in recs])
+    y = np.concatenate([r.smoothed for r in recs])  # absolute: the groove sits in the tube
     J = free_columns(result, -e)
     P = np.linalg.pinv(J) if J.size else None
     best = fallback
     for fw in GROOVE_WIDTHS:
         w = fw * Y
         for fc in GROOVE_CENTRES:
-            c = fc * Y
+            c = mid + fc * Y
             sig = np.exp(-((y - c) / w) ** 2) * U
             if P is not None:
                 sig = sig - J @ (P @ sig)
