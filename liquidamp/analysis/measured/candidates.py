@@ -8,6 +8,10 @@ refit frees, and the one parameter whose value the score test estimates (its val
 candidate is absent and at the probe) -- so the score test, the refit and the report treat
 them alike.
 
+Most catalogue effects state their probe themselves (``Effect.probe``); a few are placed
+from the calibrated model and its residual here (:func:`probe_effect`): ``bypass_groove``'s
+band from the apparent damping against stroke position (:func:`groove_band`).
+
 Composites:
 
 =======================  ==========================================================================
