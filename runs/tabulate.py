@@ -16,7 +16,8 @@ CASES = {
              ("leakage", "coefficient_m3_per_s_Pa", 1.2e-11)], "effect"),
     "d12": ((), [], "null"),
     "d07": ((), [], "drift"),
-    "d08": ((), [], "drift"),
+    "d08": (("bypass_groove",), [("bypass_groove", "depth", 0.4),
+                                 ("bypass_groove", "half_width_m", 1.5e-3)], "effect"),
     "d06": ((), [], "info"), "d09": ((), [], "info"), "d10": ((), [], "info"),
     "fd_steady": ((), [], "fd"), "fd_full": ((), [], "fd"),
 }

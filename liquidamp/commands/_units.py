@@ -415,6 +415,8 @@ EFFECT_UNITS = {
                      "beta_per_K": "1/K", "c2_exponent": "-", "ambient_temperature_K": "K",
                      "reference_temperature_K": "K", "initial_temperature_K": "K",
                      "law_a": "-", "law_b": "-"},
+    "bypass_groove": {"depth": "-", "centre_m": "m", "half_width_m": "m",
+                      "stroke_offset_m": "m"},
 }
 #: Composite candidates of :data:`liquidamp.analysis.measured.candidates.COMPOSITES`
 #: (held equal by a test).

@@ -96,6 +96,7 @@ from liquidamp.device.kernels import (
     S_ASYM,
     S_COUL,
     S_GAS,
+    S_GROOVE,
     S_IC,
     S_IEL,
     S_IFP,
@@ -442,7 +443,8 @@ def _integrate_source(spec, prm, ep, kind, sp, st, sy, sv, sa, x0, t0, t1, teval
     pc = np.empty((5, n))
     ks = np.zeros(nj)
     full_fused = (spec[S_MID] == M_FULL and spec[S_N] == 5 and spec[S_ANALYTIC] != 0
-                  and spec[S_ASYM] == 0)  # the fused laws have no rebound ratio
+                  and spec[S_ASYM] == 0  # the fused laws have no rebound ratio
+                  and spec[S_GROOVE] <= 0)  # nor a position-dependent loss
     kL = ep[E_LEAK] if spec[S_LEAK] != 0 else 0.0
     # the load-cell force needs the stroke only for stateless bases and stroke-driven terms
     force_needs_stroke = (spec[S_NB] == 0 or spec[S_IFP] >= 0 or spec[S_IC] >= 0

@@ -33,6 +33,9 @@ name                    parameters                             states added
                                                                exact force saturation)
 ``asymmetric_loss``     rebound_ratio                          none: loss coefficients x r in
                                                                rebound
+``bypass_groove``       depth, centre_m, half_width_m          none: loss coefficients x
+                                                               1 - d exp(-((y - y_c)/w)^2)
+                                                               (softer over a band of stroke)
 ``elastomer``           parallel_stiffness_N_per_m,            F_elastomer [N] (k0 parallel to
                         branch_stiffness_N_per_m,              k1 in series with c1: standard
                         branch_damping_N_s_per_m               linear solid on the rod)
@@ -58,7 +61,8 @@ name                    parameters                             states added
 
 Composition order is canonical whatever order the effects are given in
 (``order``, innermost first): the fluid effects act on the chamber equations
-innermost (asymmetric_loss 3 on the channel's coefficients, leakage 5, field_yield 6 on the
+innermost (asymmetric_loss 3 and bypass_groove 4 on the channel's coefficients, leakage 5,
+field_yield 6 on the
 channel's momentum balance, and
 relief_valve or digressive_valve 7 as paths beside the channel, rotating_frame 8 driving every
 flow path, cavitation 10 on the pressure rates, so that it sees the rotating
@@ -110,7 +114,8 @@ force_offset, moving_mass, elastomer, end_stops),
 :mod:`~liquidamp.device.effects_kinematic` (series_compliance, freeplay),
 :mod:`~liquidamp.device.effects_fluid` (leakage, relief_valve,
 asymmetric_loss, cavitation), :mod:`~liquidamp.device.effects_operating`
-(rotating_frame) and :mod:`~liquidamp.device.effects_damper` (gas_charge,
+(rotating_frame), :mod:`~liquidamp.device.effects_position` (bypass_groove) and
+:mod:`~liquidamp.device.effects_damper` (gas_charge,
 digressive_valve: what real dampers have, issue #20) and
 :mod:`~liquidamp.device.effects_field` (field_yield, which reads a measured input channel:
 how is documented on the :class:`~liquidamp.device.effects_base.Effect` base).
@@ -168,6 +173,7 @@ from liquidamp.device.effects_force import (
 )
 from liquidamp.device.effects_kinematic import Freeplay, SeriesCompliance
 from liquidamp.device.effects_operating import RotatingFrame
+from liquidamp.device.effects_position import BypassGroove
 from liquidamp.device.effects_thermal import SelfHeating
 from liquidamp.device.kernels import (
     cavity_rates,
@@ -192,6 +198,7 @@ __all__ = [
     "Cavitation",
     "ReliefValve",
     "AsymmetricLoss",
+    "BypassGroove",
     "Elastomer",
     "EndStops",
     "saturation_damping",
@@ -220,7 +227,7 @@ EFFECTS: dict[str, type[Effect]] = {
     for cls in (CoulombFriction, SmoothFriction, ForceOffset, MovingMass, SeriesCompliance,
                 Freeplay, Leakage, Cavitation, ReliefValve, AsymmetricLoss, Elastomer, EndStops,
                 RotatingFrame, GasCharge, DigressiveValve, FieldYield,
-                SelfHeating)
+                SelfHeating, BypassGroove)
 }
 """Registry: effect name -> class."""
 
@@ -234,7 +241,7 @@ def effect_names() -> tuple[str, ...]:
     ('coulomb_friction', 'smooth_friction', 'force_offset', 'moving_mass', \
 'series_compliance', 'freeplay', 'leakage', 'cavitation', 'relief_valve', 'asymmetric_loss', \
 'elastomer', 'end_stops', 'rotating_frame', 'gas_charge', 'digressive_valve', \
-'field_yield', 'self_heating')
+'field_yield', 'self_heating', 'bypass_groove')
     """
     return tuple(EFFECTS)
 
@@ -264,7 +271,7 @@ def make_effect(name: str, **parameters) -> Effect:
     liquidamp.errors.ParameterError: unknown effect 'stiction'; valid: coulomb_friction, \
 smooth_friction, force_offset, moving_mass, series_compliance, freeplay, leakage, cavitation, \
 relief_valve, asymmetric_loss, elastomer, end_stops, rotating_frame, gas_charge, \
-digressive_valve, field_yield, self_heating
+digressive_valve, field_yield, self_heating, bypass_groove
     """
     check_choice("effect", name, EFFECTS)
     cls = EFFECTS[name]

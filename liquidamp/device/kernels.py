@@ -28,9 +28,10 @@ Composition (the order of :mod:`liquidamp.device.effects`): the kinematic
 effects turn the measured rod stroke into the piston stroke the fluid sees
 (freeplay outermost, then series compliance); the fluid effects act on the
 chamber equations (direction-dependent loss coefficients ``S_ASYM``,
-:func:`loss_params`; leakage and the relief valve ``S_RELIEF`` as second
-flow paths, :func:`relief_flow`; cavitation on the pressure rates); on the
-stateless dashpot-type bases the relief valve and the rebound ratio are
+:func:`loss_params`; the bypass groove's position-dependent scale ``S_GROOVE``,
+:func:`channel_params`, :mod:`~liquidamp.device.kernels_position`; leakage and the relief
+valve ``S_RELIEF`` as second flow paths, :func:`relief_flow`; cavitation on the pressure
+rates); on the stateless dashpot-type bases the relief valve and the rebound ratio are
 the exact force law :func:`relief_force`; smooth friction's bristle state
 is driven by the rod velocity, or by the piston's behind a dead band (``S_ZPIST``: friction at
 the piston, :func:`piston_contact`); the force effects add to the load-cell
@@ -39,8 +40,8 @@ factor, ``S_CPIST``; the elastomer branch ``S_IEL``, :func:`elastomer_rate`;
 end stops ``S_STOP``, :func:`stop_force`).
 
 The Jacobian is analytic for every base model, with leakage on ``full`` and
-``no_inertia``, with smooth friction, the elastomer and direction-dependent
-losses; compositions with cavitation, series compliance, freeplay, a relief
+``no_inertia``, with smooth friction, the elastomer, direction-dependent
+losses and the bypass groove; compositions with cavitation, series compliance, freeplay, a relief
 valve or leakage on the reductions use central differences of the same
 compiled right-hand side (exact to about 1e-10 relative, which the
 Rosenbrock stepper's error control absorbs).
@@ -124,8 +125,12 @@ from liquidamp.device.kernels_layout import (  # noqa: F401 (the public face)
     E_FRQ,
     E_FYCH,
     E_GAP,
+    E_GC,
+    E_GD,
     E_GR,
     E_GR2,
+    E_GW,
+    E_GY0,
     E_K0,
     E_K1,
     E_KC,
@@ -213,6 +218,7 @@ from liquidamp.device.kernels_layout import (  # noqa: F401 (the public face)
     S_FPFRIC,
     S_FY,
     S_GAS,
+    S_GROOVE,
     S_I1,
     S_I2,
     S_IC,
@@ -239,6 +245,7 @@ from liquidamp.device.kernels_model import (  # noqa: F401 (the public face)
     _fluid_rhs,
     _fp_contact,
     _relief_differential,
+    channel_params,
     dissipated_power,
     flow_direction,
     force_series,
@@ -248,6 +255,11 @@ from liquidamp.device.kernels_model import (  # noqa: F401 (the public face)
     model_jac,
     model_rhs,
     model_rhs_t,
+)
+from liquidamp.device.kernels_position import (  # noqa: F401 (the public face)
+    groove_ep_scale,
+    groove_rate_terms,
+    groove_scale,
 )
 from liquidamp.device.kernels_thermal import (  # noqa: F401 (the public face)
     LAW_EXPONENTIAL,
@@ -266,7 +278,8 @@ __all__ = [
     "bulk", "bulk_and_dp", "loss_flow", "loss_flow_dp",
     "lugre_rate", "play_contact", "piston_contact", "play_rate", "compliance_rate",
     "cavity_width", "cavity_rates", "c1_ramp", "relief_flow", "relief_force",
-    "flow_direction", "loss_params", "elastomer_rate", "stop_force",
+    "flow_direction", "loss_params", "channel_params", "groove_scale", "elastomer_rate",
+    "stop_force",
     "rotating_heads", "rotating_slope", "rotating_offset_slopes", "yield_drop",
     "model_rhs", "model_jac", "model_rhs_t", "model_force", "friction_level", "force_series",
     "force_series_inputs", "base_force_series",

@@ -109,6 +109,7 @@ from liquidamp.device.kernels_layout import (
     P_CHD,
     P_CL,
     P_CV,
+    P_CV2,
     P_FRIC,
     P_G1,
     P_G2,
@@ -128,6 +129,7 @@ from liquidamp.device.kernels_layout import (
     S_FPFRIC,
     S_FY,
     S_GAS,
+    S_GROOVE,
     S_I1,
     S_I2,
     S_IC,
@@ -147,6 +149,7 @@ from liquidamp.device.kernels_layout import (
     S_TH,
     S_ZPIST,
 )
+from liquidamp.device.kernels_position import groove_ep_scale, groove_rate_terms
 from liquidamp.device.kernels_thermal import (
     channel_power,
     heat_rate,
@@ -199,6 +202,31 @@ def loss_params(spec, x, v, prm, ep, dpc=0.0):
 
 
 @njit(cache=True, error_model="numpy")
+def channel_params(spec, x, y, v, prm, ep, dpc=0.0):
+    """Copy of ``prm`` with the channel's loss coefficients at piston stroke y [m] and the
+    flow's direction: :func:`loss_params`' rebound ratio (``S_ASYM``) times the bypass
+    groove's scale s(y) (``S_GROOVE``, :func:`~.kernels_position.groove_scale`) on c1, c2,
+    g1, g2, c_L, the viscous c and c2, and T_D."""
+    s = 1.0
+    if spec[S_ASYM] != 0 and flow_direction(spec[S_MID], spec, x, v, dpc) < 0.0:
+        s = ep[E_RR]
+    if spec[S_GROOVE] > 0:
+        s *= groove_ep_scale(y, ep)[0]
+    q = prm.copy()
+    if s != 1.0:
+        for k in (P_G1, P_G2, P_C1, P_C2, P_CL, P_CV, P_CV2, P_TD):
+            q[k] = q[k] * s
+    return q
+
+
+@njit(cache=True, error_model="numpy")
+def _scaled_losses(spec):
+    """Whether the channel's loss coefficients change along the cycle (rebound ratio,
+    bypass groove): :func:`channel_params` is then needed."""
+    return spec[S_ASYM] != 0 or spec[S_GROOVE] > 0
+
+
+@njit(cache=True, error_model="numpy")
 def _valve(dp, ep):
     """Flow of the valve in the ``S_RELIEF`` slot at pressure difference dp [m^3/s]: its
     compression pair (E_PR, E_GR) for dp >= 0, its rebound pair (E_PR2, E_GR2) below
@@ -218,21 +246,28 @@ def _relief_differential(mid, x, y, prm, ep, dpc, out):
 
 
 @njit(cache=True, error_model="numpy")
-def _damper_force(spec, v, prm, ep):
+def _damper_force(spec, y, v, prm, ep):
     """Force of a stateless dashpot-type base (dashpot, dashpot_inerter's dashpot, viscous)
-    with the rebound ratio and the relief valve as an exact force saturation [N] (the
-    viscous damper is read as a dashpot of unit piston area)."""
+    at piston stroke (y, v) with the rebound ratio, the bypass groove's scale and the
+    relief valve as an exact force saturation [N] (the viscous damper is read as a dashpot
+    of unit piston area; its quadratic c2 v|v| scales with the groove too)."""
+    c2 = 0.0
     if spec[S_MID] == M_VISCOUS:
         c, area = prm[P_CV], 1.0
+        c2 = prm[P_CV2]
     else:
         c, area = prm[P_CL], prm[P_AP]
     if spec[S_ASYM] != 0 and v < 0.0:
         c *= ep[E_RR]
+    if spec[S_GROOVE] > 0:
+        g = groove_ep_scale(y, ep)[0]
+        c *= g
+        c2 *= g
     if spec[S_RELIEF] != 0 and c > 0.0:
         if v >= 0.0:
             return relief_force(v, c, ep[E_PR] * area, ep[E_GR] / (area * area))
         return relief_force(v, c, ep[E_PR2] * area, ep[E_GR2] / (area * area))
-    return c * v
+    return c * v + c2 * v * abs(v)
 
 
 @njit(cache=True, error_model="numpy")
@@ -288,8 +323,8 @@ def _fluid_rhs(spec, x, y, v, prm, ep, out):
         dp = x[i1] - x[spec[S_I2]] + dpc  # it: its secant conductance joins the leakage's
         if dp != 0.0:
             kL += _valve(dp, ep) / dp
-    if spec[S_ASYM] != 0:
-        base_rhs(mid, x, y, v, loss_params(spec, x, v, prm, ep, dpc), kL, dpc, out)
+    if _scaled_losses(spec):
+        base_rhs(mid, x, y, v, channel_params(spec, x, y, v, prm, ep, dpc), kL, dpc, out)
     else:
         base_rhs(mid, x, y, v, prm, kL, dpc, out)
     if spec[S_RELIEF] != 0 and i1 < 0:
@@ -374,8 +409,8 @@ def dissipated_power(spec, x, y, v, prm, ep):
     """
     mid = spec[S_MID]
     if mid == M_DASHPOT or mid == M_DASHPOT_INERTER or mid == M_VISCOUS:
-        if spec[S_RELIEF] != 0 or spec[S_ASYM] != 0:
-            return _damper_force(spec, v, prm, ep) * v
+        if spec[S_RELIEF] != 0 or _scaled_losses(spec):
+            return _damper_force(spec, y, v, prm, ep) * v
         return channel_power(mid, x, v, 0.0, prm)
     dpc = 0.0
     if spec[S_ROT] > 0:
@@ -387,7 +422,7 @@ def dissipated_power(spec, x, y, v, prm, ep):
         dp = x[0] / prm[P_AP]
     else:
         dp = x[0] + dpc
-    q = loss_params(spec, x, v, prm, ep, dpc) if spec[S_ASYM] != 0 else prm
+    q = channel_params(spec, x, y, v, prm, ep, dpc) if _scaled_losses(spec) else prm
     P = channel_power(mid, x, v, dp, q)
     if spec[S_LEAK] != 0 and i1 >= 0:
         P += ep[E_LEAK] * dp * dp
@@ -407,7 +442,7 @@ def model_rhs(spec, x, y, v, prm, ep, out):
     behind a dead band (``spec[S_ZPIST]``: friction at the piston).
     """
     if (spec[S_N] == spec[S_NB] and spec[S_LEAK] == 0 and spec[S_RELIEF] == 0
-            and spec[S_ASYM] == 0 and spec[S_ROT] <= 0):
+            and spec[S_ASYM] == 0 and spec[S_ROT] <= 0 and spec[S_GROOVE] <= 0):
         base_rhs_inline(spec[S_MID], x, y, v, prm, 0.0, 0.0, out)
         return
     ith = spec[S_TH]
@@ -477,8 +512,8 @@ def model_jac(spec, x, y, v, prm, ep, J):
             J[i, j] = 0.0
     if spec[S_ANALYTIC] != 0:
         kL = ep[E_LEAK] if spec[S_LEAK] != 0 else 0.0
-        if spec[S_ASYM] != 0:
-            base_jac(spec[S_MID], x, y, v, loss_params(spec, x, v, prm, ep, 0.0), kL, J)
+        if _scaled_losses(spec):  # the scale does not depend on the states
+            base_jac(spec[S_MID], x, y, v, channel_params(spec, x, y, v, prm, ep, 0.0), kL, J)
         else:
             base_jac(spec[S_MID], x, y, v, prm, kL, J)
         iz = spec[S_IZ]
@@ -515,8 +550,12 @@ def model_rhs_t(spec, x, y, v, yd, vd, prm, ep, out):
     n = spec[S_N]
     if spec[S_ANALYTIC] != 0:
         kL = ep[E_LEAK] if spec[S_LEAK] != 0 else 0.0
-        if spec[S_ASYM] != 0:
-            base_rhs_t(spec[S_MID], x, y, v, yd, vd, loss_params(spec, x, v, prm, ep, 0.0), kL, out)
+        if _scaled_losses(spec):
+            q = channel_params(spec, x, y, v, prm, ep, 0.0)
+            base_rhs_t(spec[S_MID], x, y, v, yd, vd, q, kL, out)
+            if spec[S_GROOVE] > 0:  # the scale changes along the stroke: d ln s / dt
+                s, ds = groove_ep_scale(y, ep)
+                groove_rate_terms(spec[S_MID], x, y, v, q, kL, ds / s * yd, out)
         else:
             base_rhs_t(spec[S_MID], x, y, v, yd, vd, prm, kL, out)
         iz = spec[S_IZ]
@@ -575,9 +614,9 @@ def model_force(spec, x, y, v, a, prm, ep, with_friction):
             yi = x[ifp]
     if spec[S_IC] >= 0:
         yi = x[spec[S_IC]]
-    if (spec[S_RELIEF] != 0 or spec[S_ASYM] != 0) and (
+    if (spec[S_RELIEF] != 0 or _scaled_losses(spec)) and (
             mid == M_DASHPOT or mid == M_DASHPOT_INERTER or mid == M_VISCOUS):
-        f = _damper_force(spec, vi, prm, ep)
+        f = _damper_force(spec, yi, vi, prm, ep)
         if mid == M_DASHPOT_INERTER:
             f += prm[P_BLM] * a
     else:

@@ -53,7 +53,8 @@ ZERO = {"coulomb_friction": {"force_N": 0.0}, "smooth_friction": {"force_N": 0.0
         "digressive_valve": {"compression_conductance_m3_per_s_Pa": 0.0,
                              "rebound_conductance_m3_per_s_Pa": 0.0},
         "field_yield": {"yield_pressure_Pa": 0.0, "yield_pressure_per_input": 0.0},
-        "self_heating": {"beta_per_K": 0.0, "c2_exponent": 0.0}}
+        "self_heating": {"beta_per_K": 0.0, "c2_exponent": 0.0},
+        "bypass_groove": {"depth": 0.0}}
 
 
 @pytest.mark.parametrize("name", list(EFFECTS))

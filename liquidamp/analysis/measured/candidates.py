@@ -8,6 +8,10 @@ refit frees, and the one parameter whose value the score test estimates (its val
 candidate is absent and at the probe) -- so the score test, the refit and the report treat
 them alike.
 
+Most catalogue effects state their probe themselves (``Effect.probe``); a few are placed
+from the calibrated model and its residual here (:func:`probe_effect`): ``bypass_groove``'s
+band from the apparent damping against stroke position (:func:`groove_band`).
+
 Composites:
 
 =======================  ==========================================================================
@@ -51,14 +55,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from liquidamp.analysis.measured.calibration import FIT_OPTIONS, CalibrationResult
+from liquidamp.analysis.measured.calibration import FIT_OPTIONS, CalibrationResult, predict
 from liquidamp.analysis.measured.record_model import simulate_record
 from liquidamp.device.effects import EFFECTS, Effect, with_effects
-from liquidamp.errors import ParameterError
+from liquidamp.errors import LiquidampError, ParameterError
 
 __all__ = ["Change", "Composite", "COMPOSITES", "DEVICE_REFINEMENTS", "REDUCTIONS",
            "probe_effect",
-           "candidate_change", "applicable", "backlash_gap", "GAP_GRID", "free_columns"]
+           "candidate_change", "applicable", "backlash_gap", "GAP_GRID", "free_columns",
+           "groove_band", "GROOVE_CENTRES", "GROOVE_WIDTHS"]
 
 #: Candidates that contain another as a limit (candidate -> the simpler one it reduces to).
 #: A relief valve whose cracking pressure falls towards zero is a laminar bypass of
@@ -192,12 +197,78 @@ def probe_effect(name: str, result: CalibrationResult) -> Effect:
     if name == "leakage":
         Q = p.A_p * w * Y
         return cls(coefficient_m3_per_s_Pa=0.3 / (p.c1 + 8.0 / (3.0 * math.pi) * p.c2 * Q))
+    if name == "bypass_groove":
+        centre, width, _ = groove_band(result)
+        return cls(depth=0.2, centre_m=centre, half_width_m=width)
     if name == "cavitation":
         resp = simulate_record(result.device_model, p, recs[0], options=FIT_OPTIONS)
         pmin = float(min(resp.p1.min(), resp.p2.min()))
         return cls(vapour_pressure_Pa=max(pmin + 0.3 * (p.p0 - pmin), 1.0))
     # the other catalogue effects state their own probe (on the channel the records carry)
     return _on_records(cls.probe(Fa, Y, w, p), result)
+
+
+#: Groove centres of the band profile, as fractions of the stroke amplitude about the
+#: records' mean absolute stroke [-] (:func:`groove_band`): across the stroke, its ends
+#: included.
+GROOVE_CENTRES = tuple(float(c) for c in np.linspace(-1.0, 1.0, 21))
+#: Groove half-widths of the band profile, as fractions of the stroke amplitude [-]: from a
+#: twentieth of the stroke (about two samples of a 200 Hz record at the centre) to the whole
+#: stroke (wider, the scale is near uniform: the fitted losses' own signature).
+GROOVE_WIDTHS = tuple(float(w) for w in np.geomspace(0.05, 1.0, 14))
+
+
+def groove_band(result: CalibrationResult) -> tuple[float, float, float]:
+    """Where a bypass groove best explains the calibration residual: (centre [m],
+    half-width [m], share of the residual sum of squares it removes [-]).
+
+    The apparent damping against stroke position: lowering the channel's losses by a
+    small uniform factor changes the model's force by U(t) (one run of the calibrated model
+    with a groove wider than the stroke); a groove of centre y_c and half-width w lowers
+    them only where the piston is, so to first order, and where the fluid follows the
+    loss faster than the stroke moves, its signature is phi((y(t) - y_c) / w) U(t), y the
+    absolute stroke (the groove is cut at a fixed place in the tube).  As in
+    :func:`backlash_gap` the fitted parameters' span is projected out (a uniform change is
+    c1's and c2's), and for each (y_c, w) on :data:`GROOVE_CENTRES` x
+    :data:`GROOVE_WIDTHS` times the stroke amplitude the least-squares drop
+    (s . e)^2 / (s . s) / (e . e) of a softer band (s . e > 0) is a closed form; the
+    profile maximum places the probe (the score test then runs the exact model).
+    Returns the mid stroke, half the amplitude and 0 where no band softens.
+    """
+    recs = result.calibration
+    Y = float(np.mean([r.amplitude for r in recs]))
+    mid = float(np.mean([r.offset for r in recs]))
+    fallback = (mid, 0.5 * Y, 0.0)
+    meas = np.concatenate([r.force for r in recs])
+    model = np.concatenate(result.predictions_calibration)
+    e = meas - model
+    ee = float(e @ e)
+    wide = EFFECTS["bypass_groove"](depth=0.05, centre_m=mid, half_width_m=1e3 * Y)
+    try:
+        Fu = predict(result.model, result.params, tuple(result.effects) + (wide,), recs,
+                     options=FIT_OPTIONS)
+    except LiquidampError:  # the probe run itself reports the failure
+        return fallback
+    U = np.concatenate(Fu) - model
+    y = np.concatenate([r.smoothed for r in recs])  # absolute: the groove sits in the tube
+    J = free_columns(result, -e)
+    P = np.linalg.pinv(J) if J.size else None
+    best = fallback
+    for fw in GROOVE_WIDTHS:
+        w = fw * Y
+        for fc in GROOVE_CENTRES:
+            c = mid + fc * Y
+            sig = np.exp(-((y - c) / w) ** 2) * U
+            if P is not None:
+                sig = sig - J @ (P @ sig)
+            ss = float(sig @ sig)
+            se = float(sig @ e)
+            if ss <= 0 or se <= 0 or ee <= 0:
+                continue
+            drop = se * se / ss / ee
+            if drop > best[2]:
+                best = (c, w, drop)
+    return best
 
 
 @dataclass(frozen=True)

@@ -29,7 +29,8 @@ def _refit(cand, change, current, validation, options, preroll, max_nfev, tol, s
     ``change`` is the candidate's :class:`~.candidates.Change`: the effects of the candidate
     model and the parameters it frees; the lead starts at the score test's estimate, the
     other freed parameters at their probe values, kept inside their bounds (a decade in
-    from wide catalogue bounds, a tenth of the log-range from narrow ones)."""
+    from wide catalogue bounds, a tenth of the log-range from narrow ones, 5 % of the range
+    from linear ones)."""
     effects = list(change.effects)
     spec = FitSpec(current.spec.parameters)
     for name, key in change.free:
@@ -45,6 +46,8 @@ def _refit(cand, change, current, validation, options, preroll, max_nfev, tol, s
         if lo > 0:
             m = 10.0 if hi / lo >= 1e4 else (hi / lo) ** 0.1
             v = min(max(abs(v), lo * m), hi / m)
+        else:  # a linear parameter (a depth, a signed offset): 5 % of its range inside
+            v = min(max(v, lo + 0.05 * (hi - lo)), hi - 0.05 * (hi - lo))
         effects[i] = effects[i].replace(**{key: v})
         spec = spec.with_effect(effects[i], keys=(key,))
     for name in change.multipliers:

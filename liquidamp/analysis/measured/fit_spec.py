@@ -28,8 +28,9 @@ m              [1e-5 Y_s, Y_s]             a dead band no wider than the stroke
 =============  ==========================  ===================================
 
 Other units (velocities, ratios, leakage coefficients, pressures) keep the
-catalogue's bounds.  Bounds a caller set (different from the catalogue's) are
-kept.
+catalogue's bounds.  A signed length (a groove's centre) keeps its bounds and is fitted in
+units of Y_s (its difference steps then resolve the stroke).  Bounds a caller set
+(different from the catalogue's) are kept.
 
 References
 ----------
@@ -356,5 +357,7 @@ def scale_effect_bounds(spec: FitSpec, records) -> FitSpec:
         lo, hi = min(lo, p.value), max(hi, p.value)
         if p.log:
             lo = max(lo, 1e-300)
+        elif EFFECTS[eff].units.get(key) == "m":  # a signed length (a groove's centre):
+            p = p.replace(scale=scales["m"])      # fitted in units of the records' stroke
         out.append(p.replace(min=lo, max=hi) if lo < hi else p)
     return FitSpec(tuple(out))

@@ -6,8 +6,9 @@ no step budget, no decimation) must add the case's effect first, its key paramet
 30 %, at least halving the held-out NRMSE; the null case must add nothing.  The rules were
 not tuned to these files.  Skipped where the folder is absent.
 
-Cost: the two cheap cases (relief valve, null: about 15 s together warm) run by default; the
-others (1-2 minutes each) only with ``LIQUIDAMP_INDEPENDENT=all``.
+Cost: the three cheap cases (relief valve, null, bypass groove: about 15 s together warm,
+and about 15 s for the groove) run by default; the others (1-2 minutes each) only with
+``LIQUIDAMP_INDEPENDENT=all``.
 """
 
 import json
@@ -27,6 +28,9 @@ CASES = {
     "d02_relief_valve": ("relief_valve", {"cracking_pressure_Pa": "cracking pressure difference"},
                          True),
     "d12_null": (None, {}, True),
+    # position-dependent losses (softer near mid-stroke): the bypass groove, first
+    "d08_bypass_groove": ("bypass_groove", {"depth": "loss reduction depth a",
+                                            "half_width_m": "groove half-width w"}, True),
     "d01_asym_loss": ("asymmetric_loss", {"rebound_ratio": "rebound/compression ratio of the "
                                           "quadratic loss coefficient c2"}, False),
     "d03_elastomer": ("elastomer", {"parallel_stiffness_N_per_m": "parallel stiffness k_e"},
