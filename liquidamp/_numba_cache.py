@@ -38,6 +38,7 @@ COMPILED_SOURCES = (
     "device/kernels_laws.py",
     "device/kernels_base.py",
     "device/kernels_thermal.py",
+    "device/kernels_position.py",
     "device/kernels_model.py",
     "coupled/_linalg.py",
     "coupled/_stroke_kernels.py",
