@@ -370,10 +370,12 @@ def _start_device(obj: _Objective, records, validate, sizing: str) -> Sizing:
     base, effects = obj.base, obj.effects
     t0 = _trial(obj, f"preset {base.name}" if base.name else "given device", obj.fixed)
     ratio0 = 1.0 / t0.rms_ratio if t0.ran and t0.rms_ratio else None
-    s = stroke_factor(records + validate, base)
+    # a gas-charged device's chambers follow the absolute stroke (on_absolute_stroke)
+    absolute = any(e.name == "gas_charge" for e in effects) and obj.model.pressures is not None
+    s = stroke_factor(records + validate, base, absolute)
     share = s * NEAR_STROKE_SHARE if s > 1 else max(
-        float(np.max(np.abs(r.displacement - r.offset))) for r in records + validate
-    ) / base.stroke_limit
+        float(np.max(np.abs(r.displacement - (0.0 if absolute else r.offset))))
+        for r in records + validate) / base.stroke_limit
     if sizing == "preset":
         return Sizing(base, effects, False, rms_ratio=ratio0,
                       reason="sizing='preset': the device as given", trials=(t0,))

@@ -158,11 +158,47 @@ def probe_effect(name: str, result: CalibrationResult) -> Effect:
     if name == "leakage":
         Q = p.A_p * w * Y
         return cls(coefficient_m3_per_s_Pa=0.3 / (p.c1 + 8.0 / (3.0 * math.pi) * p.c2 * Q))
+    if name == "gas_charge" and hasattr(p, "A_p"):
+        return _gas_probe(result)
     if name == "cavitation":
         resp = simulate_record(result.device_model, p, recs[0], options=FIT_OPTIONS)
         pmin = float(min(resp.p1.min(), resp.p2.min()))
         return cls(vapour_pressure_Pa=max(pmin + 0.3 * (p.p0 - pmin), 1.0))
     return cls.probe(Fa, Y, w, p)  # the other catalogue effects state their own probe
+
+
+def _gas_probe(result: CalibrationResult) -> Effect:
+    """``gas_charge`` read off the records (issue #20): the charge, the preload, the travel.
+
+    A gas-charged damper's liquid sits at the charge's pressure
+    (:func:`~liquidamp.device.effects_damper.on_absolute_stroke`), which keeps its rebound
+    chamber off cavitation: the charge p_c is the largest pressure difference the records'
+    force asks of the piston, max |F - mean F| / A_p.  The rod area gives the mean force the
+    model leaves in the residual (the preload at the records' mean stroke): A_r = F_0 / p_c,
+    F_0 the residual's mean where positive (a gas pushes the rod out) and above 1 % of the
+    force swing, else 5 % of the swing; at most half the piston area.  The gas volume
+    V_g = 2 A_r max |y_abs| lets the gas halve its volume over the largest absolute stroke
+    (a spring rate of about the preload over twice that stroke); isothermal (n = 1).
+    """
+    recs, p = result.calibration, result.params
+    swing = max(float(np.max(np.abs(r.force - r.force.mean()))) for r in recs)
+    p_c = max(swing / p.A_p, 1e4)
+    meas = np.concatenate([r.force for r in recs])
+    resid = float(meas.mean() - np.concatenate(result.predictions_calibration).mean())
+    F0 = resid if resid > 0.01 * swing else 0.05 * swing
+    A_r = min(F0 / p_c, 0.5 * p.A_p)
+    y_max = max(float(np.max(np.abs(r.displacement))) for r in recs)
+    return EFFECTS["gas_charge"](A_r, p_c, 2.0 * A_r * max(y_max, 1e-6), 1.0)
+
+
+def _gas_device(result: CalibrationResult):
+    """The calibrated device with its chambers moved to the stroke datum, so that on the
+    absolute stroke (:func:`~liquidamp.device.effects_damper.on_absolute_stroke`) the first
+    calibration record holds them where the calibrated model did (V01 + A_p y_m,
+    V02 - A_p y_m at the datum, y_m its mean stroke): the score test's probe then differs from
+    the calibrated model only by the charge."""
+    p, off = result.params, float(result.calibration[0].offset)
+    return p.replace(V01=p.V01 + p.A_p * off, V02=p.V02 - p.A_p * off)
 
 
 @dataclass(frozen=True)
@@ -315,8 +351,11 @@ def candidate_change(name: str, result: CalibrationResult) -> Change:
         return COMPOSITES[name].change(result)
     e = probe_effect(name, result)
     key = e.fit_keys[0]
+    dev = (_gas_device(result) if name == "gas_charge" and hasattr(result.params, "A_p")
+           else None)
     return Change(tuple(result.effects) + (e,), free=tuple((name, k) for k in e.fit_keys),
-                  lead=(name, key), base=0.0, probe=float(getattr(e, key)), added=name)
+                  lead=(name, key), base=0.0, probe=float(getattr(e, key)), added=name,
+                  params=dev)
 
 
 def applicable(name: str, result: CalibrationResult) -> str:

@@ -156,9 +156,13 @@ def similar_device(params: DeviceParams, effects=(), *, force: float = 1.0,
     return q, tuple(out)
 
 
-def stroke_factor(records, params: DeviceParams) -> float:
-    """s = max(1, peak |y - mean| / (NEAR_STROKE_SHARE x V0/A_p)) over ``records`` [-]."""
-    peak = max(float(np.max(np.abs(r.displacement - r.offset))) for r in records)
+def stroke_factor(records, params: DeviceParams, absolute: bool = False) -> float:
+    """s = max(1, peak |y - mean| / (NEAR_STROKE_SHARE x V0/A_p)) over ``records`` [-].
+
+    ``absolute``: the chambers follow the records' absolute stroke (a gas-charged device,
+    :func:`~liquidamp.device.effects_damper.on_absolute_stroke`): the peak is |y|."""
+    peak = max(float(np.max(np.abs(r.displacement - (0.0 if absolute else r.offset))))
+               for r in records)
     return max(1.0, peak / (NEAR_STROKE_SHARE * params.stroke_limit))
 
 
