@@ -88,6 +88,8 @@ class Change:
         The device at the probe (None: the calibrated one).
     multipliers : tuple of str
         Device multipliers the refit frees (lead ``("device", name)``, base 1).
+    start : DeviceParams or None
+        The device the refit's multipliers apply to (None: the calibrated result's start).
     """
 
     effects: tuple
@@ -99,6 +101,7 @@ class Change:
     report: tuple = ()
     params: object = None
     multipliers: tuple = ()
+    start: object = None
 
     def estimate(self, beta: float) -> float:
         """Lead value at the linearized strength ``beta`` of the probe step [SI]."""
@@ -191,14 +194,27 @@ def _gas_probe(result: CalibrationResult) -> Effect:
     return EFFECTS["gas_charge"](A_r, p_c, 2.0 * A_r * max(y_max, 1e-6), 1.0)
 
 
-def _gas_device(result: CalibrationResult):
-    """The calibrated device with its chambers moved to the stroke datum, so that on the
-    absolute stroke (:func:`~liquidamp.device.effects_damper.on_absolute_stroke`) the first
-    calibration record holds them where the calibrated model did (V01 + A_p y_m,
-    V02 - A_p y_m at the datum, y_m its mean stroke): the score test's probe then differs from
-    the calibrated model only by the charge."""
-    p, off = result.params, float(result.calibration[0].offset)
-    return p.replace(V01=p.V01 + p.A_p * off, V02=p.V02 - p.A_p * off)
+def _gas_device(result: CalibrationResult, p):
+    """Device ``p`` with its chambers moved to the stroke datum for the absolute stroke
+    (:func:`~liquidamp.device.effects_damper.on_absolute_stroke`).
+
+    The first calibration record (mean y_m) holds them where the calibrated model did: V01 +
+    A_p y_m, V02 - A_p y_m at the datum; each is enlarged where a record (calibration or
+    held out, mean y_r, amplitude Y_r) would use more than
+    :data:`~liquidamp.analysis.measured.start.NEAR_STROKE_SHARE` of its chamber about its
+    mean (V01 >= A_p (y_r + Y_r / share), V02 >= A_p (Y_r / share - y_r)), so that the
+    refit runs near this device instead of sizing another.  The score test's probe (on the
+    calibrated device) then differs from the calibrated model by the charge and little
+    else, and the refit (on its start device) starts where the calibrated model is."""
+    from liquidamp.analysis.measured.start import NEAR_STROKE_SHARE
+
+    recs = tuple(result.calibration) + tuple(result.validation)
+    A, off = p.A_p, float(result.calibration[0].offset)
+    need = [(float(r.offset), float(np.max(np.abs(r.displacement - r.offset)))
+             / NEAR_STROKE_SHARE * 1.001) for r in recs]
+    V1 = max([p.V01 + A * off] + [A * (y + Y) for y, Y in need])
+    V2 = max([p.V02 - A * off] + [A * (Y - y) for y, Y in need])
+    return p.replace(V01=V1, V02=V2)
 
 
 @dataclass(frozen=True)
@@ -351,11 +367,11 @@ def candidate_change(name: str, result: CalibrationResult) -> Change:
         return COMPOSITES[name].change(result)
     e = probe_effect(name, result)
     key = e.fit_keys[0]
-    dev = (_gas_device(result) if name == "gas_charge" and hasattr(result.params, "A_p")
-           else None)
+    gas = name == "gas_charge" and hasattr(result.params, "A_p")
     return Change(tuple(result.effects) + (e,), free=tuple((name, k) for k in e.fit_keys),
                   lead=(name, key), base=0.0, probe=float(getattr(e, key)), added=name,
-                  params=dev)
+                  params=_gas_device(result, result.params) if gas else None,
+                  start=_gas_device(result, result.start_params) if gas else None)
 
 
 def applicable(name: str, result: CalibrationResult) -> str:

@@ -53,7 +53,8 @@ def _refit(cand, change, current, validation, options, preroll, max_nfev, tol, s
                                  for p in spec.parameters))
         else:
             spec = FitSpec(spec.parameters + (Parameter(name, v, lo, hi),))
-    res = calibrate(current.calibration, model=current.model, params=current.start_params,
+    res = calibrate(current.calibration, model=current.model,
+                    params=change.start or current.start_params,
                     effects=tuple(effects), spec=spec, validate=validation,
                     options=options, start="spec", max_nfev=max_nfev, preroll=preroll,
                     tol=tol, warn=False, sizing=sizing)
@@ -78,7 +79,9 @@ def _restart(res, current, validation, options, preroll, max_nfev, tol, start0, 
     spec2 = res.spec.with_values(start0)
     try:
         res2 = calibrate(current.calibration, model=current.model,
-                         params=current.start_params, effects=res.effects,
+                         params=(res.start_params if any(  # a gas charge's datum device
+                             e.name == "gas_charge" for e in res.effects)
+                                 else current.start_params), effects=res.effects,
                          spec=spec2, validate=validation, options=options, start="physics",
                          max_nfev=max_nfev, preroll=preroll, tol=tol, warn=False,
                          sizing=sizing)
