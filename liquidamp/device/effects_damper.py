@@ -68,6 +68,19 @@ class GasCharge(Effect):
     level is then p_c, so with a zero charge too the device is the sealed one in
     every respect.
 
+    On a measured record the record's zero is the stroke datum:
+    :func:`on_absolute_stroke` (called by
+    :func:`~liquidamp.analysis.measured.record_model.simulate_record`) places the chambers
+    on the absolute stroke (V01, V02 at y_abs = 0) and fills them at the charge's absolute
+    pressure p_c + p_a (a gas-charged damper's liquid sits at its gas pressure), so the fitted
+    charge sets both the preload and the chambers' level.  From one record the charge, the rod
+    area and the gas volume trade off; the gas force and the gas rate at the record's mean
+    stroke are what it identifies
+    (:func:`~liquidamp.analysis.reports.damper_characteristics.gas_charge_characteristics`).
+    On a record at one frequency the gas rate is also one in-phase stiffness with the
+    fluid's inertance, k_g - w^2 rho_l S_t A_p^2: only records at two frequencies (or a
+    known channel) tell them apart.
+
     Parameters
     ----------
     rod_area_m2 : float
