@@ -209,6 +209,10 @@ def test_a_fit_at_one_charge_predicts_the_preload_at_another():
     lo, hi = row["gas_rate_95 [N/m]"]
     assert lo <= true.stiffness(off) <= hi
     assert gas["datum"]["gas_force [N]"] == pytest.approx(g.force(0.0), rel=1e-12)
+    # the calibrate / diagnose JSON carries them (damper_characteristics.gas_charge)
+    from liquidamp.analysis.reports.damper_characteristics import result_characteristics
+
+    assert result_characteristics(res)["gas_charge"]["records"][0] == row
 
 
 def test_a_record_runs_a_gas_charged_device_on_its_absolute_stroke():

@@ -339,7 +339,7 @@ def gas_charge_characteristics(result) -> dict | None:
     ----------
     .. [1] J. C. Dixon, The Shock Absorber Handbook, 2nd ed., Wiley, 2007, Sec. 5.9.
     """
-    g = next((e for e in result.effects if e.name == "gas_charge"), None)
+    g = next((e for e in getattr(result, "effects", ()) if e.name == "gas_charge"), None)
     if g is None:
         return None
     g = g.replace(stroke_offset_m=0.0)
