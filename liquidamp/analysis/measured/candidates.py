@@ -92,6 +92,8 @@ class Change:
         The device at the probe (None: the calibrated one).
     multipliers : tuple of str
         Device multipliers the refit frees (lead ``("device", name)``, base 1).
+    start : DeviceParams or None
+        The device the refit's multipliers apply to (None: the calibrated result's start).
     """
 
     effects: tuple
@@ -103,6 +105,7 @@ class Change:
     report: tuple = ()
     params: object = None
     multipliers: tuple = ()
+    start: object = None
 
     def estimate(self, beta: float) -> float:
         """Lead value at the linearized strength ``beta`` of the probe step [SI]."""
@@ -192,12 +195,61 @@ def probe_effect(name: str, result: CalibrationResult) -> Effect:
     if name == "leakage":
         Q = p.A_p * w * Y
         return cls(coefficient_m3_per_s_Pa=0.3 / (p.c1 + 8.0 / (3.0 * math.pi) * p.c2 * Q))
+    if name == "gas_charge" and hasattr(p, "A_p"):
+        return _gas_probe(result)
     if name == "cavitation":
         resp = simulate_record(result.device_model, p, recs[0], options=FIT_OPTIONS)
         pmin = float(min(resp.p1.min(), resp.p2.min()))
         return cls(vapour_pressure_Pa=max(pmin + 0.3 * (p.p0 - pmin), 1.0))
     # the other catalogue effects state their own probe (on the channel the records carry)
     return _on_records(cls.probe(Fa, Y, w, p), result)
+
+
+def _gas_probe(result: CalibrationResult) -> Effect:
+    """``gas_charge`` read off the records (issue #20): the charge, the preload, the travel.
+
+    A gas-charged damper's liquid sits at the charge's pressure
+    (:func:`~liquidamp.device.effects_damper.on_absolute_stroke`), which keeps its rebound
+    chamber off cavitation: the charge p_c is the largest pressure difference the records'
+    force asks of the piston, max |F - mean F| / A_p.  The rod area gives the mean force the
+    model leaves in the residual (the preload at the records' mean stroke): A_r = F_0 / p_c,
+    F_0 the residual's mean where positive (a gas pushes the rod out) and above 1 % of the
+    force swing, else 5 % of the swing; at most half the piston area.  The gas volume
+    V_g = 2 A_r max |y_abs| lets the gas halve its volume over the largest absolute stroke
+    (a spring rate of about the preload over twice that stroke); isothermal (n = 1).
+    """
+    recs, p = result.calibration, result.params
+    swing = max(float(np.max(np.abs(r.force - r.force.mean()))) for r in recs)
+    p_c = max(swing / p.A_p, 1e4)
+    meas = np.concatenate([r.force for r in recs])
+    resid = float(meas.mean() - np.concatenate(result.predictions_calibration).mean())
+    F0 = resid if resid > 0.01 * swing else 0.05 * swing
+    A_r = min(F0 / p_c, 0.5 * p.A_p)
+    y_max = max(float(np.max(np.abs(r.displacement))) for r in recs)
+    return EFFECTS["gas_charge"](A_r, p_c, 2.0 * A_r * max(y_max, 1e-6), 1.0)
+
+
+def _gas_device(result: CalibrationResult, p):
+    """Device ``p`` with its chambers moved to the stroke datum for the absolute stroke
+    (:func:`~liquidamp.device.effects_damper.on_absolute_stroke`).
+
+    The first calibration record (mean y_m) holds them where the calibrated model did: V01 +
+    A_p y_m, V02 - A_p y_m at the datum; each is enlarged where a record (calibration or
+    held out, mean y_r, amplitude Y_r) would use more than
+    :data:`~liquidamp.analysis.measured.start.NEAR_STROKE_SHARE` of its chamber about its
+    mean (V01 >= A_p (y_r + Y_r / share), V02 >= A_p (Y_r / share - y_r)), so that the
+    refit runs near this device instead of sizing another.  The score test's probe (on the
+    calibrated device) then differs from the calibrated model by the charge and little
+    else, and the refit (on its start device) starts where the calibrated model is."""
+    from liquidamp.analysis.measured.start import NEAR_STROKE_SHARE
+
+    recs = tuple(result.calibration) + tuple(result.validation)
+    A, off = p.A_p, float(result.calibration[0].offset)
+    need = [(float(r.offset), float(np.max(np.abs(r.displacement - r.offset)))
+             / NEAR_STROKE_SHARE * 1.001) for r in recs]
+    V1 = max([p.V01 + A * off] + [A * (y + Y) for y, Y in need])
+    V2 = max([p.V02 - A * off] + [A * (Y - y) for y, Y in need])
+    return p.replace(V01=V1, V02=V2)
 
 
 @dataclass(frozen=True)
@@ -456,8 +508,11 @@ def candidate_change(name: str, result: CalibrationResult) -> Change:
     if getattr(e, "proposed_by", ()):
         return _drifting_change(e, result)
     key = e.fit_keys[0]
+    gas = name == "gas_charge" and hasattr(result.params, "A_p")
     return Change(tuple(result.effects) + (e,), free=tuple((name, k) for k in e.fit_keys),
-                  lead=(name, key), base=0.0, probe=float(getattr(e, key)), added=name)
+                  lead=(name, key), base=0.0, probe=float(getattr(e, key)), added=name,
+                  params=_gas_device(result, result.params) if gas else None,
+                  start=_gas_device(result, result.start_params) if gas else None)
 
 
 def _measured(result: CalibrationResult, channel: str) -> bool:

@@ -53,7 +53,8 @@ def _refit(cand, change, current, validation, options, preroll, max_nfev, tol, s
                                  for p in spec.parameters))
         else:
             spec = FitSpec(spec.parameters + (Parameter(name, v, lo, hi),))
-    res = calibrate(current.calibration, model=current.model, params=current.start_params,
+    res = calibrate(current.calibration, model=current.model,
+                    params=change.start or current.start_params,
                     effects=tuple(effects), spec=spec, validate=validation,
                     options=options, start="spec", max_nfev=max_nfev, preroll=preroll,
                     tol=tol, warn=False, sizing=sizing)
@@ -84,10 +85,13 @@ def _restart(res, current, validation, options, preroll, max_nfev, tol, start0, 
     # original multipliers as they are, with the effects where the refit put them
     mult = {p.name for p in res.spec.parameters if p.kind == "multiplier"}
     pinned = bool(mult & set(res.at_bounds()))
+    # a gas charge's refit starts from its datum device (Change.start), kept by the restart
+    gas = any(e.name == "gas_charge" for e in res.effects)
+    params0 = res.start_params if gas else current.start_params
     for how in ("physics", "spec") if pinned else ("physics",):
         try:
             r2 = calibrate(current.calibration, model=current.model,
-                           params=current.start_params, effects=res.effects,
+                           params=params0, effects=res.effects,
                            spec=spec2, validate=validation, options=options, start=how,
                            max_nfev=max_nfev, preroll=preroll, tol=tol, warn=False,
                            sizing=sizing)

@@ -19,6 +19,7 @@ import json
 import pytest
 
 from liquidamp.analysis.measured.calibration import calibrate
+from liquidamp.analysis.measured.fit_spec import FitSpec
 from liquidamp.analysis.measured.records import read_record
 from liquidamp.device import preset
 from liquidamp.device.effects import DigressiveValve, GasCharge
@@ -38,7 +39,10 @@ def test_d09_gas_charge_fitted_on_both_mean_strokes(independent_records):
     sim = truth["simulator_settings"]
     p_c = sim["p_g0"] - truth["parameters"]["atmospheric pressure"]["value"]  # gauge 689 kPa
     start = GasCharge(sim["A_r"], 4e5, 4e-6, sim["n_g"])
-    res = calibrate(recs, params=params, effects=(start,), sizing="preset", max_nfev=60)
+    # the rod area known (the catalogue's default fit keys free it too)
+    spec = FitSpec.default().with_effect(start, keys=("charge_pressure_Pa", "gas_volume_m3"))
+    res = calibrate(recs, params=params, effects=(start,), spec=spec, sizing="preset",
+                    max_nfev=60)
     g = res.device_model.effect("gas_charge")
     assert g.charge_pressure_Pa == pytest.approx(p_c, rel=0.10)
     assert g.gas_volume_m3 == pytest.approx(sim["V_g0"], rel=0.30)
@@ -62,3 +66,34 @@ def test_d02_relief_valve_recovered_per_direction(independent_records):
     # raw records (the command line averages them first: 0.0013 / 0.0017 there); the 5 Hz
     # record's 21-point Savitzky-Golay velocity is 1.3 % low
     assert res.nrmse_calibration < 0.01 and res.nrmse_validation < 0.05
+
+
+@pytest.mark.xfail(strict=False, reason=(
+    "issue #20, measured on s7-gas: the default diagnosis of d09 does not add gas_charge "
+    "first. From the sized 1-atm baseline (piston 2x the truth's, inertance 4x) the gas "
+    "refit fits the calibration record (NRMSE 0.10 -> 0.015) with a gas spring of 2.9 N/mm "
+    "that stands in for the excess fluid inertance (w^2 rho S_t A_p^2 = 3 N/mm at 0.8 Hz: "
+    "one in-phase stiffness on one frequency), which the 0.4 Hz held-out record refuses "
+    "(0.86 -> 4.1)"))
+def test_d09_default_diagnosis_finds_the_gas_charge(independent_records):
+    """Issue #20 must-show: the DEFAULT diagnosis adds gas_charge first, its identifiable
+    numbers -- the gas force and rate at the calibration record's mean stroke (15.5 N and
+    0.30 N/mm in truth.json's closed forms) -- within 30 %, the held-out record improved.
+    Opt-in (minutes): LIQUIDAMP_INDEPENDENT=all."""
+    import os
+
+    from liquidamp.analysis.measured.diagnosis import diagnose
+    from liquidamp.analysis.reports.damper_characteristics import gas_charge_characteristics
+
+    if os.environ.get("LIQUIDAMP_INDEPENDENT") != "all":
+        pytest.skip("long held-out check: set LIQUIDAMP_INDEPENDENT=all to run it")
+    truth = json.loads((independent_records / "truth.json").read_text())["d09_gas_charge"]
+    closed = truth["closed_form"]
+    d = diagnose([read_record(independent_records / "d09_gas_charge_cal.csv")],
+                 [read_record(independent_records / "d09_gas_charge_val.csv")])
+    assert d.added[:1] == ("gas_charge",), d.summary()
+    cal = gas_charge_characteristics(d.final)["records"][0]
+    assert cal["gas_force [N]"] == pytest.approx(closed["gas force at y = -31 mm [N]"], rel=0.3)
+    assert cal["gas_rate [N/m]"] / 1e3 == pytest.approx(
+        closed["gas rate at y = -31 mm [N/mm]"], rel=0.3)
+    assert d.final.nrmse_validation < d.baseline.nrmse_validation
