@@ -94,6 +94,8 @@ class Change:
         Device multipliers the refit frees (lead ``("device", name)``, base 1).
     start : DeviceParams or None
         The device the refit's multipliers apply to (None: the calibrated result's start).
+    bounds : tuple of (str, float, float)
+        Bounds of freed multipliers other than the fit's (name, lower, upper) [-].
     """
 
     effects: tuple
@@ -106,6 +108,7 @@ class Change:
     params: object = None
     multipliers: tuple = ()
     start: object = None
+    bounds: tuple = ()
 
     def estimate(self, beta: float) -> float:
         """Lead value at the linearized strength ``beta`` of the probe step [SI]."""
@@ -209,9 +212,12 @@ def _gas_probe(result: CalibrationResult) -> Effect:
     """``gas_charge`` read off the records (issue #20): the charge, the preload, the travel.
 
     A gas-charged damper's liquid sits at the charge's pressure
-    (:func:`~liquidamp.device.effects_damper.on_absolute_stroke`), which keeps its rebound
-    chamber off cavitation: the charge p_c is the largest pressure difference the records'
-    force asks of the piston, max |F - mean F| / A_p.  The rod area gives the mean force the
+    (:func:`~liquidamp.device.effects_damper.on_absolute_stroke`): where the calibrated
+    device is pressurised (its filling pressure p0 above the ambient p_a, e.g. freed by the
+    ``pressure_level`` refinement) the charge is the level it holds, p_c = p0 - p_a, so that
+    the probe adds the rod's force and nothing else; otherwise the charge keeps the rebound
+    chamber off cavitation: the largest pressure difference the records' force asks of the
+    piston, max |F - mean F| / A_p.  The rod area gives the mean force the
     model leaves in the residual (the preload at the records' mean stroke): A_r = F_0 / p_c,
     F_0 the residual's mean where positive (a gas pushes the rod out) and above 1 % of the
     force swing, else 5 % of the swing; at most half the piston area.  The gas volume
@@ -220,7 +226,8 @@ def _gas_probe(result: CalibrationResult) -> Effect:
     """
     recs, p = result.calibration, result.params
     swing = max(float(np.max(np.abs(r.force - r.force.mean()))) for r in recs)
-    p_c = max(swing / p.A_p, 1e4)
+    p_a = EFFECTS["gas_charge"]().ambient_pressure_Pa
+    p_c = p.p0 - p_a if p.p0 > p_a * (1.0 + 1e-6) else max(swing / p.A_p, 1e4)
     meas = np.concatenate([r.force for r in recs])
     resid = float(meas.mean() - np.concatenate(result.predictions_calibration).mean())
     F0 = resid if resid > 0.01 * swing else 0.05 * swing
@@ -486,11 +493,45 @@ COMPOSITES = {c.name: c for c in (
 )}
 """Candidates that change how effects compose rather than add one (module docstring)."""
 
+def _level_applicable(result) -> str:
+    """Why the pressure level cannot be freed ('' when it can)."""
+    if "p0" in result.varying:
+        return "p0 is fitted already"
+    if getattr(result.device_model, "pressures", None) is None:
+        return "the model has no chamber pressures"
+    if any(e.name in ("gas_charge", "field_yield") for e in result.effects):
+        return "the chambers' level is set by the model's gas charge or field start"
+    return ""
+
+
+def _level_change(result) -> Change:
+    """The filling pressure p0 freed with the channel's inertance S_t (where not fitted yet),
+    both from the current fit (``pressure_level``)."""
+    mult = ("p0",) + (() if "S_t" in result.varying or not result.params.S_t else ("S_t",))
+    lo, hi = next(((p.min, p.max) for p in result.spec.parameters if p.kind == "multiplier"),
+                  (0.05, 20.0))
+    # at a given force the channel's inertance follows the level as 1/k: its reach widens by
+    # the level's own
+    bounds = (("S_t", lo * lo, hi * hi),) if "S_t" in mult else ()
+    return Change(tuple(result.effects), free=(), lead=("device", "p0"), base=1.0,
+                  probe=1.0, params=result.params, multipliers=mult, bounds=bounds)
+
+
 DEVICE_REFINEMENTS = {c.name: c for c in (
     Composite("inertance", "the channel's inertance S_t = l_t / A_t freed (a multiplier on "
               "the preset's; the paper's four fitted parameters hold it at the preset's, and "
               "a device with another channel, e.g. Table 3's Device B, needs it)",
               *_multiplier("S_t", "channel inertance")),
+    Composite("pressure_level", "the chambers' pressure level p0 freed, with the channel's "
+              "inertance: a device sized to the records keeps the preset's pressures (its "
+              "piston set by the force at the preset's filling pressure), so the one shape "
+              "the sizing fixes is the ratio of the chamber pressure swing to the level (the "
+              "gas law's nonlinearity; a pressurised damper, e.g. gas-charged, swings several "
+              "bar about its charge); at a given force the device filled k times higher "
+              "runs k times the pressures on a piston k times smaller, whose inertial "
+              "pressure moves the channel inertance S_t with it (its air and losses are "
+              "fitted already)",
+              _level_applicable, _level_change),
 )}
 """Device parameters the preset holds fixed that the diagnosis frees before it screens effects
 (where the held-out records ask for it): not effects, the device's own parameters."""
@@ -509,7 +550,13 @@ def candidate_change(name: str, result: CalibrationResult) -> Change:
         return _drifting_change(e, result)
     key = e.fit_keys[0]
     gas = name == "gas_charge" and hasattr(result.params, "A_p")
-    return Change(tuple(result.effects) + (e,), free=tuple((name, k) for k in e.fit_keys),
+    keys = e.fit_keys
+    if gas and e.charge_pressure_Pa == result.params.p0 - e.ambient_pressure_Pa:
+        # on a pressurised device the charge is the level the fit holds (fitted without the
+        # gas, held): the probe adds the rod, whose area is the preload's strength (the lead)
+        # and whose gas volume sets the gas spring
+        key, keys = "rod_area_m2", ("rod_area_m2", "gas_volume_m3")
+    return Change(tuple(result.effects) + (e,), free=tuple((name, k) for k in keys),
                   lead=(name, key), base=0.0, probe=float(getattr(e, key)), added=name,
                   params=_gas_device(result, result.params) if gas else None,
                   start=_gas_device(result, result.start_params) if gas else None)

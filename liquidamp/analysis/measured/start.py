@@ -174,8 +174,32 @@ def stroke_share(records, params: DeviceParams, absolute: bool = False) -> float
 
 
 def stroke_factor(records, params: DeviceParams, absolute: bool = False) -> float:
-    """s = max(1, :func:`stroke_share` / NEAR_STROKE_SHARE) over ``records`` [-]."""
-    return max(1.0, stroke_share(records, params, absolute) / NEAR_STROKE_SHARE)
+    """s = max(1, :func:`stroke_share` / NEAR_STROKE_SHARE) over ``records`` [-].
+
+    ``absolute`` (chambers on the absolute stroke): a similar device of stroke factor s
+    holds s V0i / A_p of chamber length at the datum while a record's mean y_m is not
+    scaled, so each record of amplitude Y asks s >= (Y / NEAR_STROKE_SHARE + y_m) A_p / V01
+    and s >= (Y / NEAR_STROKE_SHARE - y_m) A_p / V02.
+
+    Examples
+    --------
+    >>> from liquidamp.device import preset
+    >>> t = np.arange(0.0, 2.0, 0.005)
+    >>> r = Record.from_arrays(t, -0.03 + 0.01 * np.sin(4 * np.pi * t), 0 * t)
+    >>> p = preset("reference").replace(V01=6e-5, V02=6e-5)     # 86.8 mm each
+    >>> round(stroke_factor([r], p), 6), round(stroke_factor([r], p, True), 4)
+    (1.0, 1.0)
+    >>> q = p.replace(V01=2e-5, V02=2e-5)                        # 28.9 mm each
+    >>> round(stroke_factor([r], q, True), 4)          # (2 x 10 mm + 30 mm) / 28.9 mm
+    1.7279
+    """
+    if not absolute:
+        return max(1.0, stroke_share(records, params) / NEAR_STROKE_SHARE)
+    A, s = params.A_p, 1.0
+    for r in records:
+        Y = float(np.max(np.abs(r.displacement - r.offset))) / NEAR_STROKE_SHARE
+        s = max(s, (Y + r.offset) * A / params.V01, (Y - r.offset) * A / params.V02)
+    return s
 
 
 # ---------------------------------------------------------------------------
