@@ -34,6 +34,16 @@ than add an effect:
                          among the paper's four fitted parameters): a device whose channel
                          differs from the preset's (Table 3's Device B) is otherwise fitted with
                          the preset's fluid inertia, and effects stand in for it.
+``pressure_level``       the filling pressure p0 (the chambers' pressure level) freed with the
+                         channel inertance, proposed where the residual keeps a preload
+                         consistent with a gas charge (:func:`gas_preload`): a device sized to
+                         the records keeps the preset's pressures, so the ratio of the pressure
+                         swing to the level (the gas law's nonlinearity) is out of the fit's
+                         reach; a gas-charged damper's liquid sits at its charge, several bar.
+                         The inertance is held at its least where it ends at the lower bound (a
+                         channel the records cannot tell from none); it reduces to
+                         ``inertance`` on a tie.  A gas charge added to a pressurised device
+                         takes the level as its charge and frees the rod (area, gas volume).
 =======================  ==========================================================================
 
 References
@@ -564,11 +574,10 @@ DEVICE_REFINEMENTS = {c.name: c for c in (
               "inertance: a device sized to the records keeps the preset's pressures (its "
               "piston set by the force at the preset's filling pressure), so the one shape "
               "the sizing fixes is the ratio of the chamber pressure swing to the level (the "
-              "gas law's nonlinearity; a pressurised damper, e.g. gas-charged, swings several "
-              "bar about its charge); at a given force the device filled k times higher "
-              "runs k times the pressures on a piston k times smaller, whose inertial "
-              "pressure moves the channel inertance S_t with it (its air and losses are "
-              "fitted already)",
+              "gas law's nonlinearity; a gas-charged damper's liquid swings several bar about "
+              "its charge); the inertance the 1-atm fit needed to draw that shape is freed "
+              "with it (proposed where the residual keeps a preload consistent with a gas "
+              "charge)",
               _level_applicable, _level_change),
 )}
 """Device parameters the preset holds fixed that the diagnosis frees before it screens effects

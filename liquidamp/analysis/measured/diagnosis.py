@@ -36,7 +36,9 @@ velocity):
    with sign(v), a, a constant, the dead-band indicator and the low-pressure
    phases) are reported too.
 4. Refit also, in every round and whatever its score, each device parameter the preset
-   holds fixed (:data:`~.candidates.DEVICE_REFINEMENTS`: the channel inertance S_t; by default,
+   holds fixed (:data:`~.candidates.DEVICE_REFINEMENTS`: the channel inertance S_t, and the
+   chambers' pressure level p0 where the residual keeps a preload consistent with a gas
+   charge; by default,
    or when named among ``candidates``); it
    competes with the effects under the same rule, and when chosen it is recorded as the
    device's own parameter (``Diagnosis.device_steps``), not an effect.
