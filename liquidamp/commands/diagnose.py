@@ -85,7 +85,10 @@ def run(args) -> int:
         d = diagnose(cal, val, model=args.model, params=params, effects=effects, spec=spec,
                      options=options, config=config, progress=bar.update)
     nr = d.as_dict()
-    from liquidamp.analysis.reports.damper_characteristics import result_characteristics
+    from liquidamp.analysis.reports.damper_characteristics import (
+        gas_line,
+        result_characteristics,
+    )
 
     nr["damper_characteristics"] = result_characteristics(d.final)
     if args.save_device:
@@ -98,6 +101,9 @@ def run(args) -> int:
     if d.final.flags:
         warn_once("diagnose", f"final fit: {d.final.flags.short()}")
     print(f"liquidamp diagnose: {d.summary().splitlines()[0]}", file=sys.stderr)
+    gas = nr["damper_characteristics"].get("gas_charge")
+    if gas:  # the identifiable numbers of a gas charge (issue #20)
+        print("liquidamp diagnose: " + gas_line(gas), file=sys.stderr)
     added = ", ".join(d.added) or "nothing"
     raw = (f", {d.nrmse_raw['validation']:.4g} on the records as given"
            if d.nrmse_raw else "")

@@ -528,9 +528,11 @@ class DeviceParams:
         return out
 
 
-#: Inputs :meth:`DeviceParams.scaled` may multiply (and calibration may vary).
+#: Inputs :meth:`DeviceParams.scaled` may multiply (and calibration may vary; ``p0``, the
+#: filling pressure, is the chambers' pressure level: freed by the diagnosis's
+#: ``pressure_level`` refinement).
 SCALABLE = ("mu", "rho_l", "B_l", "V01", "V02", "A_p", "A_t", "l_t", "inv_gamma1", "inv_gamma2",
-            "c1", "c2", "S_t", "friction_N")
+            "c1", "c2", "S_t", "friction_N", "p0")
 
 #: Keyword inputs of :class:`DeviceParams` in their public form (device-file keys):
 #: every field except the stored ``*_explicit`` forms, which are given as ``c1``, ``c2``, ``S_t``.

@@ -195,3 +195,70 @@ def test_a_fit_at_one_charge_predicts_the_preload_at_another():
     F = simulate_record(with_effects(get_model("dashpot"), g150), res.params, r150).force
     assert float(np.mean(F)) == pytest.approx(float(np.mean(r150.force)), abs=2.0)
     assert float(np.mean(r150.force)) - float(np.mean(r100.force)) > 10.0
+    # the damper-engineer numbers: the gas force and rate at the record's mean stroke, with
+    # 95 % intervals that hold the truth's closed forms
+    from liquidamp.analysis.reports.damper_characteristics import gas_charge_characteristics
+
+    gas = gas_charge_characteristics(res)
+    row = gas["records"][0]
+    assert row["mean_stroke [m]"] == pytest.approx(off, abs=1e-5)
+    true = GasCharge(4.5e-5, 100 * psi, 2.4e-6, 1.25)
+    assert row["gas_force [N]"] == pytest.approx(g.force(row["mean_stroke [m]"]), rel=1e-12)
+    lo, hi = row["gas_force_95 [N]"]
+    assert lo <= true.force(off) <= hi and hi - lo < 2.0
+    lo, hi = row["gas_rate_95 [N/m]"]
+    assert lo <= true.stiffness(off) <= hi
+    assert gas["datum"]["gas_force [N]"] == pytest.approx(g.force(0.0), rel=1e-12)
+    # the calibrate / diagnose JSON carries them (damper_characteristics.gas_charge)
+    from liquidamp.analysis.reports.damper_characteristics import result_characteristics
+
+    assert result_characteristics(res)["gas_charge"]["records"][0] == row
+
+
+def test_a_record_runs_a_gas_charged_device_on_its_absolute_stroke():
+    """on_absolute_stroke: chambers at the datum (V01 - A_p y_m, V02 + A_p y_m about the mean
+    y_m), filled at the charge's absolute pressure; two routes through simulate_record."""
+    from liquidamp.device.effects_damper import on_absolute_stroke
+
+    g = GasCharge(4.5e-5, 6.894757e5, 2.4e-6, 1.25)
+    p = P.replace(V01=6e-5, V02=6e-5)
+    m = with_effects(get_model("full"), g)
+    off = -0.02
+    m2, p2 = on_absolute_stroke(m, p, off)
+    assert m2.effect("gas_charge").stroke_offset_m == off
+    assert p2.V01 == pytest.approx(6e-5 - P.A_p * off, rel=1e-14)
+    assert p2.V02 == pytest.approx(6e-5 + P.A_p * off, rel=1e-14)
+    assert p2.p0 == pytest.approx(6.894757e5 + 101325.0, rel=1e-14)
+    # without a gas charge, or without chambers, the device is as given
+    assert on_absolute_stroke(get_model("full"), p, off)[1] is p
+    assert on_absolute_stroke(with_effects(get_model("dashpot"), g), p, off)[1] is p
+    with pytest.raises(ParameterError, match="count the charge twice"):
+        on_absolute_stroke(with_effects(m, Cavitation(2339.0)), p, off)
+    with pytest.raises(ParameterError, match="empties a chamber"):
+        on_absolute_stroke(m, p, 6e-5 / P.A_p + 1e-3)
+    # route 1: the composed model on a record about y_m; route 2: the sealed device given the
+    # moved chambers and the level by hand, plus the closed-form gas force at y_abs
+    t = np.arange(0, 1.0, 1 / 400)
+    y = off + 0.004 * np.sin(2 * np.pi * 3 * t)
+    rec = Record.from_arrays(t, y, 0 * t)
+    r1 = simulate_record(m, p, rec)
+    r2 = simulate_record("full", p2, rec)
+    np.testing.assert_allclose(r1.force - g.force(r1.stroke + rec.offset), r2.force,
+                               rtol=0, atol=1e-6 * np.ptp(r2.force))
+    # the level matters: the device filled at 1 atm gives another loop
+    r3 = simulate_record("full", p2.replace(p0=101325.0), rec)
+    assert np.max(np.abs(r3.force - r2.force)) > 0.05 * np.ptp(r2.force)
+
+
+def test_stroke_share_on_the_absolute_stroke():
+    from liquidamp.analysis.measured.start import stroke_factor, stroke_share
+
+    p = P.replace(V01=6e-5, V02=6e-5)
+    t = np.arange(0, 1.0, 1 / 400)
+    rec = Record.from_arrays(t, -0.02 + 0.004 * np.sin(2 * np.pi * 3 * t), 0 * t)
+    Y = float(np.max(np.abs(rec.displacement - rec.offset)))
+    # about its mean the record sees V02 + A_p y_m, the smaller chamber
+    closed = Y * P.A_p / (6e-5 + P.A_p * rec.offset)
+    assert stroke_share([rec], p, absolute=True) == pytest.approx(closed, rel=1e-12)
+    assert stroke_share([rec], p) == pytest.approx(Y / p.stroke_limit, rel=1e-12)
+    assert stroke_factor([rec], p.replace(V02=P.A_p * 0.025), absolute=True) > 1.0

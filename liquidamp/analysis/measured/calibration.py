@@ -131,8 +131,10 @@ from liquidamp.analysis.measured.start import (
     similar_device,
     similarity_factors,
     stroke_factor,
+    stroke_share,
 )
 from liquidamp.device.effects import EFFECTS, Effect, with_effects
+from liquidamp.device.effects_damper import on_absolute_stroke
 from liquidamp.device.models import get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import (
@@ -370,10 +372,10 @@ def _start_device(obj: _Objective, records, validate, sizing: str) -> Sizing:
     base, effects = obj.base, obj.effects
     t0 = _trial(obj, f"preset {base.name}" if base.name else "given device", obj.fixed)
     ratio0 = 1.0 / t0.rms_ratio if t0.ran and t0.rms_ratio else None
-    s = stroke_factor(records + validate, base)
-    share = s * NEAR_STROKE_SHARE if s > 1 else max(
-        float(np.max(np.abs(r.displacement - r.offset))) for r in records + validate
-    ) / base.stroke_limit
+    # a gas-charged device's chambers follow the absolute stroke (on_absolute_stroke)
+    absolute = any(e.name == "gas_charge" for e in effects) and obj.model.pressures is not None
+    s = stroke_factor(records + validate, base, absolute)
+    share = stroke_share(records + validate, base, absolute)
     if sizing == "preset":
         return Sizing(base, effects, False, rms_ratio=ratio0,
                       reason="sizing='preset': the device as given", trials=(t0,))
@@ -468,11 +470,16 @@ def _start_device(obj: _Objective, records, validate, sizing: str) -> Sizing:
                   air_factor=fa or 1.0, loss_factor=fl or 1.0)
 
 
-def _with_stroke_limit(quality, records, params: DeviceParams):
+def _with_stroke_limit(quality, records, params: DeviceParams, model=None):
     """The checks with the starting device's chamber end; a stroke past it (as read) is
-    refused."""
+    refused.  A gas-charged ``model`` holds its chambers on the absolute stroke: each record
+    is checked on the device about its mean
+    (:func:`~liquidamp.device.effects_damper.on_absolute_stroke`)."""
+    def about(r):
+        return params if model is None else on_absolute_stroke(model, params, r.offset)[1]
+
     problems = [p for r in records
-                for p in check_record_stroke(as_read(r), params)]
+                for p in check_record_stroke(as_read(r), about(r))]
     if problems:
         raise DataFileError("calibrate: " + "; ".join(problems))
     return tuple(dataclasses.replace(q, stroke_limit=float(params.stroke_limit))
@@ -642,7 +649,8 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
     else:
         trials = [dataclasses.replace(sz.trials[0], label="spec")]
         candidates = list(trials)
-    quality = _with_stroke_limit(quality, records + validate, sz.params)
+    quality = _with_stroke_limit(quality, records + validate, sz.params,
+                                 with_effects(get_model(model), *sz.effects))
 
     def x_of(values):
         return np.array([p.to_x(min(max(values[p.name], p.min), p.max)) for p in obj.var])

@@ -515,7 +515,7 @@ class CalibrationResult:
             "model": self.model,
             "start_parameters": self.start_params.name or "custom",
             "multipliers": mult,
-            "device": {k: getattr(self.params, k) for k in (*SCALABLE, "p0", "n")
+            "device": {k: getattr(self.params, k) for k in (*SCALABLE, "n")
                        if getattr(self.params, k) is not None},
             "effects": {e.name: e.as_dict() for e in self.effects},
             "stderr": dict(self.stderr),

@@ -36,7 +36,9 @@ velocity):
    with sign(v), a, a constant, the dead-band indicator and the low-pressure
    phases) are reported too.
 4. Refit also, in every round and whatever its score, each device parameter the preset
-   holds fixed (:data:`~.candidates.DEVICE_REFINEMENTS`: the channel inertance S_t; by default,
+   holds fixed (:data:`~.candidates.DEVICE_REFINEMENTS`: the channel inertance S_t, and the
+   chambers' pressure level p0 where the residual keeps a preload consistent with a gas
+   charge; by default,
    or when named among ``candidates``); it
    competes with the effects under the same rule, and when chosen it is recorded as the
    device's own parameter (``Diagnosis.device_steps``), not an effect.
@@ -178,6 +180,7 @@ from liquidamp.analysis.measured.diagnosis_options import (
     SelectionRule,
 )
 from liquidamp.analysis.measured.diagnosis_result import Diagnosis, Step, heldout_per_record
+from liquidamp.analysis.measured.fit_spec import Parameter
 from liquidamp.analysis.measured.record_model import nrmse, simulate_record
 from liquidamp.analysis.measured.record_quality import noise_floor
 from liquidamp.analysis.measured.reference_models import reference_models
@@ -329,6 +332,18 @@ def _device_round(current, validation, options, bud, names):
         try:
             refits[name] = _refit(cand, change, current, validation, options, bud.preroll,
                                   bud.max_nfev, bud.tol, "auto")
+            low = [n for n, _, _ in change.bounds
+                   if refits[name].at_bounds().get(n) == "lower"]
+            if low:  # an inertance the records cannot tell from none: held at its least
+                change = dataclasses.replace(change, multipliers=tuple(
+                    m for m in change.multipliers if m not in low))
+                res = refits[name]
+                held = tuple(Parameter(n, res.values[n], lo, hi, vary=False)
+                             for n, lo, hi in change.bounds if n in low)
+                current_held = dataclasses.replace(current, spec=FitSpec(
+                    current.spec.parameters + held))
+                refits[name] = _refit(cand, change, current_held, validation, options,
+                                      bud.preroll, bud.max_nfev, bud.tol, "auto")
         except (ConvergenceError, ParameterError) as exc:
             cand = _with(cand, refitted=True, note=f"refit failed: {exc}")
         cands.append(cand)

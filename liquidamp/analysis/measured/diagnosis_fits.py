@@ -33,6 +33,16 @@ def _refit(cand, change, current, validation, options, preroll, max_nfev, tol, s
     from linear ones)."""
     effects = list(change.effects)
     spec = FitSpec(current.spec.parameters)
+    if change.added == "gas_charge":
+        # a gas-charged device's chambers sit at the charge (on_absolute_stroke): its charge,
+        # freed, is the level; the filling pressure's multiplier is held.  On records at one
+        # stroke frequency the gas rate and the channel's inertance are one in-phase
+        # stiffness (k_g - w^2 rho_l S_t A_p^2): the inertance is held where the fit without
+        # the gas put it, and the held-out records judge the rate
+        held = {"p0"} | ({"S_t"} if len({round(r.frequency, 6) for r in current.calibration})
+                         == 1 else set())
+        spec = FitSpec(tuple(p.replace(vary=False) if p.name in held else p
+                             for p in spec.parameters))
     for name, key in change.free:
         i = next(i for i, e in enumerate(effects) if e.name == name)
         v = getattr(effects[i], key)
@@ -42,6 +52,11 @@ def _refit(cand, change, current, validation, options, preroll, max_nfev, tol, s
             # fall below the lowest chamber pressure, where the effect is inactive and the
             # fit has no gradient
             v = cand.estimate.get(label, v)
+            if change.added == "gas_charge" and key == "rod_area_m2" and v > 0:
+                # the gas keeps the probe's travel V_g / A_r (its rate then follows the
+                # estimated preload as the probe's did)
+                effects[i] = effects[i].replace(
+                    gas_volume_m3=effects[i].gas_volume_m3 * v / effects[i].rod_area_m2)
         lo, hi = type(effects[i]).bounds[key]
         if lo > 0:
             m = 10.0 if hi / lo >= 1e4 else (hi / lo) ** 0.1
@@ -55,13 +70,16 @@ def _refit(cand, change, current, validation, options, preroll, max_nfev, tol, s
         # of the other multipliers)
         lo, hi = next(((p.min, p.max) for p in spec.parameters if p.kind == "multiplier"),
                       (0.05, 20.0))
+        lo, hi = next(((a, b) for n, a, b in getattr(change, "bounds", ()) if n == name),
+                      (lo, hi))
         v = min(max(float(cand.estimate.get(name, change.probe)), lo * 1.5), hi / 1.5)
         if name in spec.names:
             spec = FitSpec(tuple(p.replace(value=v, vary=True) if p.name == name else p
                                  for p in spec.parameters))
         else:
             spec = FitSpec(spec.parameters + (Parameter(name, v, lo, hi),))
-    res = calibrate(current.calibration, model=current.model, params=current.start_params,
+    res = calibrate(current.calibration, model=current.model,
+                    params=change.start or current.start_params,
                     effects=tuple(effects), spec=spec, validate=validation,
                     options=options, start="spec", max_nfev=max_nfev, preroll=preroll,
                     tol=tol, warn=False, sizing=sizing)
@@ -92,10 +110,13 @@ def _restart(res, current, validation, options, preroll, max_nfev, tol, start0, 
     # original multipliers as they are, with the effects where the refit put them
     mult = {p.name for p in res.spec.parameters if p.kind == "multiplier"}
     pinned = bool(mult & set(res.at_bounds()))
+    # a gas charge's refit starts from its datum device (Change.start), kept by the restart
+    gas = any(e.name == "gas_charge" for e in res.effects)
+    params0 = res.start_params if gas else current.start_params
     for how in ("physics", "spec") if pinned else ("physics",):
         try:
             r2 = calibrate(current.calibration, model=current.model,
-                           params=current.start_params, effects=res.effects,
+                           params=params0, effects=res.effects,
                            spec=spec2, validate=validation, options=options, start=how,
                            max_nfev=max_nfev, preroll=preroll, tol=tol, warn=False,
                            sizing=sizing)

@@ -4,7 +4,8 @@
 (:class:`~liquidamp.analysis.measured.records.Record`) about its mean (the LVDT
 zero is arbitrary; the mean stroke is taken as the mid-position where the chambers
 hold V01 and V02; an effect on the absolute stroke, ``gas_charge``, is given the mean
-back: :func:`~liquidamp.device.effects.with_stroke_offset`); :func:`nrmse` is the
+back and a gas-charged device's chambers follow the absolute stroke at the charge's level:
+:func:`~liquidamp.device.effects_damper.on_absolute_stroke`); :func:`nrmse` is the
 normalized RMS force error used by the calibration; :func:`integrate` is the synthetic
 generator's LSODA march under any scalar stroke.
 
@@ -55,8 +56,8 @@ from liquidamp.analysis.measured.records import Record
 from liquidamp.coupled.engines import TestRig, engine_for, stroke_inputs
 from liquidamp.coupled.periodic import ROUTES, ShootingOptions, periodic_state
 from liquidamp.coupled.testrig import DeviceResponse
-from liquidamp.device.effects import with_stroke_offset
 from liquidamp.device.effects_base import check_input_channels, initial_state_with_inputs
+from liquidamp.device.effects_damper import on_absolute_stroke
 from liquidamp.device.models import DeviceModel, get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, ParameterError, PressureError, check_choice
@@ -207,11 +208,12 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     >>> r.solver_stats["stroke"], r.solver_stats["velocity_gain"]
     ('fourier', 1.0)
     """
-    # an effect on the absolute stroke (gas_charge) gets the record's mean stroke back
-    model = with_stroke_offset(get_model(model), record.offset)
     options = resolve_options(options, "default")
     if not isinstance(params, DeviceParams):
         raise ParameterError(f"params must be DeviceParams, got {type(params).__name__}")
+    # an effect on the absolute stroke (gas_charge) gets the record's mean stroke back, and
+    # a gas-charged device's chambers sit on the absolute stroke at the charge's level
+    model, params = on_absolute_stroke(get_model(model), params, record.offset)
     check_choice("periodic-orbit route", route, ROUTES)
     model.check_params(params)
     cond = record.meta.get("conditioning")

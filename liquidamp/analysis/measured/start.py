@@ -84,7 +84,7 @@ from liquidamp.errors import ParameterError, PressureError
 __all__ = ["NEAR_FORCE_RATIO", "NEAR_STROKE_SHARE", "similarity_factors", "similar_device",
            "first_harmonic_stiffness", "linear_fit", "linear_stiffness", "physics_factors",
            "StartTrial",
-           "Sizing", "stroke_factor", "refusal_message", "SIZING_CHOICES"]
+           "Sizing", "stroke_factor", "stroke_share", "refusal_message", "SIZING_CHOICES"]
 
 #: Largest ratio (either way) of the measured to the model RMS force of a record near the
 #: starting device [-].
@@ -156,10 +156,50 @@ def similar_device(params: DeviceParams, effects=(), *, force: float = 1.0,
     return q, tuple(out)
 
 
-def stroke_factor(records, params: DeviceParams) -> float:
-    """s = max(1, peak |y - mean| / (NEAR_STROKE_SHARE x V0/A_p)) over ``records`` [-]."""
-    peak = max(float(np.max(np.abs(r.displacement - r.offset))) for r in records)
-    return max(1.0, peak / (NEAR_STROKE_SHARE * params.stroke_limit))
+def stroke_share(records, params: DeviceParams, absolute: bool = False) -> float:
+    """Largest share of its chamber length the records' stroke uses [-].
+
+    Peak |y - mean| / (V0/A_p) with V0 = min(V01, V02); ``absolute``: the chambers follow
+    the records' absolute stroke (a gas-charged device,
+    :func:`~liquidamp.device.effects_damper.on_absolute_stroke`; V01, V02 at the datum
+    y = 0), so about a record's mean y_m they hold V01 - A_p y_m and V02 + A_p y_m."""
+    if absolute:
+        A = params.A_p
+        return max(float(np.max(np.abs(r.displacement - r.offset))) * A
+                   / max(min(params.V01 - A * r.offset, params.V02 + A * r.offset), 1e-300)
+                   if min(params.V01 - A * r.offset, params.V02 + A * r.offset) > 0
+                   else float("inf") for r in records)
+    return max(float(np.max(np.abs(r.displacement - r.offset)))
+               for r in records) / params.stroke_limit
+
+
+def stroke_factor(records, params: DeviceParams, absolute: bool = False) -> float:
+    """s = max(1, :func:`stroke_share` / NEAR_STROKE_SHARE) over ``records`` [-].
+
+    ``absolute`` (chambers on the absolute stroke): a similar device of stroke factor s
+    holds s V0i / A_p of chamber length at the datum while a record's mean y_m is not
+    scaled, so each record of amplitude Y asks s >= (Y / NEAR_STROKE_SHARE + y_m) A_p / V01
+    and s >= (Y / NEAR_STROKE_SHARE - y_m) A_p / V02.
+
+    Examples
+    --------
+    >>> from liquidamp.device import preset
+    >>> t = np.arange(0.0, 2.0, 0.005)
+    >>> r = Record.from_arrays(t, -0.03 + 0.01 * np.sin(4 * np.pi * t), 0 * t)
+    >>> p = preset("reference").replace(V01=6e-5, V02=6e-5)     # 86.8 mm each
+    >>> round(stroke_factor([r], p), 6), round(stroke_factor([r], p, True), 4)
+    (1.0, 1.0)
+    >>> q = p.replace(V01=2e-5, V02=2e-5)                        # 28.9 mm each
+    >>> round(stroke_factor([r], q, True), 4)          # (2 x 10 mm + 30 mm) / 28.9 mm
+    1.7279
+    """
+    if not absolute:
+        return max(1.0, stroke_share(records, params) / NEAR_STROKE_SHARE)
+    A, s = params.A_p, 1.0
+    for r in records:
+        Y = float(np.max(np.abs(r.displacement - r.offset))) / NEAR_STROKE_SHARE
+        s = max(s, (Y + r.offset) * A / params.V01, (Y - r.offset) * A / params.V02)
+    return s
 
 
 # ---------------------------------------------------------------------------

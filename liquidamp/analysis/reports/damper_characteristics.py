@@ -9,7 +9,9 @@ rod going into the damper; rebound: v < 0):
 - the cycle-averaged force-velocity curve (the loop averaged over the cycles at equal phase);
 - the gas force: the force at zero velocity at mid stroke, i.e. the offset of the loop at
   mid stroke with the damping removed;
-- the low- and high-speed damping coefficients and the knee.
+- the low- and high-speed damping coefficients and the knee;
+- for a model with a fitted ``gas_charge``, the model's gas force and gas rate at each
+  record's mean stroke with their 95 % intervals (:func:`gas_charge_characteristics`).
 
 The slopes and knees are those of the two-slope map per direction
 (:func:`liquidamp.analysis.measured.reference_models.fit_two_slope`, reused here, not
@@ -35,7 +37,9 @@ import numpy as np
 from liquidamp.analysis.measured.reference_models import _basis, fit_two_slope
 from liquidamp.errors import ParameterError
 
-__all__ = ["damper_characteristics", "result_characteristics", "two_slope_curve",
+__all__ = ["damper_characteristics", "result_characteristics", "gas_charge_characteristics",
+           "gas_line",
+           "two_slope_curve",
            "peak_points", "cycle_average", "cycle_table", "KELVIN"]
 
 #: 0 C in kelvin [K].
@@ -289,9 +293,116 @@ def result_characteristics(result) -> dict:
     """
     recs = list(result.calibration)
     out = {"records": [r.label for r in recs]}
+    gas = gas_charge_characteristics(result)
     try:
         out["measured"] = damper_characteristics(recs)
         out["model"] = damper_characteristics(recs, list(result.predictions_calibration))
     except ParameterError as exc:
-        return {"records": out["records"], "error": str(exc)}
+        out = {"records": out["records"], "error": str(exc)}
+    if gas is not None:
+        out["gas_charge"] = gas
     return out
+
+
+#: Gas-charge parameters whose fit covariance enters the gas force's interval.
+_GAS_KEYS = ("charge_pressure_Pa", "rod_area_m2", "gas_volume_m3", "polytropic_index")
+
+
+def gas_charge_characteristics(result) -> dict | None:
+    """The fitted gas charge's force and rate at each record's mean stroke, 95 % intervals.
+
+    A record about one mean stroke sees the gas force F_g(y) = A_r (p_g(y) - p_a) and its
+    rate dF_g/dy near that stroke; the charge p_c, rod area A_r and gas volume V_g
+    separately trade off (a larger charge on a smaller rod gives the same force and, with a
+    smaller volume, the same rate), so these two numbers at the records' strokes are what
+    the records identify (issue #20).  Their intervals are 1.96 standard errors by the delta
+    method: the gradient of each in the fitted gas parameters (central differences, 1e-5
+    relative) on the sub-block of the fit covariance (the gas force depends on nothing
+    else).  The preload at the stroke datum (y = 0) is an extrapolation beyond the records
+    when no record reaches it, and is reported with its interval too.
+
+    Parameters
+    ----------
+    result : CalibrationResult
+        A calibration or a diagnosis's final fit.
+
+    Returns
+    -------
+    dict or None
+        None without ``gas_charge``; else ``{"records": [{"record", "role",
+        "mean_stroke [m]", "gas_force [N]", "gas_force_95 [N]", "gas_rate [N/m]",
+        "gas_rate_95 [N/m]"}, ...], "datum": {...} (y = 0), "parameters": {...},
+        "correlation": {pair: r}, "note": str}``; an interval is None where a standard
+        error is not finite.
+
+    References
+    ----------
+    .. [1] J. C. Dixon, The Shock Absorber Handbook, 2nd ed., Wiley, 2007, Sec. 5.9.
+    """
+    g = next((e for e in getattr(result, "effects", ()) if e.name == "gas_charge"), None)
+    if g is None:
+        return None
+    g = g.replace(stroke_offset_m=0.0)
+    keys = [k for k in _GAS_KEYS if f"gas_charge.{k}" in result.varying]
+    idx = [list(result.varying).index(f"gas_charge.{k}") for k in keys]
+    se = np.array([float(result.stderr.get(f"gas_charge.{k}", np.nan)) for k in keys])
+    cov = (np.asarray(result.correlation, float)[np.ix_(idx, idx)] * np.outer(se, se)
+           if keys else np.zeros((0, 0)))
+
+    def with_interval(fn):
+        v = float(fn(g))
+        if not keys:
+            return v, None
+        grad = []
+        for k in keys:
+            x = float(getattr(g, k))
+            h = 1e-5 * abs(x)
+            grad.append((fn(g.replace(**{k: x + h})) - fn(g.replace(**{k: x - h}))) / (2 * h))
+        grad = np.array(grad)
+        var = float(grad @ cov @ grad)
+        if not (np.all(np.isfinite(se)) and np.isfinite(var) and var >= 0):
+            return v, None
+        d = 1.96 * var ** 0.5
+        return v, [v - d, v + d]
+
+    def at(y, label, role):
+        F, Fi = with_interval(lambda e: e.force(y))
+        k, ki = with_interval(lambda e: e.stiffness(y))
+        return {"record": label, "role": role, "mean_stroke [m]": float(y),
+                "gas_force [N]": F, "gas_force_95 [N]": Fi,
+                "gas_rate [N/m]": k, "gas_rate_95 [N/m]": ki}
+
+    rows = [at(r.offset, r.label, "calibration") for r in result.calibration]
+    rows += [at(r.offset, r.label, "validation") for r in result.validation]
+    corr = {f"{keys[i]}/{keys[j]}": float(result.correlation[idx[i], idx[j]])
+            for i in range(len(keys)) for j in range(i + 1, len(keys))}
+    return {"records": rows, "datum": at(0.0, "stroke datum y = 0", "extrapolated"),
+            "parameters": {k: float(getattr(g, k)) for k in _GAS_KEYS + ("ambient_pressure_Pa",)},
+            "correlation": corr,
+            "note": ("the gas force and rate at the records' mean strokes are what the records "
+                     "identify; charge pressure, rod area and gas volume separately trade off "
+                     "(see their correlations)")}
+
+
+def gas_line(gas: dict) -> str:
+    """One line of :func:`gas_charge_characteristics`: force and rate at each mean stroke.
+
+    Examples
+    --------
+    >>> row = {"record": "cal", "mean_stroke [m]": -0.031, "gas_force [N]": 15.5,
+    ...        "gas_force_95 [N]": [14.0, 17.0], "gas_rate [N/m]": 300.0,
+    ...        "gas_rate_95 [N/m]": None}
+    >>> gas_line({"records": [row], "datum": dict(row, **{"mean_stroke [m]": 0.0})})[:67]
+    'gas charge: cal (mean stroke -31 mm): gas force 15.5 N (95 % 14-17)'
+    """
+    def one(r):
+        fi, ki = r["gas_force_95 [N]"], r["gas_rate_95 [N/m]"]
+        f = f"gas force {r['gas_force [N]']:.3g} N" + (
+            f" (95 % {fi[0]:.3g}-{fi[1]:.3g})" if fi else "")
+        k = f"rate {r['gas_rate [N/m]'] / 1e3:.3g} N/mm" + (
+            f" (95 % {ki[0] / 1e3:.3g}-{ki[1] / 1e3:.3g})" if ki else "")
+        return f"{r['record']} (mean stroke {r['mean_stroke [m]'] * 1e3:.3g} mm): {f}, {k}"
+
+    d = gas["datum"]
+    return ("gas charge: " + "; ".join(one(r) for r in gas["records"])
+            + f"; preload at the stroke datum {d['gas_force [N]']:.3g} N (extrapolated)")

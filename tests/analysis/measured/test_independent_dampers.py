@@ -19,6 +19,7 @@ import json
 import pytest
 
 from liquidamp.analysis.measured.calibration import calibrate
+from liquidamp.analysis.measured.fit_spec import FitSpec
 from liquidamp.analysis.measured.records import read_record
 from liquidamp.device import preset
 from liquidamp.device.effects import DigressiveValve, GasCharge
@@ -38,7 +39,10 @@ def test_d09_gas_charge_fitted_on_both_mean_strokes(independent_records):
     sim = truth["simulator_settings"]
     p_c = sim["p_g0"] - truth["parameters"]["atmospheric pressure"]["value"]  # gauge 689 kPa
     start = GasCharge(sim["A_r"], 4e5, 4e-6, sim["n_g"])
-    res = calibrate(recs, params=params, effects=(start,), sizing="preset", max_nfev=60)
+    # the rod area known (the catalogue's default fit keys free it too)
+    spec = FitSpec.default().with_effect(start, keys=("charge_pressure_Pa", "gas_volume_m3"))
+    res = calibrate(recs, params=params, effects=(start,), spec=spec, sizing="preset",
+                    max_nfev=60)
     g = res.device_model.effect("gas_charge")
     assert g.charge_pressure_Pa == pytest.approx(p_c, rel=0.10)
     assert g.gas_volume_m3 == pytest.approx(sim["V_g0"], rel=0.30)
@@ -62,3 +66,34 @@ def test_d02_relief_valve_recovered_per_direction(independent_records):
     # raw records (the command line averages them first: 0.0013 / 0.0017 there); the 5 Hz
     # record's 21-point Savitzky-Golay velocity is 1.3 % low
     assert res.nrmse_calibration < 0.01 and res.nrmse_validation < 0.05
+
+
+def test_d09_default_diagnosis_finds_the_gas_charge(independent_records):
+    """Issue #20 must-show: the DEFAULT diagnosis adds gas_charge first, its identifiable
+    numbers -- the gas force and rate at the calibration record's mean stroke (15.5 N and
+    0.30 N/mm in truth.json's closed forms) and the preload at the datum A_r p_c (31.0 N)
+    -- within 30 %, the held-out NRMSE at least halved.  The baseline's chambers are freed
+    to their pressure level first (``pressure_level``, a device step, p0 about 4 bar on the
+    sized piston), then the gas adds the rod at that level.  Opt-in (1-3 min, measured
+    128 s under load): LIQUIDAMP_INDEPENDENT=all."""
+    import os
+
+    from liquidamp.analysis.measured.diagnosis import diagnose
+    from liquidamp.analysis.reports.damper_characteristics import gas_charge_characteristics
+
+    if os.environ.get("LIQUIDAMP_INDEPENDENT") != "all":
+        pytest.skip("long held-out check: set LIQUIDAMP_INDEPENDENT=all to run it")
+    truth = json.loads((independent_records / "truth.json").read_text())["d09_gas_charge"]
+    closed = truth["closed_form"]
+    d = diagnose([read_record(independent_records / "d09_gas_charge_cal.csv")],
+                 [read_record(independent_records / "d09_gas_charge_val.csv")])
+    assert d.added[:1] == ("gas_charge",), d.summary()
+    cal = gas_charge_characteristics(d.final)["records"][0]
+    assert cal["gas_force [N]"] == pytest.approx(closed["gas force at y = -31 mm [N]"], rel=0.3)
+    assert cal["gas_rate [N/m]"] / 1e3 == pytest.approx(
+        closed["gas rate at y = -31 mm [N/mm]"], rel=0.3)
+    assert "pressure_level" in [s.effect for s in d.device_steps]
+    g = d.final.device_model.effect("gas_charge")
+    assert g.rod_area_m2 * g.charge_pressure_Pa == pytest.approx(
+        closed["gas force at y = 0 mm [N]"], rel=0.3)
+    assert d.final.nrmse_validation < 0.5 * d.baseline.nrmse_validation

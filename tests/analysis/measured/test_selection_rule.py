@@ -190,3 +190,18 @@ def test_a_channel_unlike_the_presets_is_a_device_parameter_not_an_effect():
     assert d.device_steps[0].parameters["S_t multiplier"] == pytest.approx(0.5, rel=0.1)
     assert d.final.nrmse_validation < 0.5 * d.baseline.nrmse_validation
     assert d.as_dict()["device_refinement"]["kept"][0]["effect"] == "inertance"
+
+
+def test_a_pressurised_device_is_found_by_its_pressure_level():
+    """A device filled at 8 atm (p0 x 8, as a gas-charged damper's liquid sits at its charge)
+    whose records carry a 40 N preload (the rod's gas force), fitted from the preset at
+    1 atm: the preload makes the chambers' pressure level a candidate (``gas_preload``), and
+    the diagnosis frees it (``pressure_level``, a device parameter) to p0 within 15 %."""
+    kw = dict(preset="paper_calibrated", multipliers={"p0": 8.0}, cycles=3,
+              effects={"force_offset": {"offset_N": 40.0}})
+    cal = synthetic_record(frequency=3.0, amplitude=0.003, seed=93, **kw)
+    val = synthetic_record(frequency=4.5, amplitude=0.002, seed=193, **kw)
+    d = diagnose([cal], [val], max_steps=1, top=1, max_nfev=40)
+    assert [s.effect for s in d.device_steps] == ["pressure_level"]
+    assert d.device_steps[0].parameters["p0"] == pytest.approx(8 * 101325.0, rel=0.15)
+    assert d.final.nrmse_validation < 0.5 * d.baseline.nrmse_validation
