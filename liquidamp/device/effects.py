@@ -164,6 +164,7 @@ from liquidamp.device.effects_force import (
     EndStops,
     ForceOffset,
     MovingMass,
+    SlipWeakening,
     SmoothFriction,
 )
 from liquidamp.device.effects_kinematic import Freeplay, SeriesCompliance
@@ -184,6 +185,7 @@ __all__ = [
     "Effect",
     "CoulombFriction",
     "SmoothFriction",
+    "SlipWeakening",
     "ForceOffset",
     "MovingMass",
     "SeriesCompliance",
@@ -220,7 +222,7 @@ EFFECTS: dict[str, type[Effect]] = {
     for cls in (CoulombFriction, SmoothFriction, ForceOffset, MovingMass, SeriesCompliance,
                 Freeplay, Leakage, Cavitation, ReliefValve, AsymmetricLoss, Elastomer, EndStops,
                 RotatingFrame, GasCharge, DigressiveValve, FieldYield,
-                SelfHeating)
+                SelfHeating, SlipWeakening)
 }
 """Registry: effect name -> class."""
 
@@ -234,7 +236,7 @@ def effect_names() -> tuple[str, ...]:
     ('coulomb_friction', 'smooth_friction', 'force_offset', 'moving_mass', \
 'series_compliance', 'freeplay', 'leakage', 'cavitation', 'relief_valve', 'asymmetric_loss', \
 'elastomer', 'end_stops', 'rotating_frame', 'gas_charge', 'digressive_valve', \
-'field_yield', 'self_heating')
+'field_yield', 'self_heating', 'slip_weakening')
     """
     return tuple(EFFECTS)
 

@@ -72,7 +72,9 @@ S_TH = 24
 #: Freeplay that drives only the friction at ``location="piston"`` (the fluid stays on the rod:
 #: a friction element behind its own dead band): 1 when so composed, else 0 or -1.
 S_FPFRIC = 25
-N_SPEC = 26
+#: Slip weakening of smooth friction: state index of its slip memory w, else -1.
+S_IW = 26
+N_SPEC = 27
 
 E_LEAK, E_PV, E_KC, E_GAP, E_SFC, E_SIG, E_VS, E_SR, E_CF, E_MASS, E_OFF = range(11)
 E_PR, E_GR = 11, 12  # relief valve: cracking pressure [Pa], conductance [m^3/(s Pa)]
@@ -106,8 +108,11 @@ E_TC, E_THA, E_TAMB, E_TREF, E_TBETA, E_TG2, E_TLAW, E_TA, E_TB = range(40, 49)
 #: Self-heating: where the law's temperature comes from (0: the thermal state; 1: the
 #: measured ``temperature`` channel, ``prm[P_CH + 0]``).
 E_TSRC = 49
+#: Slip weakening of smooth friction: excess of the breakaway level over the sliding one
+#: [-] and the weakening (slip) distance [m] (:func:`slip_memory_rate`, :func:`weakening`).
+E_WB, E_WD = 50, 51
 #: The effect slots; the state scales follow from ``ep[N_EP]`` on.
-N_EP = 50
+N_EP = 52
 
 # ------------------------------------------------------- measured input channels
 #: Measured input channels a model may read by name (issue #20), in their slot order: an
