@@ -266,7 +266,7 @@ def make_effect(name: str, **parameters) -> Effect:
     liquidamp.errors.ParameterError: unknown effect 'stiction'; valid: coulomb_friction, \
 smooth_friction, force_offset, moving_mass, series_compliance, freeplay, leakage, cavitation, \
 relief_valve, asymmetric_loss, elastomer, end_stops, rotating_frame, gas_charge, \
-digressive_valve, field_yield, self_heating
+digressive_valve, field_yield, self_heating, slip_weakening
     """
     check_choice("effect", name, EFFECTS)
     cls = EFFECTS[name]
