@@ -32,7 +32,11 @@ The three starts (every number read off the records, :func:`read_loop`)
         model whole (pressures, chambers) for the effects the diagnosis may
         add.  The fluid is held there: only the friction's parameters are
         fitted (the start is a friction damper, not a fluid device in
-        disguise).  So a fluid
+        disguise).  Where the noise floor is above :data:`FLUID_FLOOR` the
+        start is also calibrated with the fluid at :data:`FLUID_FLOOR`
+        (negligible) and :func:`choose_start` picks the level on the data
+        (:func:`fluid_levels`: one record cannot tell a small fluid force
+        from the friction's shape, records at other rates can).  So a fluid
         device with some friction is the fluid start's (the diagnosis adds the
         friction), a friction damper the friction start's.
     ``viscous``
