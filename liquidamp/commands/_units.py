@@ -411,6 +411,7 @@ EFFECT_UNITS = {
                          "rebound_conductance_m3_per_s_Pa": "m^3/(s Pa)"},
     "field_yield": {"yield_pressure_Pa": "Pa", "yield_pressure_per_input": "Pa/V",
                     "lag_rate_per_s": "1/s", "smoothing_flow_kg_per_s": "kg/s"},
+    "slip_weakening": {"ratio": "-", "distance_m": "m"},
     "self_heating": {"heat_capacity_J_per_K": "J/K", "conductance_W_per_K": "W/K",
                      "beta_per_K": "1/K", "c2_exponent": "-", "ambient_temperature_K": "K",
                      "reference_temperature_K": "K", "initial_temperature_K": "K",

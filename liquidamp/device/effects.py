@@ -169,6 +169,7 @@ from liquidamp.device.effects_force import (
     EndStops,
     ForceOffset,
     MovingMass,
+    SlipWeakening,
     SmoothFriction,
 )
 from liquidamp.device.effects_kinematic import Freeplay, SeriesCompliance
@@ -190,6 +191,7 @@ __all__ = [
     "Effect",
     "CoulombFriction",
     "SmoothFriction",
+    "SlipWeakening",
     "ForceOffset",
     "MovingMass",
     "SeriesCompliance",
@@ -211,6 +213,7 @@ __all__ = [
     "effect_names",
     "make_effect",
     "with_effects",
+    "on_absolute_stroke",
     "with_stroke_offset",
     "least_pressures",
     "lugre_rate",
@@ -227,7 +230,7 @@ EFFECTS: dict[str, type[Effect]] = {
     for cls in (CoulombFriction, SmoothFriction, ForceOffset, MovingMass, SeriesCompliance,
                 Freeplay, Leakage, Cavitation, ReliefValve, AsymmetricLoss, Elastomer, EndStops,
                 RotatingFrame, GasCharge, DigressiveValve, FieldYield,
-                SelfHeating, BypassGroove)
+                SelfHeating, BypassGroove, SlipWeakening)
 }
 """Registry: effect name -> class."""
 
@@ -241,7 +244,7 @@ def effect_names() -> tuple[str, ...]:
     ('coulomb_friction', 'smooth_friction', 'force_offset', 'moving_mass', \
 'series_compliance', 'freeplay', 'leakage', 'cavitation', 'relief_valve', 'asymmetric_loss', \
 'elastomer', 'end_stops', 'rotating_frame', 'gas_charge', 'digressive_valve', \
-'field_yield', 'self_heating', 'bypass_groove')
+'field_yield', 'self_heating', 'bypass_groove', 'slip_weakening')
     """
     return tuple(EFFECTS)
 
@@ -271,7 +274,7 @@ def make_effect(name: str, **parameters) -> Effect:
     liquidamp.errors.ParameterError: unknown effect 'stiction'; valid: coulomb_friction, \
 smooth_friction, force_offset, moving_mass, series_compliance, freeplay, leakage, cavitation, \
 relief_valve, asymmetric_loss, elastomer, end_stops, rotating_frame, gas_charge, \
-digressive_valve, field_yield, self_heating, bypass_groove
+digressive_valve, field_yield, self_heating, bypass_groove, slip_weakening
     """
     check_choice("effect", name, EFFECTS)
     cls = EFFECTS[name]
@@ -421,3 +424,79 @@ def with_stroke_offset(model: DeviceModel, offset_m: float) -> DeviceModel:
     effects = tuple(e.replace(stroke_offset_m=off) if getattr(e, "absolute_stroke", False)
                     else e for e in model.effects)
     return with_effects(BASES[model.base], *effects)
+
+
+def on_absolute_stroke(model, params, offset_m: float):
+    """The model and device a record read about ``offset_m`` runs on: absolute stroke kept.
+
+    A record's stroke drives a model about its mean (the LVDT zero of a centred record is
+    arbitrary).  A model with an effect on the absolute stroke (``gas_charge``) declares
+    the record's zero the stroke datum, so everything that depends on where the rod is
+    follows it:
+
+    * the effect sees y + ``offset_m`` (:func:`with_stroke_offset`);
+    * a gas-charged device's chambers hold V01 and V02 at the datum, so about the
+      record's mean they hold V01 - A_p offset and V02 + A_p offset (the chamber end
+      V0 / A_p is then reached ``|offset|`` sooner);
+    * a gas-charged damper's liquid sits at its gas pressure (the accumulator sets the
+      pressure level of a monotube or twin-tube damper: Dixon, Sec. 5.9): the chambers
+      are filled at p0 = p_c + p_a, the charge's absolute pressure at the datum, and the
+      air ratios 1/gamma are those at that level.
+
+    With the level set by the filling, a cavity switch beside the charge would count the
+    charge twice (the compiled law adds p_g(y) to the states for it), so a cavitation
+    effect is refused here naming why.  A model without an absolute-stroke effect, or one
+    without chambers (``dashpot``, ``viscous``), keeps ``params`` as given.
+
+    Parameters
+    ----------
+    model : DeviceModel
+        Any composed model.
+    params : DeviceParams
+        The device, V01 and V02 at the stroke datum.
+    offset_m : float
+        The record's mean stroke [m] (:attr:`Record.offset`).
+
+    Returns
+    -------
+    (DeviceModel, DeviceParams)
+
+    Raises
+    ------
+    ParameterError
+        If the model holds ``cavitation`` beside a gas charge on chambers, or the
+        offset empties a chamber (|offset| >= V0 / A_p).
+
+    References
+    ----------
+    .. [1] J. C. Dixon, The Shock Absorber Handbook, 2nd ed., Wiley, 2007, Sec. 5.9.
+
+    Examples
+    --------
+    >>> from liquidamp.device import preset
+    >>> from liquidamp.device.effects import with_effects
+    >>> from liquidamp.device.models import get_model
+    >>> m = with_effects(get_model("full"), GasCharge(4.5e-5, 6.894757e5, 2.4e-6, 1.25))
+    >>> p = preset("reference").replace(V01=6e-5, V02=6e-5)
+    >>> m2, p2 = on_absolute_stroke(m, p, -0.031)
+    >>> m2.effect("gas_charge").stroke_offset_m, round(p2.p0), round(p2.V01 * 1e6, 3)
+    (-0.031, 790801, 81.426)
+    """
+    model = with_stroke_offset(model, offset_m)
+    gas = [e for e in model.effects if e.name == "gas_charge"]
+    if not gas or model.pressures is None:
+        return model, params
+    if any(e.name == "cavitation" for e in model.effects):
+        raise ParameterError(
+            "a record on the absolute stroke fills a gas-charged device at its charge "
+            "pressure; 'cavitation' beside 'gas_charge' would count the charge twice "
+            "(fit one or the other)")
+    g, off, A = gas[0], float(offset_m), params.A_p
+    V1, V2 = params.V01 - A * off, params.V02 + A * off
+    if min(V1, V2) <= 0.0:
+        raise ParameterError(
+            f"record mean stroke {off:.4g} m empties a chamber of the gas-charged device "
+            f"(V01 {params.V01:.4g} m^3, V02 {params.V02:.4g} m^3 at the datum, A_p "
+            f"{A:.4g} m^2): |offset| must be < {min(params.V01, params.V02) / A:.4g} m")
+    return model, params.replace(V01=V1, V02=V2,
+                                 p0=g.charge_pressure_Pa + g.ambient_pressure_Pa)

@@ -341,6 +341,97 @@ class SmoothFriction(Effect):
 
 
 @dataclass(frozen=True)
+class SlipWeakening(Effect):
+    """Slip-weakening smooth friction: a breakaway level that decays over a slip distance.
+
+    The force of the model's ``smooth_friction`` is multiplied by
+    1 + beta (1 - w sign(z)) / 2 (:func:`~liquidamp.device.kernels.weakening`), w the slip
+    memory, dw/dt = |v| (sign(v) - w) / D (:func:`~liquidamp.device.kernels.slip_memory_rate`),
+    driven by the velocity that drives the bristles (the rod's, or the piston's behind a dead
+    band).  After each reversal the friction builds up over its pre-sliding stroke to a
+    breakaway level of about (1 + beta) F_c and falls to the sliding level F_c as the slip
+    since the reversal, s, passes D: F ~ F_c z (1 + beta exp(-s / D)).  The peak sits at the
+    same slip at any rate (a slip-distance law, unlike the Stribeck rise of
+    ``static_ratio``, which is a velocity law): a clamped band or a seal whose static grip
+    is lost over a characteristic slip distance (Ida's and Palmer and Rice's slip-weakening
+    friction; the state of Ruina's rate-and-state friction also evolves over a slip
+    distance).  beta = 0 is the smooth friction alone; D -> 0 too.  Extra state ``w_slip``
+    [-], 0 at rest (its first reversals settle it, as the bristles').
+
+    Needs ``smooth_friction`` in the model (ParameterError otherwise).
+
+    Parameters
+    ----------
+    ratio : float
+        beta >= 0, the breakaway level's excess over the sliding level [-].
+    distance_m : float
+        D > 0, the weakening (slip) distance [m].
+
+    References
+    ----------
+    .. [1] Y. Ida, "Cohesive force across the tip of a longitudinal-shear crack and
+       Griffith's specific surface energy", J. Geophys. Res. 77(20), 1972.
+    .. [2] A. C. Palmer and J. R. Rice, "The growth of slip surfaces in the progressive
+       failure of over-consolidated clay", Proc. R. Soc. Lond. A 332, 1973.
+    .. [3] A. Ruina, "Slip instability and state variable friction laws", J. Geophys. Res.
+       88(B12), 1983.
+
+    Examples
+    --------
+    >>> from liquidamp.device.effects import with_effects
+    >>> from liquidamp.device.models import get_model
+    >>> m = with_effects(get_model("dashpot"), SmoothFriction(100.0, 1e6),
+    ...                  SlipWeakening(0.3, 1e-3))
+    >>> m.state_names
+    ('z_friction', 'w_slip')
+    >>> from liquidamp.device import preset
+    >>> p = preset("reference")
+    >>> # bristles loaded forward, slip memory still backward: the breakaway level
+    >>> f = m.force(0.0, np.array([1.0, -1.0]), (0.0, 0.0, 0.0), p)
+    >>> round(float(f), 6)
+    130.0
+    """
+
+    ratio: float = 0.0
+    distance_m: float = 1e-3
+    name: ClassVar[str] = "slip_weakening"
+    units: ClassVar[dict] = {"ratio": "-", "distance_m": "m"}
+    fit_keys: ClassVar[tuple] = ("ratio", "distance_m")
+    bounds: ClassVar[dict] = {"ratio": (0.0, 5.0), "distance_m": (1e-7, 1.0)}
+    order: ClassVar[int] = 36
+    description: ClassVar[str] = ("slip-weakening friction: a breakaway level decaying over "
+                                  "a slip distance")
+    state_names: ClassVar[tuple] = ("w_slip",)
+    state_units: ClassVar[tuple] = ("-",)
+    slot: ClassVar[int] = K.S_IW
+    small_signal_reason: ClassVar[str | None] = (
+        "its slip memory follows |v|, which has no linearization at rest")
+    describing_reason: ClassVar[str | None] = (
+        "it scales the smooth friction's force by the slip history; the friction's first "
+        "harmonic then depends on both")
+
+    def __post_init__(self):
+        b = check_nonnegative("slip_weakening ratio", self.ratio, "-")
+        if b > 5.0:
+            raise ParameterError(f"slip_weakening ratio must be in [0, 5] [-], got {b:g}")
+        check_positive("slip_weakening distance_m", self.distance_m, "m")
+
+    @classmethod
+    def probe(cls, force_amplitude_N, amplitude, omega, params):
+        """A breakaway 10 % above the sliding level, lost over a tenth of the stroke."""
+        return cls(ratio=0.1, distance_m=0.1 * float(amplitude))
+
+    def check_with(self, effects):
+        if not any(e.name == "smooth_friction" for e in effects):
+            raise ParameterError(
+                "slip_weakening weakens smooth_friction, which the model does not hold; got "
+                + (", ".join(str(e) for e in effects) or "no effects"))
+
+    def pack(self, ep):
+        ep[K.E_WB], ep[K.E_WD] = self.ratio, self.distance_m
+
+
+@dataclass(frozen=True)
 class Elastomer(Effect):
     """Elastomer branch in parallel on the rod: the standard linear solid.
 

@@ -102,8 +102,10 @@ from liquidamp.device.kernels_laws import (  # noqa: F401 (the public face)
     rotating_heads,
     rotating_offset_slopes,
     rotating_slope,
+    slip_memory_rate,
     stop_force,
     valve_flow,
+    weakening,
     yield_drop,
 )
 from liquidamp.device.kernels_layout import (  # noqa: F401 (the public face)
@@ -163,6 +165,8 @@ from liquidamp.device.kernels_layout import (  # noqa: F401 (the public face)
     E_TSRC,
     E_VG,
     E_VS,
+    E_WB,
+    E_WD,
     E_Y0G,
     M_CONSTANT_BULK,
     M_DASHPOT,
@@ -225,6 +229,7 @@ from liquidamp.device.kernels_layout import (  # noqa: F401 (the public face)
     S_ICAV,
     S_IEL,
     S_IFP,
+    S_IW,
     S_IZ,
     S_LEAK,
     S_MASS,
@@ -282,5 +287,6 @@ __all__ = [
     "stop_force",
     "rotating_heads", "rotating_slope", "rotating_offset_slopes", "yield_drop",
     "model_rhs", "model_jac", "model_rhs_t", "model_force", "friction_level", "force_series",
+    "slip_memory_rate", "weakening",
     "force_series_inputs", "base_force_series",
 ]

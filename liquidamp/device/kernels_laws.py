@@ -502,6 +502,41 @@ def friction_level(z, reverse_ratio):
     return z if z >= 0.0 else reverse_ratio * z
 
 
+@njit(cache=True, error_model="numpy")
+def slip_memory_rate(v, w, distance):
+    """dw/dt of the slip memory w in [-1, 1] of slip-weakening friction [1/s].
+
+    ``dw/dt = |v| (sign(v) - w) / D``: w follows the slip direction over the
+    weakening distance D [m], so after a reversal 1 - w sign(v) = 2 exp(-s / D),
+    s the slip since the reversal (Dahl's law in the slip, without a level).
+
+    Examples
+    --------
+    >>> slip_memory_rate(0.01, -1.0, 1e-3), slip_memory_rate(0.01, 1.0, 1e-3)
+    (20.0, 0.0)
+    """
+    return abs(v) * (_sign(v) - w) / distance
+
+
+@njit(cache=True, error_model="numpy")
+def weakening(z, w, ratio):
+    """Factor on smooth friction's force of slip-weakening friction [-].
+
+    ``1 + beta (1 - w sign(z)) / 2``: 1 + beta where the bristles have just
+    reversed (w still of the old direction), falling to 1 as the slip since the
+    reversal passes the weakening distance (w of the bristles' sign): the
+    breakaway level (1 + beta) F_c decays to the sliding level F_c over a slip
+    distance, at any rate (Ida's / Palmer and Rice's slip-weakening law in the
+    exponential form).  Continuous in the force F_c z times the factor.
+
+    Examples
+    --------
+    >>> weakening(0.9, -1.0, 0.2), weakening(0.9, 1.0, 0.2), weakening(-0.5, 0.0, 0.2)
+    (1.2, 1.0, 1.1)
+    """
+    return 1.0 + ratio * 0.5 * (1.0 - w * _sign(z))
+
+
 # ------------------------------------------------------------ issue #20: real dampers
 @njit(cache=True, error_model="numpy")
 def gas_pressure(y, A_r, p_c, V_g, n, p_a):

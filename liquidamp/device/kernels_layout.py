@@ -72,11 +72,12 @@ S_TH = 24
 #: Freeplay that drives only the friction at ``location="piston"`` (the fluid stays on the rod:
 #: a friction element behind its own dead band): 1 when so composed, else 0 or -1.
 S_FPFRIC = 25
-# ---- s8-groove slot additions (all in this block; renumber here on merge) ----
 #: Position-dependent channel losses (``bypass_groove``): 1 when composed, else 0 or -1
 #: (tested as ``> 0``).
 S_GROOVE = 26
-N_SPEC = 27
+#: Slip weakening of smooth friction: state index of its slip memory w, else -1.
+S_IW = 27
+N_SPEC = 28
 
 E_LEAK, E_PV, E_KC, E_GAP, E_SFC, E_SIG, E_VS, E_SR, E_CF, E_MASS, E_OFF = range(11)
 E_PR, E_GR = 11, 12  # relief valve: cracking pressure [Pa], conductance [m^3/(s Pa)]
@@ -110,14 +111,16 @@ E_TC, E_THA, E_TAMB, E_TREF, E_TBETA, E_TG2, E_TLAW, E_TA, E_TB = range(40, 49)
 #: Self-heating: where the law's temperature comes from (0: the thermal state; 1: the
 #: measured ``temperature`` channel, ``prm[P_CH + 0]``).
 E_TSRC = 49
-# ---- s8-groove slot additions (all in this block; renumber here on merge) ----
 #: Bypass groove (:func:`~liquidamp.device.kernels_position.groove_scale`): depth d [-],
 #: centre y_c [m] and half-width w [m] of the Gaussian band of the ABSOLUTE stroke where the
 #: channel's loss coefficients are scaled by 1 - d exp(-((y + y_0 - y_c) / w)^2), and the
 #: absolute stroke y_0 of the model's zero (the record's mean stroke) [m].
 E_GD, E_GC, E_GW, E_GY0 = 50, 51, 52, 53
+#: Slip weakening of smooth friction: excess of the breakaway level over the sliding one
+#: [-] and the weakening (slip) distance [m] (:func:`slip_memory_rate`, :func:`weakening`).
+E_WB, E_WD = 54, 55
 #: The effect slots; the state scales follow from ``ep[N_EP]`` on.
-N_EP = 54
+N_EP = 56
 
 # ------------------------------------------------------- measured input channels
 #: Measured input channels a model may read by name (issue #20), in their slot order: an

@@ -39,8 +39,10 @@ from liquidamp.device.kernels_laws import (
     rotating_heads,
     rotating_offset_slopes,
     rotating_slope,
+    slip_memory_rate,
     stop_force,
     valve_flow,
+    weakening,
     yield_drop,
 )
 from liquidamp.device.kernels_layout import (
@@ -85,6 +87,8 @@ from liquidamp.device.kernels_layout import (
     E_TREF,
     E_VG,
     E_VS,
+    E_WB,
+    E_WD,
     E_Y0G,
     M_CONSTANT_BULK,
     M_DASHPOT,
@@ -136,6 +140,7 @@ from liquidamp.device.kernels_layout import (
     S_ICAV,
     S_IEL,
     S_IFP,
+    S_IW,
     S_IZ,
     S_LEAK,
     S_MASS,
@@ -494,6 +499,9 @@ def model_rhs(spec, x, y, v, prm, ep, out):
         vz = vpist if spec[S_ZPIST] != 0 else v
         out[iz] = lugre_rate(vz, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR],
                              ep[E_FEX])
+        iw = spec[S_IW]
+        if iw >= 0:  # the slip memory of slip-weakening friction, driven as the bristles
+            out[iw] = slip_memory_rate(vz, x[iw], ep[E_WD])
     iel = spec[S_IEL]
     if iel >= 0:
         out[iel] = elastomer_rate(v, x[iel], ep[E_K1], ep[E_C1E])
@@ -625,7 +633,10 @@ def model_force(spec, x, y, v, a, prm, ep, with_friction):
             f += prm[P_AP] * rotating_heads(yi, prm, ep)[0]
     iz = spec[S_IZ]
     if iz >= 0:
-        f += ep[E_SFC] * friction_level(x[iz], ep[E_FRQ])
+        ff = ep[E_SFC] * friction_level(x[iz], ep[E_FRQ])
+        if spec[S_IW] >= 0:  # slip weakening: the breakaway level decays over a slip
+            ff *= weakening(x[iz], x[spec[S_IW]], ep[E_WB])
+        f += ff
     if spec[S_COUL] != 0:
         # at the piston the dead band passes the friction force only in contact
         f += ep[E_CF] * friction_level(_sign(v), ep[E_CRQ]) * (

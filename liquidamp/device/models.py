@@ -204,7 +204,7 @@ class DeviceModel:
             spec[K.S_I1], spec[K.S_I2] = names.index("p1"), names.index("p2")
         fd = spec[K.S_ICAV] >= 0 or spec[K.S_IC] >= 0 or spec[K.S_IFP] >= 0 or (
             spec[K.S_LEAK] and self.base not in ("full", "no_inertia")) or spec[K.S_RELIEF] \
-            or spec[K.S_ROT] > 0 or spec[K.S_TH] >= 0
+            or spec[K.S_ROT] > 0 or spec[K.S_TH] >= 0 or spec[K.S_IW] >= 0
         spec[K.S_ANALYTIC] = 0 if fd else 1
         spec[K.S_EFFECTS] = len(self.effects)
         return spec

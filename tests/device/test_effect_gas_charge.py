@@ -218,7 +218,7 @@ def test_a_fit_at_one_charge_predicts_the_preload_at_another():
 def test_a_record_runs_a_gas_charged_device_on_its_absolute_stroke():
     """on_absolute_stroke: chambers at the datum (V01 - A_p y_m, V02 + A_p y_m about the mean
     y_m), filled at the charge's absolute pressure; two routes through simulate_record."""
-    from liquidamp.device.effects_damper import on_absolute_stroke
+    from liquidamp.device.effects import on_absolute_stroke
 
     g = GasCharge(4.5e-5, 6.894757e5, 2.4e-6, 1.25)
     p = P.replace(V01=6e-5, V02=6e-5)

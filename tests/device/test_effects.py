@@ -54,12 +54,20 @@ ZERO = {"coulomb_friction": {"force_N": 0.0}, "smooth_friction": {"force_N": 0.0
                              "rebound_conductance_m3_per_s_Pa": 0.0},
         "field_yield": {"yield_pressure_Pa": 0.0, "yield_pressure_per_input": 0.0},
         "self_heating": {"beta_per_K": 0.0, "c2_exponent": 0.0},
-        "bypass_groove": {"depth": 0.0}}
+        "bypass_groove": {"depth": 0.0},
+        "slip_weakening": {"ratio": 0.0}}
+#: Effects that modify another one: the bare model holds that one (slip weakening weakens
+#: smooth friction).
+COMPANION = {"slip_weakening": ("smooth_friction", {"force_N": 30.0,
+                                                    "stiffness_N_per_m": 1e6})}
 
 
 @pytest.mark.parametrize("name", list(EFFECTS))
 def test_zero_strength_is_bare_model(name):
     bare = get_model("full")
+    if name in COMPANION:
+        other, values = COMPANION[name]
+        bare = with_effects(bare, make_effect(other, **values))
     F0 = _run(bare)[3]
     F1 = _run(with_effects(bare, make_effect(name, **ZERO[name])))[3]
     assert np.max(np.abs(F1 - F0)) < 1e-5 * np.max(np.abs(F0))

@@ -133,8 +133,7 @@ from liquidamp.analysis.measured.start import (
     stroke_factor,
     stroke_share,
 )
-from liquidamp.device.effects import EFFECTS, Effect, with_effects
-from liquidamp.device.effects_damper import on_absolute_stroke
+from liquidamp.device.effects import EFFECTS, Effect, on_absolute_stroke, with_effects
 from liquidamp.device.models import get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import (

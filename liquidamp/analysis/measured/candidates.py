@@ -212,6 +212,14 @@ def probe_effect(name: str, result: CalibrationResult) -> Effect:
         return cls(stiffness_N_per_m=10.0 * Fa / Y)
     if name == "freeplay":
         return cls(gap_m=0.03 * Y)
+    if name == "slip_weakening":
+        # the weakening shows only beyond the friction's pre-sliding stroke F_c / sigma0 (a
+        # shorter one is hidden in the bristles' rise, a much longer one is a level): probed
+        # at three of them
+        sf = next((e for e in result.effects if e.name == "smooth_friction"), None)
+        if sf is not None and sf.force_N > 0:
+            return cls(ratio=0.1, distance_m=min(3.0 * sf.force_N / sf.stiffness_N_per_m,
+                                                 cls.bounds["distance_m"][1]))
     if name == "leakage":
         Q = p.A_p * w * Y
         return cls(coefficient_m3_per_s_Pa=0.3 / (p.c1 + 8.0 / (3.0 * math.pi) * p.c2 * Q))

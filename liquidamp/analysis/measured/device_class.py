@@ -32,7 +32,11 @@ The three starts (every number read off the records, :func:`read_loop`)
         model whole (pressures, chambers) for the effects the diagnosis may
         add.  The fluid is held there: only the friction's parameters are
         fitted (the start is a friction damper, not a fluid device in
-        disguise).  So a fluid
+        disguise).  Where the noise floor is above :data:`FLUID_FLOOR` the
+        start is also calibrated with the fluid at :data:`FLUID_FLOOR`
+        (negligible) and :func:`choose_start` picks the level on the data
+        (:func:`fluid_levels`: one record cannot tell a small fluid force
+        from the friction's shape, records at other rates can).  So a fluid
         device with some friction is the fluid start's (the diagnosis adds the
         friction), a friction damper the friction start's.
     ``viscous``
@@ -121,7 +125,8 @@ from liquidamp.errors import ConvergenceError, ParameterError, PressureError
 __all__ = ["DEVICE_CLASSES", "FLUID_FLOOR", "VISCOUS_FLOOR", "QUADRATIC_SHARE", "START_NFEV",
            "HELD_OUT_TOLERANCE", "BIC_STRONG", "BIC_POSITIVE", "DEFAULT_CLASS", "LoopReading",
            "read_loop", "ClassStart",
-           "fluid_matched", "friction_start", "viscous_start", "field_input", "field_start",
+           "fluid_matched", "friction_start", "fluid_levels", "viscous_start", "field_input",
+           "field_start",
            "StartOutcome", "choose_start",
            "calibrate_by_class"]
 
@@ -313,9 +318,15 @@ def _reference(base: DeviceParams, records) -> DeviceParams:
     return similar_device(base, stroke=stroke_factor(records, base))[0]
 
 
-def friction_start(base: DeviceParams, effects, records, reading: LoopReading) -> ClassStart:
+def friction_start(base: DeviceParams, effects, records, reading: LoopReading,
+                   fluid_share: float | None = None) -> ClassStart:
     """The friction damper start (module docstring): smooth friction at the loop's level,
-    a fluid held at the record's noise floor."""
+    a fluid held at the record's noise floor (``fluid_share`` None), or at ``fluid_share``
+    of |K*| in each of K', K'' [-] (:data:`FLUID_FLOOR`: a friction damper with negligible
+    fluid, :func:`fluid_levels`)."""
+    if fluid_share is not None and not (0.0 < fluid_share < 1.0):
+        raise ParameterError(f"friction_start: fluid_share must be in (0, 1) [-] (a share of "
+                             f"|K*|), got {fluid_share!r}")
     Fc = max(reading.friction, 1e-3)
     dy0 = reading.presliding
     lo, hi = EFFECTS["smooth_friction"].bounds["stiffness_N_per_m"]
@@ -327,8 +338,9 @@ def friction_start(base: DeviceParams, effects, records, reading: LoopReading) -
                                     if name == "smooth_friction" else {}))
     targets = []
     for K, r in zip(reading.stiffnesses, records, strict=True):
-        floor = max(noise_floor(r).nrmse, FLUID_FLOOR) * abs(K)
-        targets.append(complex(floor, floor))
+        share = (max(noise_floor(r).nrmse, FLUID_FLOOR) if fluid_share is None
+                 else fluid_share)
+        targets.append(complex(share * abs(K), share * abs(K)))
     p, how = fluid_matched(_reference(base, records), records, targets,
                            quadratic_share=QUADRATIC_SHARE)
     p = p.replace(name=f"{base.name or 'device'} friction start ({how})")
@@ -339,8 +351,35 @@ def friction_start(base: DeviceParams, effects, records, reading: LoopReading) -
     why = (f"{name} {Fc:.4g} N ({reading.friction_source})"
            + (f", sigma0 {sigma0:.3g} N/m (pre-sliding stroke {dy0 * 1e3:.3g} mm)"
               if name == "smooth_friction" else "")
-           + f"; little fluid: K' and K'' at the noise floor, held ({how})")
+           + ("; little fluid: K' and K'' at the noise floor" if fluid_share is None else
+              f"; negligible fluid: K' and K'' at {fluid_share:.2g} of |K*|")
+           + f", held ({how})")
     return ClassStart("friction", p, effs, spec, why)
+
+
+def fluid_levels(records) -> tuple:
+    """The fluid levels of the friction start, as shares of |K*| [-] (None: the noise floor).
+
+    A friction damper may hold some rate-dependent damping (a fluid, a viscous seal) or
+    none; one record at one rate cannot tell a small fluid force from the friction's shape
+    (both are odd in the velocity), records at other rates can.  So the friction start is
+    calibrated with the fluid at the calibration records' noise floor (the most they cannot
+    resolve) and, where that floor is above :data:`FLUID_FLOOR`, with the fluid at
+    :data:`FLUID_FLOOR` (negligible), and :func:`choose_start` chooses between them as
+    between classes (held-out records first, then the effective-sample BIC).
+
+    Examples
+    --------
+    >>> from liquidamp.analysis.measured.records import Record
+    >>> t = np.arange(0, 8.0, 0.002)
+    >>> y = 0.01 * np.sin(2 * np.pi * t)
+    >>> F = 500.0 * np.tanh(np.gradient(y, t) / 1e-3)
+    >>> F = F + 50.0 * np.random.default_rng(1).standard_normal(t.size)  # floor ~0.1
+    >>> fluid_levels([Record.from_arrays(t, y, F)])
+    (None, 0.001)
+    """
+    floor = max(noise_floor(r).nrmse for r in records)
+    return (None, FLUID_FLOOR) if floor > FLUID_FLOOR else (None,)
 
 
 def viscous_start(base: DeviceParams, effects, records, reading: LoopReading) -> ClassStart:
@@ -493,6 +532,35 @@ def field_start(base: DeviceParams, effects, records, reading: LoopReading) -> C
     return ClassStart("field", p, effs, spec, why)
 
 
+def _friction_fit(fit, params, effects, records, reading, cheap: int, common: dict):
+    """The friction start's cheap fit at each fluid level of :func:`fluid_levels`, the level
+    chosen by :func:`choose_start` (held-out first, then the effective-sample BIC): the fit
+    and its reason (with the level's figures where there was a choice)."""
+    levels = fluid_levels(records)
+    fits, reasons = {}, {}
+    for share in levels:
+        label = "noise floor" if share is None else f"{share:.2g} of |K*|"
+        try:
+            st = friction_start(params, effects, records, reading, fluid_share=share)
+            reasons[label] = st.reason
+            fits[label] = fit(records, params=st.params, effects=st.effects, spec=st.spec,
+                              start="spec", sizing="preset", max_nfev=cheap,
+                              device_class="friction", **common)
+        except (ConvergenceError, PressureError, ParameterError, ValueError,
+                FloatingPointError) as exc:
+            if len(levels) == 1:
+                raise
+            fits[label] = exc
+    if len(fits) == 1:
+        (label, r), = fits.items()
+        return r, reasons[label]
+    label, outcomes, _ = choose_start(fits)
+    figures = "; ".join(o.describe().replace(" after the cheap fit", "")
+                        for o in outcomes)
+    return fits[label], (f"{reasons[label]} (fluid level chosen on the data among the noise "
+                         f"floor and negligible fluid: {figures})")
+
+
 def calibrate_by_class(fit, records, validate, *, params: DeviceParams, effects, sizing: str,
                        max_nfev: int, classes=DEVICE_CLASSES, **kwargs):
     """Calibrate each start of ``classes`` cheaply, continue the one chosen (module doc).
@@ -522,8 +590,11 @@ def calibrate_by_class(fit, records, validate, *, params: DeviceParams, effects,
                 fits[name] = exc
             continue
         try:
-            make = {"friction": friction_start, "viscous": viscous_start,
-                    "field": field_start}[name]
+            if name == "friction":
+                fits[name], reasons[name] = _friction_fit(fit, params, effects, records,
+                                                          reading, cheap, common)
+                continue
+            make = {"viscous": viscous_start, "field": field_start}[name]
             st = make(params, effects, records, reading)
             reasons[name] = st.reason
             fits[name] = fit(records, params=st.params, effects=st.effects, spec=st.spec,

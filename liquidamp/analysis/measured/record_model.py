@@ -56,8 +56,8 @@ from liquidamp.analysis.measured.records import Record
 from liquidamp.coupled.engines import TestRig, engine_for, stroke_inputs
 from liquidamp.coupled.periodic import ROUTES, ShootingOptions, periodic_state
 from liquidamp.coupled.testrig import DeviceResponse
+from liquidamp.device.effects import on_absolute_stroke
 from liquidamp.device.effects_base import check_input_channels, initial_state_with_inputs
-from liquidamp.device.effects_damper import on_absolute_stroke
 from liquidamp.device.models import DeviceModel, get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, ParameterError, PressureError, check_choice
