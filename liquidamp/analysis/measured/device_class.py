@@ -439,18 +439,30 @@ def field_start(base: DeviceParams, effects, records, reading: LoopReading) -> C
     base_cols = np.column_stack((
         np.ones_like(F), np.concatenate([r.displacement - r.offset for r in records]),
         v, v * np.abs(v)))
+    # the line's columns projected out once (Frisch-Waugh-Lovell: the residual sum of squares
+    # of the full regression is that of the yield's two columns on the projected force), so
+    # that each (eta, dy0) of the grid costs two columns, not a least-squares solve
+    Qb, _ = np.linalg.qr(base_cols)
+    Fr = F - Qb @ (Qb.T @ F)
     best = None
     for eta in FIELD_RATES:
         uf = np.concatenate([_lagged(r.channels[c], float(np.median(np.diff(r.time))), eta)
                              for r in records])
         for j, _ in enumerate(deltas):
             z = np.concatenate([q[j] for q in zs])
-            X = np.column_stack((base_cols, z, uf * z))
-            coef, *_ = np.linalg.lstsq(X, F, rcond=None)
-            rss = float(np.sum((X @ coef - F) ** 2))
+            Z = np.column_stack((z, uf * z))
+            Z -= Qb @ (Qb.T @ Z)
+            b, *_ = np.linalg.lstsq(Z, Fr, rcond=None)
+            rss = float(np.sum((Z @ b - Fr) ** 2))
             if best is None or rss < best[0]:
-                best = (rss, eta, coef, deltas[j])
-    _, eta, (F0, k, cv, cq, A, B), dy0 = best
+                best = (rss, eta, j)
+    _, eta, j = best
+    dy0 = deltas[j]
+    uf = np.concatenate([_lagged(r.channels[c], float(np.median(np.diff(r.time))), eta)
+                         for r in records])
+    z = np.concatenate([q[j] for q in zs])
+    coef, *_ = np.linalg.lstsq(np.column_stack((base_cols, z, uf * z)), F, rcond=None)
+    F0, k, cv, cq, A, B = coef
     # the device stretched to the stroke (its piston kept: any piston carries the force at
     # its own pressures); its air from the pre-yield stiffness: the yield force builds up
     # over the pre-sliding stroke dy0 by compressing the fluid, k_D = (A + B mean u) / dy0
