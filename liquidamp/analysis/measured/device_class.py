@@ -80,6 +80,15 @@ The choice (:func:`choose_start`)
     The diagnosis can call :func:`choose_start` on any set of fits of the
     same records.
 
+Records with a control input
+    Where every record carries a voltage or current channel, the ``field`` start (fitted
+    with the caller's budget) is the class without the others being fitted: only its model
+    reads the input, and each other start would cost a fit of its own only to say how much
+    worse a model that ignores the input does.  That comparison is made on the same device
+    instead: :func:`input_held` refits it with a constant yield (the input's share removed,
+    the level at the mean input), reported as ``start["without_input"]``.  Where the field
+    start cannot be calibrated, the other starts are chosen among as above.
+
 References
 ----------
 .. [1] B. Titurus, AIAA J. 56(10), 2018, Sec. IV.C (friction F_f sign(v), 30 N).
@@ -123,7 +132,7 @@ __all__ = ["DEVICE_CLASSES", "FLUID_FLOOR", "VISCOUS_FLOOR", "QUADRATIC_SHARE", 
            "read_loop", "ClassStart",
            "fluid_matched", "friction_start", "viscous_start", "field_input", "field_start",
            "StartOutcome", "choose_start",
-           "calibrate_by_class"]
+           "calibrate_by_class", "input_held"]
 
 #: The structurally different starts, in the order they are tried (``field`` only where
 #: every record carries a control input, :func:`field_input`).

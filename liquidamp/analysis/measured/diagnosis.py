@@ -87,6 +87,16 @@ velocity):
    in turn; each final model replaces the one held only where it passes the rule of 5
    against it (:mod:`~liquidamp.analysis.measured.class_revisit`).
 
+Records whose strokes are all broadband (:func:`broadband`: no periodic structure) have no
+periodic orbit to solve once and reuse: every model run marches each whole record from rest.
+For them the fits march at :data:`BROADBAND_RTOL` (where the caller gave no solver options),
+each step refits the best-scoring candidate alone (:data:`BROADBAND_TOP`; the score test of
+3 ranks the rest), and no refit is restarted from the physics start (it reads K', K'' at a
+stroke frequency such a record does not have).  Records that all carry a control input
+(voltage or current) are started in the field-controlled class alone, the fit with the input
+held reported beside it
+(:func:`~liquidamp.analysis.measured.device_class.calibrate_by_class`).
+
 Besides the catalogue effects, :data:`COMPOSITES` lists candidates that change how
 effects compose or behave (:mod:`liquidamp.analysis.measured.candidates`):
 ``"backlash"`` adds freeplay and moves the friction already in the model behind it (a
@@ -163,10 +173,14 @@ from liquidamp.analysis.measured.diagnosis_evidence import (
 )
 from liquidamp.analysis.measured.diagnosis_fits import _converge, _refit, _restart
 from liquidamp.analysis.measured.diagnosis_options import (
+    BROADBAND_RTOL,
+    BROADBAND_TOP,
     Budget,
     ConditioningOptions,
     DiagnoseOptions,
     SelectionRule,
+    broadband,
+    march_options,
 )
 from liquidamp.analysis.measured.diagnosis_result import Diagnosis, Step, heldout_per_record
 from liquidamp.analysis.measured.record_model import nrmse, simulate_record
@@ -181,11 +195,11 @@ from liquidamp.errors import (
     ParameterError,
     check_choice,
 )
-from liquidamp.options import resolve_options
 
 __all__ = ["Candidate", "Step", "Diagnosis", "diagnose", "CONFOUNDED", "COMPOSITES",
            "DiagnoseOptions", "SelectionRule", "Budget", "ConditioningOptions",
-           "default_candidates", "signatures", "demo_loop", "bundled_records"]
+           "default_candidates", "signatures", "demo_loop", "bundled_records",
+           "broadband", "BROADBAND_RTOL", "BROADBAND_TOP"]
 
 
 def default_candidates() -> tuple[str, ...]:
@@ -571,7 +585,7 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
     device_names = (tuple(DEVICE_REFINEMENTS) if config.candidates is None
                     else tuple(n for n in names if n in DEVICE_REFINEMENTS))
     names = tuple(n for n in names if n not in DEVICE_REFINEMENTS)
-    options = _march_options(options, calibration + validation)
+    options = march_options(options, calibration + validation)
     if params is None:
         from liquidamp.device import preset
 
@@ -725,37 +739,6 @@ def _loop(baseline, names, device_names, validation, options, config, spec,
     return {"baseline": baseline, "steps": steps, "current": current, "stop": stop,
             "last_round": last_round, "device_steps": device_steps,
             "device_evidence": device_evidence, "warnings": warnings}
-
-
-#: Relative tolerance of the compiled march of records without periodic structure in a
-#: diagnosis whose caller gave no solver options (the ``"fit"`` preset otherwise) [-].
-#: Such a record is marched from rest over its whole span for every model run; its
-#: integration error need only stay far below the record's noise: on the independent MR
-#: record d10 (20 000 samples, true parameters) the force at rtol 1e-4 differs from the
-#: force at 1e-6 by 6.4e-7 of its RMS (the noise floor is 8.8e-3) in 26 000 steps instead
-#: of 59 000 (a third of the time).
-BROADBAND_RTOL = 1e-4
-#: Candidates refitted per step for records without periodic structure (the best score).
-BROADBAND_TOP = 1
-
-
-def broadband(records) -> bool:
-    """Whether no record has periodic structure (every stroke broadband, none periodic or
-    tapered): each model run then marches every record over its whole span, the physics
-    start (K', K'' at a stroke frequency) does not exist, and the diagnosis refits the best
-    candidate alone, without restarts (module doc)."""
-    return bool(records) and all(r.shape is not None and r.shape.kind == "broadband"
-                                 for r in records)
-
-
-def _march_options(options, records):
-    """The solver options of the diagnosis's fits: the caller's, else the ``"fit"`` preset,
-    at :data:`BROADBAND_RTOL` where every record is broadband."""
-    given = options is not None
-    options = resolve_options(options, "fit")
-    if not given and broadband(records) and options.rtol < BROADBAND_RTOL:
-        options = dataclasses.replace(options, rtol=BROADBAND_RTOL)
-    return options
 
 
 def _linear_delta_bic(cand: Candidate, change, n_eff: float) -> float:

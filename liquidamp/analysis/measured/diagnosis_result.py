@@ -180,8 +180,8 @@ class Diagnosis:
         lines = ["; ".join(first)]
         wi = self.without_input
         if wi:
-            lines.append(f"without the {wi['input']} input: the best fit ({wi['class']} "
-                         "start) held out " + ", ".join(
+            how = wi.get("model") or f"the best fit ({wi['class']} start)"
+            lines.append(f"without the {wi['input']} input: {how}, held out " + ", ".join(
                              f"{k} {v:.3g}" for k, v in wi["validation_records"].items())
                          + f" (pooled {wi['nrmse_validation']:.3g}, calibration "
                          f"{wi['nrmse_calibration']:.3g})")
