@@ -87,15 +87,9 @@ velocity):
    in turn; each final model replaces the one held only where it passes the rule of 5
    against it (:mod:`~liquidamp.analysis.measured.class_revisit`).
 
-Records whose strokes are all broadband (:func:`broadband`: no periodic structure) have no
-periodic orbit to solve once and reuse: every model run marches each whole record from rest.
-For them the fits march at :data:`BROADBAND_RTOL` (where the caller gave no solver options),
-each step refits the best-scoring candidate alone (:data:`BROADBAND_TOP`; the score test of
-3 ranks the rest), and no refit is restarted from the physics start (it reads K', K'' at a
-stroke frequency such a record does not have).  Records that all carry a control input
-(voltage or current) are started in the field-controlled class alone, the fit with the input
-held reported beside it
-(:func:`~liquidamp.analysis.measured.device_class.calibrate_by_class`).
+Records whose strokes are all broadband, and records that all carry a control input, are
+diagnosed with the cheaper rules of :func:`~.diagnosis_options.broadband` and
+:func:`~liquidamp.analysis.measured.device_class.calibrate_by_class`.
 
 Besides the catalogue effects, :data:`COMPOSITES` lists candidates that change how
 effects compose or behave (:mod:`liquidamp.analysis.measured.candidates`):
@@ -173,7 +167,6 @@ from liquidamp.analysis.measured.diagnosis_evidence import (
 )
 from liquidamp.analysis.measured.diagnosis_fits import _converge, _refit, _restart
 from liquidamp.analysis.measured.diagnosis_options import (
-    BROADBAND_RTOL,
     BROADBAND_TOP,
     Budget,
     ConditioningOptions,
@@ -198,8 +191,7 @@ from liquidamp.errors import (
 
 __all__ = ["Candidate", "Step", "Diagnosis", "diagnose", "CONFOUNDED", "COMPOSITES",
            "DiagnoseOptions", "SelectionRule", "Budget", "ConditioningOptions",
-           "default_candidates", "signatures", "demo_loop", "bundled_records",
-           "broadband", "BROADBAND_RTOL", "BROADBAND_TOP"]
+           "default_candidates", "signatures", "demo_loop", "bundled_records", "broadband"]
 
 
 def default_candidates() -> tuple[str, ...]:

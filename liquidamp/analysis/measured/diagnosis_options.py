@@ -302,9 +302,15 @@ BROADBAND_TOP = 1
 
 def broadband(records) -> bool:
     """Whether no record has periodic structure (every stroke broadband, none periodic or
-    tapered): each model run then marches every record over its whole span, the physics
-    start (K', K'' at a stroke frequency) does not exist, and the diagnosis refits the best
-    candidate alone, without restarts (module doc)."""
+    tapered).
+
+    Such records have no periodic orbit to solve once and reuse: every model run marches
+    each whole record from rest.  The diagnosis then marches at :data:`BROADBAND_RTOL`
+    (where the caller gave no solver options, :func:`march_options`), refits the
+    best-scoring candidate of each step alone (:data:`BROADBAND_TOP`; the score test ranks
+    the rest) and restarts no refit from the physics start (it reads K', K'' at a stroke
+    frequency such a record does not have).
+    """
     return bool(records) and all(r.shape is not None and r.shape.kind == "broadband"
                                  for r in records)
 

@@ -171,6 +171,11 @@ class Diagnosis:
         base = heldout_per_record(self.baseline)
         added = (", ".join(f"{s.effect} ({_short(s.parameters)})" for s in self.steps)
                  or "nothing")
+        fy = next((e for e in self.final.effects if e.name == "field_yield"), None)
+        if self.baseline.device_class == "field" and fy is not None:
+            # the field class starts with the yield on the input: it is found first
+            first.append(f"field_yield on the {fy.input} first (the field-controlled class: "
+                         f"{_short(fy.parameters)})")
         if self.device_steps:
             added += "; device parameters freed: " + ", ".join(
                 f"{s.effect} ({_short(s.parameters)})" for s in self.device_steps)
