@@ -305,9 +305,12 @@ def _prepare(calibration, validation, model, params, effects, spec, options, con
         prior = baseline
         baseline = _converge(baseline, validation, options, bud.preroll, bud.max_nfev,
                              bud.tol, "preset" if config.sizing == "preset" else "auto")
-        if "without_input" in (prior.start or {}):  # the fit without the input, kept beside
-            baseline = dataclasses.replace(baseline, start={
-                **(baseline.start or {}), "without_input": prior.start["without_input"]})
+        # the class chosen and the fit without the input, kept beside (its starts are not:
+        # the continued fit is judged as it is, no other start revisited)
+        kept = {k: v for k, v in (prior.start or {}).items()
+                if k in ("without_input", "device_class", "device_class_rule", "classes")}
+        baseline = dataclasses.replace(baseline, start={**(baseline.start or {}), **kept},
+                                       device_class=prior.device_class)
     return calibration, validation, conditioning, raw, baseline
 
 
