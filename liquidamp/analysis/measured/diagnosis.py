@@ -87,8 +87,7 @@ velocity):
    in turn; each final model replaces the one held only where it passes the rule of 5
    against it (:mod:`~liquidamp.analysis.measured.class_revisit`).
 
-Records whose strokes are all broadband, and records that all carry a control input, are
-diagnosed with the cheaper rules of :func:`~.diagnosis_options.broadband` and
+Broadband records and records with a control input: :func:`~.diagnosis_options.broadband`,
 :func:`~liquidamp.analysis.measured.device_class.calibrate_by_class`.
 
 Besides the catalogue effects, :data:`COMPOSITES` lists candidates that change how
@@ -305,9 +304,7 @@ def _prepare(calibration, validation, model, params, effects, spec, options, con
         prior = baseline
         baseline = _converge(baseline, validation, options, bud.preroll, bud.max_nfev,
                              bud.tol, "preset" if config.sizing == "preset" else "auto")
-        # the class chosen and the fit without the input, kept beside (its starts are not:
-        # the continued fit is judged as it is, no other start revisited)
-        kept = {k: v for k, v in (prior.start or {}).items()
+        kept = {k: v for k, v in (prior.start or {}).items()  # the class, the fit without
                 if k in ("without_input", "device_class", "device_class_rule", "classes")}
         baseline = dataclasses.replace(baseline, start={**(baseline.start or {}), **kept},
                                        device_class=prior.device_class)
@@ -375,9 +372,7 @@ def _screen(names, current, options, bud: Budget, sel: SelectionRule):
     extra = [c for c in scored[bud.top:bud.top + 1]
              if c.score * bud.score_ratio >= scored[0].score]
     queue = scored[:bud.top]
-    if broadband(current.calibration):
-        # every refit marches each whole record (k + 1) times per iteration: the score test
-        # ranks, and the best candidate alone is refitted (BROADBAND_TOP)
+    if broadband(current.calibration):  # each refit marches every whole record: the best
         queue, extra = scored[:min(bud.top, BROADBAND_TOP)], []
     n_now = sample_count(current.calibration, current.residuals("calibration"),
                          sel.sample_count)
@@ -409,9 +404,7 @@ def _fit_round(ranked, probes, queue, extra, current, validation, options, bud, 
             except (ConvergenceError, ParameterError) as exc:
                 ranked[ranked.index(cand)] = _with(cand, refitted=True,
                                                    note=f"refit failed: {exc}")
-        for cand in queue:
-            if broadband(current.calibration):
-                break  # no physics start to restart from (no first harmonic to read it off)
+        for cand in [] if broadband(current.calibration) else queue:  # no physics start
             if cand.effect in refits and not _explained(refits, level):
                 refits[cand.effect] = _restart(refits[cand.effect], current, validation,
                                                options, bud.preroll, bud.max_nfev, bud.tol,
