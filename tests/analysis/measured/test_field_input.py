@@ -5,12 +5,15 @@
   toolkit-made record (:func:`~liquidamp.analysis.bench_diagnosis.field_record`).
 * The class is tried only where every record carries a voltage or current; a candidate
   that reads an input is not applicable to records without one (naming why).
-* The independent MR record d10 (``../shared``; opt-in, about 2-5 minutes:
+* The independent MR record d10 (``../shared``; opt-in, about 20-60 s:
   ``LIQUIDAMP_INDEPENDENT=all``): the default diagnosis finds the field yield, its key
   parameters within 30 %, held-out NRMSE at most 0.20, and reports the best fit without
   the input beside it.
+* A short broadband record of the toolkit's own field-controlled device (2 s at 1 kHz):
+  the default diagnosis starts in the field class alone and finds dp_y1 within 30 %.
 
-Cost: about 5 s (one 3 s record made and read) without the opt-in case.
+Cost: about 10 s (a 3 s record made and read; two 2 s records diagnosed by default, 5 s at
+load 6) without the opt-in case (19 s at load 5).
 """
 
 import json
