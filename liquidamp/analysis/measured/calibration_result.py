@@ -358,8 +358,13 @@ class CalibrationResult:
         flags = self.flags.short()
         cls = ""
         if self.class_starts:
-            cls = f"; device class {self.device_class} (" + "; ".join(
-                o.describe() for o in self.class_starts if not o.chosen) + ")"
+            others = [o.describe() for o in self.class_starts if not o.chosen]
+            wi = self.start.get("without_input")
+            if wi and wi.get("nrmse_validation") is not None:
+                others.append(f"without the {wi['input']}: held out "
+                              f"{wi['nrmse_validation']:.3g}")
+            cls = f"; device class {self.device_class}" + (
+                f" ({'; '.join(others)})" if others else "")
         implausible = "".join(f"; IMPLAUSIBLE: {f.message}" for f in self.plausibility)
         return (("PHYSICS MODEL LOSES TO THE LINE: " + lose + "; " if lose else "")
                 + f"{self.status} ({self.nfev} evaluations): NRMSE calibration "

@@ -173,6 +173,8 @@ def fluid_alternatives(baseline, run: dict, noise_level: float, params,
     starts = getattr(baseline, "class_starts", ())
     if run["current"].nrmse_calibration <= noise_level or params is None or not starts:
         return []  # at the noise, or the caller fixed the structure (no class choice)
+    if getattr(baseline, "device_class", "") == "field":
+        return []  # records with a control input: a fluid start does not read it
     fluid = next((o for o in starts if o.name == "fluid"), None)
     if sizing == "data" or stroke_factor(baseline.calibration, params) > 1.0:
         return []  # the device as given cannot take the stroke: sized for it, no other start

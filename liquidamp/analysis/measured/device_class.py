@@ -84,6 +84,15 @@ The choice (:func:`choose_start`)
     The diagnosis can call :func:`choose_start` on any set of fits of the
     same records.
 
+Records with a control input
+    Where every record carries a voltage or current channel, the ``field`` start (fitted
+    with the caller's budget) is the class without the others being fitted: only its model
+    reads the input, and each other start would cost a fit of its own only to say how much
+    worse a model that ignores the input does.  That comparison is made on the same device
+    instead: :func:`input_held` refits it with a constant yield (the input's share removed,
+    the level at the mean input), reported as ``start["without_input"]``.  Where the field
+    start cannot be calibrated, the other starts are chosen among as above.
+
 References
 ----------
 .. [1] B. Titurus, AIAA J. 56(10), 2018, Sec. IV.C (friction F_f sign(v), 30 N).
@@ -128,7 +137,7 @@ __all__ = ["DEVICE_CLASSES", "FLUID_FLOOR", "VISCOUS_FLOOR", "QUADRATIC_SHARE", 
            "fluid_matched", "friction_start", "fluid_levels", "viscous_start", "field_input",
            "field_start",
            "StartOutcome", "choose_start",
-           "calibrate_by_class"]
+           "calibrate_by_class", "input_held"]
 
 #: The structurally different starts, in the order they are tried (``field`` only where
 #: every record carries a control input, :func:`field_input`).
@@ -478,18 +487,30 @@ def field_start(base: DeviceParams, effects, records, reading: LoopReading) -> C
     base_cols = np.column_stack((
         np.ones_like(F), np.concatenate([r.displacement - r.offset for r in records]),
         v, v * np.abs(v)))
+    # the line's columns projected out once (Frisch-Waugh-Lovell: the residual sum of squares
+    # of the full regression is that of the yield's two columns on the projected force), so
+    # that each (eta, dy0) of the grid costs two columns, not a least-squares solve
+    Qb, _ = np.linalg.qr(base_cols)
+    Fr = F - Qb @ (Qb.T @ F)
     best = None
     for eta in FIELD_RATES:
         uf = np.concatenate([_lagged(r.channels[c], float(np.median(np.diff(r.time))), eta)
                              for r in records])
         for j, _ in enumerate(deltas):
             z = np.concatenate([q[j] for q in zs])
-            X = np.column_stack((base_cols, z, uf * z))
-            coef, *_ = np.linalg.lstsq(X, F, rcond=None)
-            rss = float(np.sum((X @ coef - F) ** 2))
+            Z = np.column_stack((z, uf * z))
+            Z -= Qb @ (Qb.T @ Z)
+            b, *_ = np.linalg.lstsq(Z, Fr, rcond=None)
+            rss = float(np.sum((Z @ b - Fr) ** 2))
             if best is None or rss < best[0]:
-                best = (rss, eta, coef, deltas[j])
-    _, eta, (F0, k, cv, cq, A, B), dy0 = best
+                best = (rss, eta, j)
+    _, eta, j = best
+    dy0 = deltas[j]
+    uf = np.concatenate([_lagged(r.channels[c], float(np.median(np.diff(r.time))), eta)
+                         for r in records])
+    z = np.concatenate([q[j] for q in zs])
+    coef, *_ = np.linalg.lstsq(np.column_stack((base_cols, z, uf * z)), F, rcond=None)
+    F0, k, cv, cq, A, B = coef
     # the device stretched to the stroke (its piston kept: any piston carries the force at
     # its own pressures); its air from the pre-yield stiffness: the yield force builds up
     # over the pre-sliding stroke dy0 by compressing the fluid, k_D = (A + B mean u) / dy0
@@ -571,6 +592,17 @@ def calibrate_by_class(fit, records, validate, *, params: DeviceParams, effects,
     set and every start's figures in ``start["classes"]``.
     """
     records, validate, effects = tuple(records), tuple(validate), tuple(effects)
+    if len(classes) > 1 and "field" in classes and field_input(records + validate):
+        # every record carries a control input: only the field start's model reads it, so it
+        # is the class; the starts that do not read it would each cost a fit of their own
+        # (every model run marches the whole record) and could only report how much worse a
+        # model that ignores the input does, which the input held gives (without_input)
+        try:
+            return _field_class(fit, records, validate, params=params, effects=effects,
+                                sizing=sizing, max_nfev=max_nfev, **kwargs)
+        except (ConvergenceError, PressureError, ParameterError, ValueError,
+                FloatingPointError):
+            classes = tuple(c for c in classes if c != "field")
     cheap = min(START_NFEV, max_nfev) if len(classes) > 1 else max_nfev
     common = dict(validate=validate, warn=False, **kwargs)
     reading = read_loop(records)
@@ -684,3 +716,66 @@ def calibrate_by_class(fit, records, validate, *, params: DeviceParams, effects,
                                plausibility=plaus,
                                class_starts=outcomes, warnings=tuple(warns),
                                start_trials=first.start_trials, starts=first.starts)
+
+
+def _field_class(fit, records, validate, *, params, effects, sizing, max_nfev, **kwargs):
+    """The field start as the class of records that all carry a control input, with the fit
+    that does not follow the input beside it (:func:`input_held`)."""
+    res = calibrate_by_class(fit, records, validate, params=params, effects=effects,
+                             sizing=sizing, max_nfev=max_nfev, classes=("field",), **kwargs)
+    without = input_held(fit, res, records, validate, max_nfev=min(START_NFEV, max_nfev),
+                         **kwargs)
+    rule = ("every record carries a control input: the field start (the only class whose "
+            "model reads it) calibrated with max_nfev "
+            f"{max_nfev}; the fit that does not follow the input beside it")
+    start = {**res.start, "device_class_rule": rule,
+             **({"without_input": without} if without else {})}
+    warns = res.warnings + (f"device class: the field start was chosen ({rule}; "
+                            + (f"without the input: held-out NRMSE "
+                               f"{without['nrmse_validation']:.3g} against "
+                               f"{res.nrmse_validation:.3g})" if without and
+                               without["nrmse_validation"] is not None else "no fit without "
+                               "the input)"),)
+    return dataclasses.replace(res, start=start, warnings=warns)
+
+
+def input_held(fit, result, records, validate, *, max_nfev: int, **kwargs) -> dict | None:
+    """The fit of ``result``'s model with its field yield not following the control input.
+
+    The yield's dependence on the input removed (dp_y1 = 0, the lag idle) and its level at
+    the records' mean input, dp_y0 + dp_y1 mean|u| (a Bingham yield of constant level, the
+    same device otherwise), refitted from ``result``'s optimum with everything else free
+    (``max_nfev`` evaluations): the comparison a published MR model makes with and without
+    its voltage (issue #20).  Returns the ``without_input`` entry (class, input, NRMSE,
+    held-out per record, converged, how) or None where ``result`` has no field yield or the
+    fit fails.
+    """
+    fy = next((e for e in result.effects if e.name == "field_yield"), None)
+    if fy is None:
+        return None
+    c = fy.input
+    u_mean = float(np.mean(np.concatenate([np.abs(r.channels[c]) for r in records])))
+    held = fy.replace(yield_pressure_Pa=fy.yield_pressure_Pa
+                      + fy.yield_pressure_per_input * u_mean, yield_pressure_per_input=0.0)
+    effs = tuple(held if e.name == "field_yield" else e for e in result.effects)
+    drop = {"field_yield.yield_pressure_per_input", "field_yield.lag_rate_per_s",
+            "field_yield.yield_pressure_Pa"}
+    spec = FitSpec(tuple(p for p in result.spec.parameters if p.name not in drop))
+    spec = spec.with_effect(held, keys=("yield_pressure_Pa",))
+    try:
+        r = fit(records, params=result.start_params, effects=effs, spec=spec, validate=validate,
+                start="spec", sizing="preset", max_nfev=max_nfev, warn=False, **kwargs)
+    except (ConvergenceError, PressureError, ParameterError, ValueError,
+            FloatingPointError):
+        return None
+    return {"class": "field, input held", "input": c,
+            "model": "the same device with a constant yield (its dependence on the input "
+                     "removed)",
+            "nrmse_calibration": r.nrmse_calibration,
+            "nrmse_validation": r.nrmse_validation,
+            "validation_records": {e.label: e.nrmse for e in r.record_errors
+                                   if e.role == "validation"},
+            "converged": bool(r.converged),
+            "how": f"the field fit with dp_y1 = 0 and dp_y0 at the mean |{c}| "
+                   f"({u_mean:.3g}), refitted with max_nfev {max_nfev}"}
+

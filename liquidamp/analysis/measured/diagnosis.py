@@ -93,6 +93,9 @@ velocity):
    in turn; each final model replaces the one held only where it passes the rule of 5
    against it (:mod:`~liquidamp.analysis.measured.class_revisit`).
 
+Broadband records and records with a control input: :func:`~.diagnosis_options.broadband`,
+:func:`~liquidamp.analysis.measured.device_class.calibrate_by_class`.
+
 Besides the catalogue effects, :data:`COMPOSITES` lists candidates that change how
 effects compose or behave (:mod:`liquidamp.analysis.measured.candidates`):
 ``"backlash"`` adds freeplay and moves the friction already in the model behind it (a
@@ -174,10 +177,13 @@ from liquidamp.analysis.measured.diagnosis_fits import (
     _restart,
 )
 from liquidamp.analysis.measured.diagnosis_options import (
+    BROADBAND_TOP,
     Budget,
     ConditioningOptions,
     DiagnoseOptions,
     SelectionRule,
+    broadband,
+    march_options,
 )
 from liquidamp.analysis.measured.diagnosis_result import Diagnosis, Step, heldout_per_record
 from liquidamp.analysis.measured.fit_spec import Parameter
@@ -193,11 +199,10 @@ from liquidamp.errors import (
     ParameterError,
     check_choice,
 )
-from liquidamp.options import resolve_options
 
 __all__ = ["Candidate", "Step", "Diagnosis", "diagnose", "CONFOUNDED", "COMPOSITES",
            "DiagnoseOptions", "SelectionRule", "Budget", "ConditioningOptions",
-           "default_candidates", "signatures", "demo_loop", "bundled_records"]
+           "default_candidates", "signatures", "demo_loop", "bundled_records", "broadband"]
 
 
 def default_candidates() -> tuple[str, ...]:
@@ -311,9 +316,10 @@ def _prepare(calibration, validation, model, params, effects, spec, options, con
         prior = baseline
         baseline = _converge(baseline, validation, options, bud.preroll, bud.max_nfev,
                              bud.tol, "preset" if config.sizing == "preset" else "auto")
-        if "without_input" in (prior.start or {}):  # the fit without the input, kept beside
-            baseline = dataclasses.replace(baseline, start={
-                **(baseline.start or {}), "without_input": prior.start["without_input"]})
+        kept = {k: v for k, v in (prior.start or {}).items()  # the class, the fit without
+                if k in ("without_input", "device_class", "device_class_rule", "classes")}
+        baseline = dataclasses.replace(baseline, start={**(baseline.start or {}), **kept},
+                                       device_class=prior.device_class)
     return calibration, validation, conditioning, raw, baseline
 
 
@@ -390,6 +396,8 @@ def _screen(names, current, options, bud: Budget, sel: SelectionRule):
     extra = [c for c in scored[bud.top:bud.top + 1]
              if c.score * bud.score_ratio >= scored[0].score]
     queue = scored[:bud.top]
+    if broadband(current.calibration):  # each refit marches every whole record: the best
+        queue, extra = scored[:min(bud.top, BROADBAND_TOP)], []
     n_now = sample_count(current.calibration, current.residuals("calibration"),
                          sel.sample_count)
     keep = []
@@ -420,7 +428,7 @@ def _fit_round(ranked, probes, queue, extra, current, validation, options, bud, 
             except (ConvergenceError, ParameterError) as exc:
                 ranked[ranked.index(cand)] = _with(cand, refitted=True,
                                                    note=f"refit failed: {exc}")
-        for cand in queue:
+        for cand in [] if broadband(current.calibration) else queue:  # no physics start
             if cand.effect in refits and not _explained(refits, level):
                 refits[cand.effect] = _restart(refits[cand.effect], current, validation,
                                                options, bud.preroll, bud.max_nfev, bud.tol,
@@ -589,7 +597,7 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
     device_names = (tuple(DEVICE_REFINEMENTS) if config.candidates is None
                     else tuple(n for n in names if n in DEVICE_REFINEMENTS))
     names = tuple(n for n in names if n not in DEVICE_REFINEMENTS)
-    options = resolve_options(options, "fit")
+    options = march_options(options, calibration + validation)
     if params is None:
         from liquidamp.device import preset
 

@@ -198,8 +198,8 @@ def score(name: str, result: CalibrationResult, options, preroll: int):
     scale = float(np.sqrt(np.mean((meas - meas.mean()) ** 2))) * math.sqrt(meas.size)
     r = (np.concatenate(result.predictions_calibration) - meas) / scale
     s = (np.concatenate(Fp) - np.concatenate(result.predictions_calibration)) / scale
-    J = free_columns(result, r)
-    s_perp = s - J @ (np.linalg.pinv(J) @ s) if J.size else s
+    J, P = _free_projector(result, r)
+    s_perp = s - J @ (P @ s) if J.size else s
     ss = float(s_perp @ s_perp)
     rss = float(r @ r)
     if ss <= 1e-30 * max(float(s @ s), 1e-300):
@@ -213,6 +213,21 @@ def score(name: str, result: CalibrationResult, options, preroll: int):
     est = {label: change.estimate(beta)} if ok else {}
     note = "" if ok else "the residual asks for a negative strength"
     return Candidate(name, drop if ok else 0.0, -_corr(r, s), est, note=note), change
+
+
+_PROJECTOR: list = []
+
+
+def _free_projector(result: CalibrationResult, r):
+    """The free Jacobian columns of ``result`` (:func:`~.candidates.free_columns`) and their
+    pseudo-inverse, computed once per calibrated model: every candidate of a screen is
+    projected on the same columns (the last model's kept)."""
+    if _PROJECTOR and _PROJECTOR[0] is result:
+        return _PROJECTOR[1], _PROJECTOR[2]
+    J = free_columns(result, r)
+    P = np.linalg.pinv(J) if J.size else J
+    _PROJECTOR[:] = [result, J, P]
+    return J, P
 
 
 _PARTNERS = {"inv_gamma": ("inv_gamma1", "inv_gamma2"), "c1": ("c1",), "S_t": ("S_t",)}

@@ -188,6 +188,11 @@ class Diagnosis:
         added = (", ".join(f"{s.effect} ({_short(s.fitted_parameters())})"
                            for s in self.steps)
                  or "nothing")
+        fy = next((e for e in self.final.effects if e.name == "field_yield"), None)
+        if self.baseline.device_class == "field" and fy is not None:
+            # the field class starts with the yield on the input: it is found first
+            first.append(f"field_yield on the {fy.input} first (the field-controlled class: "
+                         f"{_short(fy.parameters)})")
         if self.device_steps:
             added += "; device parameters freed: " + ", ".join(
                 f"{s.effect} ({_short(s.parameters)})" for s in self.device_steps)
@@ -201,8 +206,8 @@ class Diagnosis:
         lines = ["; ".join(first)]
         wi = self.without_input
         if wi:
-            lines.append(f"without the {wi['input']} input: the best fit ({wi['class']} "
-                         "start) held out " + ", ".join(
+            how = wi.get("model") or f"the best fit ({wi['class']} start)"
+            lines.append(f"without the {wi['input']} input: {how}, held out " + ", ".join(
                              f"{k} {v:.3g}" for k, v in wi["validation_records"].items())
                          + f" (pooled {wi['nrmse_validation']:.3g}, calibration "
                          f"{wi['nrmse_calibration']:.3g})")
