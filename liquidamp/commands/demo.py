@@ -112,7 +112,7 @@ def _diagnosis_section(out: Path, progress) -> str:
     """Run the measured-data loop on the bundled records; return its HTML summary."""
     import html
 
-    from liquidamp.analysis.measured.diagnosis import demo_loop
+    from liquidamp.analysis.measured.diagnosis_demo import demo_loop
 
     progress("calibrate and diagnose the bundled synthetic records (undeclared effect) ...")
     summary = demo_loop(out / "diagnosis")
