@@ -286,14 +286,7 @@ def groove_band(result: CalibrationResult) -> tuple[float, float, float]:
         w = fw * Y
         for fc in GROOVE_CENTRES:
             c = mid + fc * Y
-            sig = np.exp(-((y - c) / w) ** 2) * U
-            if P is not None:
-                sig = sig - J @ (P @ sig)
-            ss = float(sig @ sig)
-            se = float(sig @ e)
-            if ss <= 0 or se <= 0 or ee <= 0:
-                continue
-            drop = se * se / ss / ee
+            drop = _projected_drop(np.exp(-((y - c) / w) ** 2) * U, e, ee, J, P)
             if drop > best[2]:
                 best = (c, w, drop)
     return best
@@ -494,17 +487,20 @@ def backlash_gap(result: CalibrationResult) -> tuple[float, float]:
         g = f * Y
         s = np.concatenate([np.sign(np.diff(_play(r.smoothed, g), prepend=np.nan))
                             for r in recs])
-        s = np.nan_to_num(s)
-        if P is not None:
-            s = s - J @ (P @ s)
-        ss = float(s @ s)
-        se = float(s @ e)
-        if ss <= 0 or se <= 0 or ee <= 0:
-            continue
-        drop = se * se / ss / ee
+        drop = _projected_drop(np.nan_to_num(s), e, ee, J, P)
         if drop > best[1]:
             best = (g, drop)
     return best
+
+
+def _projected_drop(sig, e, ee: float, J, P) -> float:
+    """Share of the residual ``e`` (``ee`` = e . e) a signature ``sig`` removes once the
+    span ``J`` of the fitted parameters (pseudo-inverse ``P``, None when empty) is projected
+    out of it: (s . e)^2 / (s . s) / ee, or 0 where it does not point along ``e``."""
+    if P is not None:
+        sig = sig - J @ (P @ sig)
+    ss, se = float(sig @ sig), float(sig @ e)
+    return se * se / ss / ee if ss > 0 and se > 0 and ee > 0 else 0.0
 
 
 def _backlash(result) -> Change:
