@@ -465,6 +465,107 @@ def model_rhs(spec, x, y, v, prm, ep, out):
 
 
 @njit(cache=True, error_model="numpy")
+def _stroke_map_jac(spec, x, y, v, prm, ep, J):
+    """Analytic Jacobian of a base fluid behind a stroke map (series compliance or
+    freeplay, one of them), into ``J`` (already zeroed); False where it does not apply.
+
+    Applies to the plain fluid (leakage on ``full``/``no_inertia`` allowed) with smooth
+    friction (bristles on the rod) and elastomer states; not to cavities, relief valves,
+    rebound asymmetry, the rotating frame, self-heating, the field yield, bristles behind
+    the dead band, an infinite series stiffness, or both maps at once (those keep
+    :func:`model_jac`'s central differences).
+
+    With f(x, y_p, u) the fluid's rates at piston stroke y_p and velocity u (affine in
+    u: f = a + u b, b = df/du) and S the linear force functional
+    (:func:`state_force`):
+
+    * series compliance, k (v - v_p) = S a + v_p S b, so
+      v_p = (k v - S a) / (k + S b) and, for z each fluid state and y_p,
+      d v_p / dz = -S(df/dz |_{u=v_p}) / (k + S b);
+      d rates / dz = df/dz |_{u=v_p} + b d v_p / dz, d y_p' / dz = d v_p / dz;
+    * freeplay, r = v C(y - y_fp, v) (:func:`play_contact`), the fluid at (y_fp, r):
+      d r / d y_fp = -v C'(e); d rates / d y_fp = df/dy + (df/du) dr/dy_fp.
+
+    df/dx is :func:`base_jac`, df/dy and df/du :func:`base_rhs_t` with unit rates.
+    Checked against central differences of :func:`model_rhs` in
+    ``tests/device/test_kernels_stroke_map_jac.py``.
+    """
+    icp = spec[S_IC]
+    ifp = spec[S_IFP]
+    if (icp >= 0) == (ifp >= 0):
+        return False
+    if (spec[S_ICAV] >= 0 or spec[S_RELIEF] != 0 or spec[S_ROT] > 0 or spec[S_TH] >= 0
+            or spec[S_FY] >= 0 or spec[S_ASYM] != 0):
+        return False
+    mid = spec[S_MID]
+    nb = spec[S_NB]
+    if spec[S_LEAK] != 0 and not (mid == M_FULL or mid == M_NO_INERTIA):
+        return False
+    kL = ep[E_LEAK] if spec[S_LEAK] != 0 else 0.0
+    if icp >= 0:
+        k = ep[E_KC]
+        if math.isinf(k) or icp != nb:
+            return False
+        yp = x[icp]
+        a = np.empty(nb)
+        b = np.empty(nb)
+        base_rhs(mid, x, yp, 0.0, prm, kL, 0.0, a)
+        base_rhs(mid, x, yp, 1.0, prm, kL, 0.0, b)
+        g0 = state_force(mid, a, prm)
+        g1 = state_force(mid, b, prm) - g0
+        for i in range(nb):
+            b[i] = b[i] - a[i]
+        den = k + g1
+        vp = compliance_rate(v, k, g0, g1)
+        base_jac(mid, x, yp, vp, prm, kL, J)
+        col = np.empty(nb)
+        for j in range(nb + 1):
+            if j < nb:
+                for i in range(nb):
+                    col[i] = J[i, j]
+            else:  # the piston stroke's column: df/dy at u = v_p
+                base_rhs_t(mid, x, yp, vp, 1.0, 0.0, prm, kL, col)
+            dvp = -state_force(mid, col, prm) / den
+            for i in range(nb):
+                J[i, j] = col[i] + b[i] * dvp
+            J[icp, j] = dvp
+    else:
+        if spec[S_ZPIST] != 0 and spec[S_IZ] >= 0:
+            return False
+        gap = ep[E_GAP]
+        delta = 0.05 * gap + 1.0e-7
+        e = y - x[ifp]
+        if v > 0.0:
+            s = (e - gap) / delta + 1.0
+            dsde = 1.0 / delta
+        elif v < 0.0:
+            s = (-e - gap) / delta + 1.0
+            dsde = -1.0 / delta
+        else:
+            s = 0.0
+            dsde = 0.0
+        r = v * play_contact(e, v, gap)
+        dr = -v * (6.0 * s * (1.0 - s) * dsde if 0.0 < s < 1.0 else 0.0)
+        J[ifp, ifp] = dr
+        if spec[S_FPFRIC] == 1:  # the fluid on the rod: the dead band drives the friction
+            base_jac(mid, x, y, v, prm, kL, J)
+        else:
+            base_jac(mid, x, x[ifp], r, prm, kL, J)
+            col = np.empty(nb)
+            base_rhs_t(mid, x, x[ifp], r, 1.0, dr, prm, kL, col)
+            for i in range(nb):
+                J[i, ifp] = col[i]
+    iz = spec[S_IZ]
+    if iz >= 0:  # the bristles follow the rod (those behind the dead band returned above)
+        J[iz, iz] = _lugre_dz_dv(v, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR],
+                                 ep[E_FEX])[0]
+    iel = spec[S_IEL]
+    if iel >= 0:
+        J[iel, iel] = -ep[E_K1] / ep[E_C1E]
+    return True
+
+
+@njit(cache=True, error_model="numpy")
 def model_jac(spec, x, y, v, prm, ep, J):
     """Jacobian d rhs / dx of a composed model into ``J[:n, :n]`` (zeroed here).
 
@@ -490,6 +591,8 @@ def model_jac(spec, x, y, v, prm, ep, J):
             J[iel, iel] = -ep[E_K1] / ep[E_C1E]
         if spec[S_FY] >= 0:
             _field_yield_jac(spec[S_MID], x, spec[S_FY], prm, ep, J)
+        return
+    if _stroke_map_jac(spec, x, y, v, prm, ep, J):
         return
     xp = x.copy()
     fp = np.empty(n)
