@@ -33,6 +33,7 @@ from liquidamp.device.kernels_laws import (
     gas_pressure,
     gas_slope,
     lugre_rate,
+    Z_HOLD,
     piston_contact,
     play_contact,
     relief_force,
@@ -471,9 +472,9 @@ def _stroke_map_jac(spec, x, y, v, prm, ep, J):
 
     Applies to the plain fluid (leakage on ``full``/``no_inertia`` allowed) with smooth
     friction (bristles on the rod) and elastomer states; not to cavities, relief valves,
-    rebound asymmetry, the rotating frame, self-heating, the field yield, bristles behind
-    the dead band, an infinite series stiffness, or both maps at once (those keep
-    :func:`model_jac`'s central differences).
+    rebound asymmetry, the rotating frame, self-heating, the field yield, an infinite
+    series stiffness, or both maps at once (those keep :func:`model_jac`'s central
+    differences).
 
     With f(x, y_p, u) the fluid's rates at piston stroke y_p and velocity u (affine in
     u: f = a + u b, b = df/du) and S the linear force functional
@@ -484,7 +485,10 @@ def _stroke_map_jac(spec, x, y, v, prm, ep, J):
       d v_p / dz = -S(df/dz |_{u=v_p}) / (k + S b);
       d rates / dz = df/dz |_{u=v_p} + b d v_p / dz, d y_p' / dz = d v_p / dz;
     * freeplay, r = v C(y - y_fp, v) (:func:`play_contact`), the fluid at (y_fp, r):
-      d r / d y_fp = -v C'(e); d rates / d y_fp = df/dy + (df/du) dr/dy_fp.
+      d r / d y_fp = -v C'(e); d rates / d y_fp = df/dy + (df/du) dr/dy_fp; with the
+      bristles behind the dead band (:func:`piston_contact`, C of e + lam z) also
+      d r / d z = v C' lam, d rates / d z = (df/du) dr/dz, and the bristle rate
+      g(r, z) gives d z' / d z = g_z + g_v dr/dz, d z' / d y_fp = g_v dr/dy_fp.
 
     df/dx is :func:`base_jac`, df/dy and df/du :func:`base_rhs_t` with unit rates.
     Checked against central differences of :func:`model_rhs` in
@@ -530,22 +534,33 @@ def _stroke_map_jac(spec, x, y, v, prm, ep, J):
                 J[i, j] = col[i] + b[i] * dvp
             J[icp, j] = dvp
     else:
-        if spec[S_ZPIST] != 0 and spec[S_IZ] >= 0:
-            return False
         gap = ep[E_GAP]
-        delta = 0.05 * gap + 1.0e-7
         e = y - x[ifp]
-        if v > 0.0:
-            s = (e - gap) / delta + 1.0
-            dsde = 1.0 / delta
-        elif v < 0.0:
-            s = (-e - gap) / delta + 1.0
-            dsde = -1.0 / delta
-        else:
-            s = 0.0
-            dsde = 0.0
-        r = v * play_contact(e, v, gap)
-        dr = -v * (6.0 * s * (1.0 - s) * dsde if 0.0 < s < 1.0 else 0.0)
+        iz = spec[S_IZ]
+        behind = spec[S_ZPIST] != 0 and iz >= 0  # bristles behind the dead band
+        lam = 0.0
+        if behind:  # piston_contact: C = S((|e + lam z| - gap) / delta + 1)
+            lam = ep[E_SFC] / ep[E_SIG]
+            delta = min(0.05 * gap + 1.0e-7, Z_HOLD * lam)
+            q = e + lam * x[iz]
+            s = (abs(q) - gap) / delta + 1.0
+            dsde = (1.0 if q > 0.0 else (-1.0 if q < 0.0 else 0.0)) / delta
+            r = v * piston_contact(e, x[iz], lam, gap)
+        else:  # play_contact: C = S((e sign(v) - gap) / delta + 1)
+            delta = 0.05 * gap + 1.0e-7
+            if v > 0.0:
+                s = (e - gap) / delta + 1.0
+                dsde = 1.0 / delta
+            elif v < 0.0:
+                s = (-e - gap) / delta + 1.0
+                dsde = -1.0 / delta
+            else:
+                s = 0.0
+                dsde = 0.0
+            r = v * play_contact(e, v, gap)
+        dcde = 6.0 * s * (1.0 - s) * dsde if 0.0 < s < 1.0 else 0.0
+        dr = -v * dcde  # d r / d y_fp
+        drz = v * dcde * lam  # d r / d z (bristles behind the dead band)
         J[ifp, ifp] = dr
         if spec[S_FPFRIC] == 1:  # the fluid on the rod: the dead band drives the friction
             base_jac(mid, x, y, v, prm, kL, J)
@@ -555,8 +570,18 @@ def _stroke_map_jac(spec, x, y, v, prm, ep, J):
             base_rhs_t(mid, x, x[ifp], r, 1.0, dr, prm, kL, col)
             for i in range(nb):
                 J[i, ifp] = col[i]
+            if behind:
+                base_rhs_t(mid, x, x[ifp], r, 0.0, drz, prm, kL, col)
+                for i in range(nb):
+                    J[i, iz] = col[i]
+        if behind:  # the bristles driven by the piston: dz/dt = g(r, z)
+            J[ifp, iz] = drz
+            gz, gv = _lugre_dz_dv(r, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR],
+                                  ep[E_FEX])
+            J[iz, iz] = gz + gv * drz
+            J[iz, ifp] = gv * dr
     iz = spec[S_IZ]
-    if iz >= 0:  # the bristles follow the rod (those behind the dead band returned above)
+    if iz >= 0 and not (ifp >= 0 and spec[S_ZPIST] != 0):  # the bristles follow the rod
         J[iz, iz] = _lugre_dz_dv(v, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR],
                                  ep[E_FEX])[0]
     iel = spec[S_IEL]

@@ -28,6 +28,15 @@ CASES = {
     "freeplay_leak_friction": ("full", [
         ("freeplay", {"gap_m": GAP}), ("leakage", {"coefficient_m3_per_s_Pa": 2e-11}),
         ("smooth_friction", {"force_N": 30.0, "stiffness_N_per_m": 2e5})]),
+    # the backlash composite: the bristles behind the dead band (piston_contact)
+    "freeplay_bristles_at_piston": ("full", [
+        ("freeplay", {"gap_m": GAP}),
+        ("smooth_friction", {"force_N": 30.0, "stiffness_N_per_m": 2e5,
+                             "location": "piston"})]),
+    "freeplay_drives_friction": ("full", [
+        ("freeplay", {"gap_m": GAP, "drives": "friction"}),
+        ("smooth_friction", {"force_N": 30.0, "stiffness_N_per_m": 2e5,
+                             "location": "piston"})]),
 }
 
 
@@ -57,22 +66,32 @@ def test_stroke_map_jacobian_matches_central_differences(case, sgn):
         x[spec[KM.S_IC]] = y - sgn * 4e-4  # the spring loaded
     if spec[KM.S_IFP] >= 0:
         x[spec[KM.S_IFP]] = y - sgn * (GAP - 0.5 * DELTA)  # inside the contact's smoothing
+        if spec[KM.S_ZPIST] != 0:  # the bristle contact: |e + lam z| inside its smoothing
+            lam = 30.0 / 2e5
+            dc = min(DELTA, 0.01 * lam)
+            x[spec[KM.S_IZ]] = (sgn * (GAP - 0.5 * dc) - (y - x[spec[KM.S_IFP]])) / lam
     # the analytic branch is the one taken (not the differences of model_jac)
     Ja = np.zeros((m.n_states, m.n_states))
     assert KM._stroke_map_jac(spec, x, u[0], u[1], prm, ep, Ja)
     J = m.jacobian(0.0, x, u, P)
     np.testing.assert_array_equal(J, Ja)
-    for j in range(m.n_states):
-        h = 1e-4 * sc[j]  # (1e-6: round-off in the density columns)
+
+    def central(j, h):
         xp, xm = x.copy(), x.copy()
         xp[j] += h
         xm[j] -= h
-        fd = (m.rhs(0.0, xp, u, P) - m.rhs(0.0, xm, u, P)) / (2 * h)
+        return (m.rhs(0.0, xp, u, P) - m.rhs(0.0, xm, u, P)) / (2 * h)
+
+    for j in range(m.n_states):
+        h = 1e-4 * sc[j]  # (1e-6: round-off in the density columns)
+        fd = (4.0 * central(j, 0.5 * h) - central(j, h)) / 3.0  # Richardson: O(h^4)
         np.testing.assert_allclose(J[:, j], fd, rtol=1e-4,
                                    atol=1e-6 * np.max(np.abs(fd)) + 1e-300,
                                    err_msg=f"{case}: column {names[j]}")
     if spec[KM.S_IFP] >= 0:  # the contact's slope is in the dead band's own entry
         assert J[spec[KM.S_IFP], spec[KM.S_IFP]] != 0.0
+        if spec[KM.S_ZPIST] != 0:  # and the bristles' coupling to it
+            assert J[spec[KM.S_IFP], spec[KM.S_IZ]] != 0.0
 
 
 def test_other_compositions_keep_the_differences():
