@@ -21,6 +21,7 @@ from liquidamp.device.kernels_base import (
     state_force,
 )
 from liquidamp.device.kernels_laws import (
+    Z_HOLD,
     _fd_step,
     _lugre_dz_dv,
     _sign,
@@ -33,7 +34,6 @@ from liquidamp.device.kernels_laws import (
     gas_pressure,
     gas_slope,
     lugre_rate,
-    Z_HOLD,
     piston_contact,
     play_contact,
     relief_force,
