@@ -634,6 +634,99 @@ def model_jac(spec, x, y, v, prm, ep, J):
 
 
 @njit(cache=True, error_model="numpy")
+def _stroke_map_rhs_t(spec, x, y, v, yd, vd, prm, ep, out):
+    """d rhs / dt at fixed x of the compositions :func:`_stroke_map_jac` covers, into
+    ``out``; False elsewhere (or with measured input channels changing along the step).
+
+    Series compliance: the stroke enters through the rod velocity alone,
+    d v_p / dt = k / (k + S b) dv/dt and d rates / dt = b d v_p / dt.  Freeplay:
+    r = v C(e), e = y - y_fp (+ lam z behind it), d r / dt = C dv/dt + v C'(e) dy/dt and
+    the fluid at (y_fp, r) changes at (df/du) dr/dt.  Bristles on the rod change at
+    g_v dv/dt, behind the dead band at g_v dr/dt; the elastomer at k_1 dv/dt.
+    """
+    icp = spec[S_IC]
+    ifp = spec[S_IFP]
+    if (icp >= 0) == (ifp >= 0):
+        return False
+    if (spec[S_ICAV] >= 0 or spec[S_RELIEF] != 0 or spec[S_ROT] > 0 or spec[S_TH] >= 0
+            or spec[S_FY] >= 0 or spec[S_ASYM] != 0):
+        return False
+    for k in range(N_CH):
+        if prm[P_CHD + k] != 0.0:
+            return False
+    mid = spec[S_MID]
+    nb = spec[S_NB]
+    if spec[S_LEAK] != 0 and not (mid == M_FULL or mid == M_NO_INERTIA):
+        return False
+    kL = ep[E_LEAK] if spec[S_LEAK] != 0 else 0.0
+    n = spec[S_N]
+    for i in range(n):
+        out[i] = 0.0
+    iz = spec[S_IZ]
+    vz = v  # the velocity that drives the bristles
+    dvz = vd
+    if icp >= 0:
+        k = ep[E_KC]
+        if math.isinf(k) or icp != nb:
+            return False
+        yp = x[icp]
+        a = np.empty(nb)
+        b = np.empty(nb)
+        base_rhs(mid, x, yp, 0.0, prm, kL, 0.0, a)
+        base_rhs(mid, x, yp, 1.0, prm, kL, 0.0, b)
+        g0 = state_force(mid, a, prm)
+        g1 = state_force(mid, b, prm) - g0
+        dvp = k / (k + g1) * vd
+        for i in range(nb):
+            out[i] = (b[i] - a[i]) * dvp
+        out[icp] = dvp
+    else:
+        gap = ep[E_GAP]
+        e = y - x[ifp]
+        behind = spec[S_ZPIST] != 0 and iz >= 0
+        if behind:
+            lam = ep[E_SFC] / ep[E_SIG]
+            delta = min(0.05 * gap + 1.0e-7, Z_HOLD * lam)
+            q = e + lam * x[iz]
+            s = (abs(q) - gap) / delta + 1.0
+            dsde = (1.0 if q > 0.0 else (-1.0 if q < 0.0 else 0.0)) / delta
+            c = piston_contact(e, x[iz], lam, gap)
+        else:
+            delta = 0.05 * gap + 1.0e-7
+            if v > 0.0:
+                s = (e - gap) / delta + 1.0
+                dsde = 1.0 / delta
+            elif v < 0.0:
+                s = (-e - gap) / delta + 1.0
+                dsde = -1.0 / delta
+            else:
+                s = 0.0
+                dsde = 0.0
+            c = play_contact(e, v, gap)
+        dcde = 6.0 * s * (1.0 - s) * dsde if 0.0 < s < 1.0 else 0.0
+        r = v * c
+        drt = c * vd + v * dcde * yd
+        out[ifp] = drt
+        col = np.empty(nb)
+        if spec[S_FPFRIC] == 1:  # the fluid on the rod
+            base_rhs_t(mid, x, y, v, yd, vd, prm, kL, col)
+        else:
+            base_rhs_t(mid, x, x[ifp], r, 0.0, drt, prm, kL, col)
+        for i in range(nb):
+            out[i] = col[i]
+        if behind:
+            vz = r
+            dvz = drt
+    if iz >= 0:
+        out[iz] = _lugre_dz_dv(vz, x[iz], ep[E_SFC], ep[E_SIG], ep[E_VS], ep[E_SR],
+                               ep[E_FEX])[1] * dvz
+    iel = spec[S_IEL]
+    if iel >= 0:
+        out[iel] = ep[E_K1] * vd
+    return True
+
+
+@njit(cache=True, error_model="numpy")
 def model_rhs_t(spec, x, y, v, yd, vd, prm, ep, out):
     """d rhs / dt at fixed x through the stroke (dy/dt = yd [m/s], dv/dt = vd [m/s^2]).
 
@@ -657,6 +750,8 @@ def model_rhs_t(spec, x, y, v, yd, vd, prm, ep, out):
         ify = spec[S_FY]
         if ify >= 0:  # the field lag through the measured input's rate
             out[ify] = ep[E_ETA] * prm[P_CHD + int(ep[E_FYCH])]
+        return
+    if _stroke_map_rhs_t(spec, x, y, v, yd, vd, prm, ep, out):
         return
     dt = 1.0e-7
     fm = np.empty(n)

@@ -94,6 +94,43 @@ def test_stroke_map_jacobian_matches_central_differences(case, sgn):
             assert J[spec[KM.S_IFP], spec[KM.S_IZ]] != 0.0
 
 
+@pytest.mark.parametrize("case", list(CASES))
+@pytest.mark.parametrize("sgn", [1.0, -1.0])
+def test_stroke_map_time_derivative_matches_central_differences(case, sgn):
+    """d rhs / dt at fixed x along the stroke (RODAS4's df/dt) against differences of the
+    right-hand side along (y + yd dt, v + vd dt)."""
+    m = _model(case)
+    spec, prm, ep = m.packed(P)
+    x = m.initial_state(P, 0.0).astype(float)
+    names = list(m.state_names)
+    x[names.index("p1")], x[names.index("p2")] = P.p0 + sgn * 3e5, P.p0 - sgn * 2e5
+    y, v, yd, vd = sgn * 1.2e-3, sgn * 0.04, sgn * 0.04, -sgn * 3.0
+    if spec[KM.S_IC] >= 0:
+        x[spec[KM.S_IC]] = y - sgn * 4e-4
+    if spec[KM.S_IFP] >= 0:
+        x[spec[KM.S_IFP]] = y - sgn * (GAP - 0.5 * DELTA)
+        if spec[KM.S_ZPIST] != 0:
+            lam = 30.0 / 2e5
+            x[spec[KM.S_IZ]] = (sgn * (GAP - 0.5 * min(DELTA, 0.01 * lam))
+                                - (y - x[spec[KM.S_IFP]])) / lam
+    out = np.zeros(m.n_states)
+    assert KM._stroke_map_rhs_t(spec, x, y, v, yd, vd, prm, ep, out)
+    np.testing.assert_array_equal(m.rhs_t(0.0, x, (y, v, 0.0), (yd, vd), P), out)
+
+    def central(h):
+        return (m.rhs(0.0, x, (y + h * yd, v + h * vd, 0.0), P)
+                - m.rhs(0.0, x, (y - h * yd, v - h * vd, 0.0), P)) / (2 * h)
+
+    h = 2e-6  # [s]: the stroke moves 0.08 um, inside the contact's smoothing width
+    fd = (4.0 * central(0.5 * h) - central(h)) / 3.0
+    np.testing.assert_allclose(out, fd, rtol=1e-4, atol=1e-6 * np.max(np.abs(fd)))
+    if spec[KM.S_IFP] >= 0:  # inside the smoothing the contact's slope carries dy/dt too
+        still = np.zeros(m.n_states)
+        KM._stroke_map_rhs_t(spec, x, y, v, 0.0, vd, prm, ep, still)
+        assert abs(out[spec[KM.S_IFP]] - still[spec[KM.S_IFP]]) > 1e-3 * abs(still[
+            spec[KM.S_IFP]])
+
+
 def test_other_compositions_keep_the_differences():
     """Cavities behind the spring, or both maps at once, are not covered: False (model_jac
     then differences)."""
