@@ -10,7 +10,7 @@ import liquidamp.analysis.measured.class_revisit as CR
 import liquidamp.analysis.measured.record_model as RM
 import liquidamp.coupled.fast as F
 import liquidamp.coupled.periodic as PER
-import scipy.optimize._lsq.least_squares as LS
+import scipy.optimize as LS
 from liquidamp.analysis.bench_diagnosis import REAL_RATE_RECORDS
 from liquidamp.analysis.measured.synthetic import synthetic_record
 

@@ -5,8 +5,13 @@ otherwise; both give the SVD's answer."""
 import math
 
 import numpy as np
+import pytest
 
-from liquidamp.structure.testmachine import FourierStroke, _harmonic_lstsq
+from liquidamp.structure.testmachine import (
+    FourierStroke,
+    _harmonic_lstsq,
+    _harmonic_normal_fit,
+)
 
 
 def _design(t, f, K):
@@ -24,6 +29,24 @@ def test_normal_equations_match_the_svd_on_a_long_record():
     ref, _, rank_ref, _ = np.linalg.lstsq(A, y, rcond=None)
     assert rank == rank_ref == A.shape[1]
     np.testing.assert_allclose(c, ref, rtol=0.0, atol=1e-10 * np.max(np.abs(ref)))
+
+
+def test_power_sum_normal_equations_match_the_svd():
+    """The Gram matrix from power sums of exp(i w) and the explicit residual: the SVD's
+    coefficients and sum of squares, for a subset of harmonics and for a short record
+    (None: too few samples for the normal equations)."""
+    rng = np.random.default_rng(4)
+    t = np.arange(9000) / 3000.0
+    w = 2 * math.pi * (2.0 + 3e-4) * t
+    ks = [1, 2, 5, 9]
+    A = np.column_stack([np.ones_like(t)] + [g(k * w) for k in ks for g in (np.sin, np.cos)])
+    y = A @ rng.normal(size=A.shape[1]) * 1e-3 + rng.normal(0.0, 1e-6, t.size)
+    c, rss, rank = _harmonic_normal_fit(w, ks, y)
+    ref, res, rank_ref, _ = np.linalg.lstsq(A, y, rcond=None)
+    assert rank == rank_ref == A.shape[1]
+    np.testing.assert_allclose(c, ref, rtol=0.0, atol=1e-9 * np.max(np.abs(ref)))
+    assert rss == pytest.approx(float(res[0]), rel=1e-6)
+    assert _harmonic_normal_fit(w[:30], ks, y[:30]) is None
 
 
 def test_a_rank_deficient_design_falls_back_to_the_svd():
