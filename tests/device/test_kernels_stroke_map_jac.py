@@ -73,8 +73,9 @@ def test_stroke_map_jacobian_matches_central_differences(case, sgn):
     # the analytic branch is the one taken (not the differences of model_jac)
     Ja = np.zeros((m.n_states, m.n_states))
     assert KM._stroke_map_jac(spec, x, u[0], u[1], prm, ep, Ja)
-    J = m.jacobian(0.0, x, u, P)
-    np.testing.assert_array_equal(J, Ja)
+    if KM.ANALYTIC_STROKE_MAPS:  # model_jac's own answer then
+        np.testing.assert_array_equal(m.jacobian(0.0, x, u, P), Ja)
+    J = Ja
 
     def central(j, h):
         xp, xm = x.copy(), x.copy()
@@ -115,7 +116,8 @@ def test_stroke_map_time_derivative_matches_central_differences(case, sgn):
                                 - (y - x[spec[KM.S_IFP]])) / lam
     out = np.zeros(m.n_states)
     assert KM._stroke_map_rhs_t(spec, x, y, v, yd, vd, prm, ep, out)
-    np.testing.assert_array_equal(m.rhs_t(0.0, x, (y, v, 0.0), (yd, vd), P), out)
+    if KM.ANALYTIC_STROKE_MAPS:
+        np.testing.assert_array_equal(m.rhs_t(0.0, x, (y, v, 0.0), (yd, vd), P), out)
 
     def central(h):
         return (m.rhs(0.0, x, (y + h * yd, v + h * vd, 0.0), P)
