@@ -259,6 +259,13 @@ class TwoFrequencyStroke:
         return y, v, a
 
 
+#: Samples from which :meth:`FourierStroke.fit` solves by power-sum normal equations
+#: (:func:`_harmonic_normal_fit`) instead of the SVD: a long record (a 3 kHz, 20 s record is
+#: 60 000 samples, its SVD seconds).  Below it the SVD as before: the diagnosis's answers
+#: on short records move with the stroke's last digits (runs/s8_speed/README.md).
+_NORMAL_FIT_SAMPLES = 20000
+
+
 def _harmonic_normal_fit(w, ks, y):
     """Least squares of ``y`` on ``[1, sin k w, cos k w for k in ks]`` by the normal
     equations built from power sums, without the design matrix; None where they are
@@ -322,31 +329,6 @@ def _harmonic_normal_fit(w, ks, y):
         acc = acc * E + a_k[k]
     r = y - c[0] - (acc * E).real
     return c, float(r @ r), m
-
-
-def _harmonic_lstsq(A, y) -> tuple[np.ndarray, int]:
-    """Least-squares coefficients of ``A c = y`` and the rank of ``A``, for the nearly
-    orthogonal sine and cosine columns of :meth:`FourierStroke.fit`.
-
-    The normal equations ``A^T A c = A^T y`` (one pass over the long record: a 3 kHz,
-    20 s record with 64 harmonics is a 60000 x 129 system, about a second and a half for
-    the SVD of ``np.linalg.lstsq``, a few hundredths for these), scaled to a unit
-    diagonal, where their condition number is below 1e6 (columns over whole cycles are
-    orthogonal: about 1 there), so that the solution keeps about 10 digits of the SVD's;
-    otherwise (short or aliased records) ``np.linalg.lstsq``.
-    """
-    m = A.shape[1]
-    if A.shape[0] >= 4 * m:
-        G = A.T @ A
-        d = np.sqrt(np.diag(G))
-        if np.all(d > 0.0):
-            Gs = G / np.outer(d, d)  # unit diagonal: the scaled condition number
-            ev = np.linalg.eigvalsh(Gs)
-            if ev[0] > 1e-6 * ev[-1]:
-                c = np.linalg.solve(Gs, (A.T @ y) / d) / d
-                return c, m
-    c, _, rank, _ = np.linalg.lstsq(A, y, rcond=None)
-    return c, int(rank)
 
 
 @dataclass(frozen=True, eq=False)
@@ -461,16 +443,17 @@ class FourierStroke:
 
         def lsq(fk, ks):
             w = 2 * math.pi * fk * (t - origin)
-            quick = _harmonic_normal_fit(w, list(ks), y)
-            if quick is not None:
-                return quick
+            if n >= _NORMAL_FIT_SAMPLES:  # where the SVD would dominate the fit's cost
+                quick = _harmonic_normal_fit(w, list(ks), y)
+                if quick is not None:
+                    return quick
             A = np.empty((n, 2 * len(ks) + 1))
             A[:, 0] = 1.0
             for j, k in enumerate(ks):
                 A[:, 2 * j + 1], A[:, 2 * j + 2] = np.sin(k * w), np.cos(k * w)
-            c, rank = _harmonic_lstsq(A, y)
+            c, _, rank, _ = np.linalg.lstsq(A, y, rcond=None)
             r = y - A @ c
-            return c, float(r @ r), rank
+            return c, float(r @ r), int(rank)
 
         def select(fk):
             c, rss, rank = lsq(fk, range(1, H + 1))
