@@ -1,11 +1,13 @@
-"""The analytic Jacobian of a fluid behind series compliance or freeplay (the stiff RODAS4
-route's d rhs / dx, ``kernels_model._stroke_map_jac``) against central differences of the
-right-hand side, in both stroke directions, with the effects that may sit beside them."""
+"""The analytic Jacobian and time derivative of a fluid behind series compliance or freeplay
+(``kernels_stroke_map``: the stiff RODAS4 route's d rhs / dx and d rhs / dt) against
+Richardson-extrapolated central differences of the right-hand side, in both stroke
+directions, with the effects that may sit beside them."""
 
 import numpy as np
 import pytest
 
 from liquidamp.device import kernels_model as KM
+from liquidamp.device import kernels_stroke_map as SM
 from liquidamp.device import preset
 from liquidamp.device.effects import make_effect, with_effects
 from liquidamp.device.models import get_model
@@ -72,9 +74,7 @@ def test_stroke_map_jacobian_matches_central_differences(case, sgn):
             x[spec[KM.S_IZ]] = (sgn * (GAP - 0.5 * dc) - (y - x[spec[KM.S_IFP]])) / lam
     # the analytic branch is the one taken (not the differences of model_jac)
     Ja = np.zeros((m.n_states, m.n_states))
-    assert KM._stroke_map_jac(spec, x, u[0], u[1], prm, ep, Ja)
-    if KM.ANALYTIC_STROKE_MAPS:  # model_jac's own answer then
-        np.testing.assert_array_equal(m.jacobian(0.0, x, u, P), Ja)
+    assert SM.stroke_map_jac(spec, x, u[0], u[1], prm, ep, Ja)
     J = Ja
 
     def central(j, h):
@@ -115,9 +115,7 @@ def test_stroke_map_time_derivative_matches_central_differences(case, sgn):
             x[spec[KM.S_IZ]] = (sgn * (GAP - 0.5 * min(DELTA, 0.01 * lam))
                                 - (y - x[spec[KM.S_IFP]])) / lam
     out = np.zeros(m.n_states)
-    assert KM._stroke_map_rhs_t(spec, x, y, v, yd, vd, prm, ep, out)
-    if KM.ANALYTIC_STROKE_MAPS:
-        np.testing.assert_array_equal(m.rhs_t(0.0, x, (y, v, 0.0), (yd, vd), P), out)
+    assert SM.stroke_map_rhs_t(spec, x, y, v, yd, vd, prm, ep, out)
 
     def central(h):
         return (m.rhs(0.0, x, (y + h * yd, v + h * vd, 0.0), P)
@@ -128,14 +126,13 @@ def test_stroke_map_time_derivative_matches_central_differences(case, sgn):
     np.testing.assert_allclose(out, fd, rtol=1e-4, atol=1e-6 * np.max(np.abs(fd)))
     if spec[KM.S_IFP] >= 0:  # inside the smoothing the contact's slope carries dy/dt too
         still = np.zeros(m.n_states)
-        KM._stroke_map_rhs_t(spec, x, y, v, 0.0, vd, prm, ep, still)
+        SM.stroke_map_rhs_t(spec, x, y, v, 0.0, vd, prm, ep, still)
         assert abs(out[spec[KM.S_IFP]] - still[spec[KM.S_IFP]]) > 1e-3 * abs(still[
             spec[KM.S_IFP]])
 
 
 def test_other_compositions_keep_the_differences():
-    """Cavities behind the spring, or both maps at once, are not covered: False (model_jac
-    then differences)."""
+    """Cavities behind the spring, or both maps at once, are not covered: False."""
     for effs in ([("series_compliance", {"stiffness_N_per_m": 5e5}),
                   ("cavitation", {"vapour_pressure_Pa": 4e4})],
                  [("series_compliance", {"stiffness_N_per_m": 5e5}),
@@ -144,4 +141,4 @@ def test_other_compositions_keep_the_differences():
         spec, prm, ep = m.packed(P)
         x = m.initial_state(P, 0.0).astype(float)
         J = np.zeros((m.n_states, m.n_states))
-        assert not KM._stroke_map_jac(spec, x, 0.0, 0.01, prm, ep, J)
+        assert not SM.stroke_map_jac(spec, x, 0.0, 0.01, prm, ep, J)
