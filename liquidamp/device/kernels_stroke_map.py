@@ -3,14 +3,15 @@ compliance or freeplay): the stiff RODAS4 route's d rhs/dx and d rhs/dt, which
 :func:`liquidamp.device.kernels_model.model_jac` and ``model_rhs_t`` now form by central
 differences there (2n + 2 right-hand sides per step).
 
-NOT wired into ``model_jac``/``model_rhs_t`` (session 8, issue 19 bench): with them wired in
-(and even with the hook compiled out by a constant False, which alone changed the compiled
-integrator's rounding) the default diagnosis's answers on the shared records moved: the
-200 Hz series-compliance bench record added force_offset (or kept series_compliance alone
-at 4.0e5 N/m instead of 5.16e5 with gas_charge), d05's held-out NRMSE went 0.0022 -> 0.0059
-(runs/s8_speed/README.md).  The fits stop on their evaluation budget and follow the
-integrator's last digits.  To wire them in, call them first in ``model_jac`` and
-``model_rhs_t`` (they return False where they do not apply) and re-run the shared cases.
+NOT wired into ``model_jac``/``model_rhs_t`` (session 8, issue 19 bench): with them wired
+in, the default diagnosis's answers on the shared records moved (the 200 Hz
+series-compliance bench record added force_offset, d05's held-out NRMSE 0.0022 -> 0.0059),
+but so did they with nothing but a compiled-out hook or a changed list of cached sources:
+``record_model._phases`` keyed its cache on ``id()`` of the conditioning, which a new
+object can reuse (fixed on the same branch).  Whether the answers move with these forms
+once that is fixed was not measured.  To wire them in, call them first in ``model_jac`` and
+``model_rhs_t`` (they return False where they do not apply) and re-run the shared cases
+(runs/s8_speed/README.md).
 
 The old central differences are off by up to 2 % in the density columns behind the
 compliance (step 2e-6 x scale: round-off); these forms are checked against
