@@ -40,6 +40,7 @@ COMPILED_SOURCES = (
     "device/kernels_thermal.py",
     "device/kernels_position.py",
     "device/kernels_model.py",
+    "device/kernels_stroke_map.py",
     "coupled/_linalg.py",
     "coupled/_stroke_kernels.py",
     "coupled/_kernels.py",

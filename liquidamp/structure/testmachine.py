@@ -259,6 +259,78 @@ class TwoFrequencyStroke:
         return y, v, a
 
 
+#: Samples from which :meth:`FourierStroke.fit` solves by power-sum normal equations
+#: (:func:`_harmonic_normal_fit`) instead of the SVD: a long record (a 3 kHz, 20 s record is
+#: 60 000 samples, its SVD seconds).  Below it the SVD as before: the diagnosis's answers
+#: on short records move with the stroke's last digits (runs/s8_speed/README.md).
+_NORMAL_FIT_SAMPLES = 20000
+
+
+def _harmonic_normal_fit(w, ks, y):
+    """Least squares of ``y`` on ``[1, sin k w, cos k w for k in ks]`` by the normal
+    equations built from power sums, without the design matrix; None where they are
+    ill conditioned (the caller then solves by the SVD).
+
+    With E = exp(i w) per sample, the Gram matrix needs only S_m = sum E^m
+    (m = 0..2 max ks: sin j w sin k w = (cos (j-k) w - cos (j+k) w) / 2 and the like)
+    and the right-hand side sum y E^k, O(N K) operations and no BLAS product of the
+    long N x (2K + 1) matrix (whose threads crowd a loaded machine); the residual is
+    formed explicitly (Horner in E), not from the normal equations, so that its sum of
+    squares keeps its digits.  Returns ``(c, rss, rank)`` as the SVD route does.
+    """
+    n = y.size
+    K = max(ks)
+    m = 2 * len(ks) + 1
+    if n < 4 * m:
+        return None
+    E = np.exp(1j * w)
+    S = np.empty(2 * K + 1, complex)
+    Y = np.empty(K + 1, complex)
+    S[0] = n
+    Y[0] = y.sum()
+    p = np.ones(n, complex)
+    for j in range(1, 2 * K + 1):
+        p *= E
+        S[j] = p.sum()
+        if j <= K:
+            Y[j] = complex(p.real @ y, p.imag @ y)
+
+    def sc(j):  # (sum sin j w, sum cos j w) for any integer j
+        return (S[j].imag, S[j].real) if j >= 0 else (-S[-j].imag, S[-j].real)
+
+    G = np.empty((m, m))
+    b = np.empty(m)
+    G[0, 0], b[0] = n, Y[0].real
+    for a, j in enumerate(ks):
+        sj, cj = sc(j)
+        G[0, 2 * a + 1] = G[2 * a + 1, 0] = sj
+        G[0, 2 * a + 2] = G[2 * a + 2, 0] = cj
+        b[2 * a + 1], b[2 * a + 2] = Y[j].imag, Y[j].real
+        for q, k in enumerate(ks):
+            sm, cm = sc(j - k)
+            sp, cp = sc(j + k)
+            G[2 * a + 1, 2 * q + 1] = 0.5 * (cm - cp)  # sin j sin k
+            G[2 * a + 2, 2 * q + 2] = 0.5 * (cm + cp)  # cos j cos k
+            G[2 * a + 1, 2 * q + 2] = 0.5 * (sp + sm)  # sin j cos k
+            G[2 * q + 2, 2 * a + 1] = 0.5 * (sp + sm)
+    d = np.sqrt(np.diag(G))
+    if not np.all(d > 0.0):
+        return None
+    Gs = G / np.outer(d, d)
+    ev = np.linalg.eigvalsh(Gs)
+    if not ev[0] > 1e-6 * ev[-1]:
+        return None
+    c = np.linalg.solve(Gs, b / d) / d
+    a_k = np.zeros(K + 1, complex)  # c_k - i s_k: sum Re(a_k E^k) is the series
+    for q, k in enumerate(ks):
+        a_k[k] = c[2 * q + 2] - 1j * c[2 * q + 1]
+    acc = np.full(n, a_k[K])
+    for k in range(K - 1, 0, -1):
+        acc = acc * E + a_k[k]
+    r = y - c[0] - (acc * E).real
+    return c, float(r @ r), m
+
+
 @dataclass(frozen=True, eq=False)
 class FourierStroke:
     """Periodic stroke given by its Fourier series: displacement, velocity and acceleration exact.
@@ -371,6 +443,10 @@ class FourierStroke:
 
         def lsq(fk, ks):
             w = 2 * math.pi * fk * (t - origin)
+            if n >= _NORMAL_FIT_SAMPLES:  # where the SVD would dominate the fit's cost
+                quick = _harmonic_normal_fit(w, list(ks), y)
+                if quick is not None:
+                    return quick
             A = np.empty((n, 2 * len(ks) + 1))
             A[:, 0] = 1.0
             for j, k in enumerate(ks):

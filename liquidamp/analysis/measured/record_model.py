@@ -626,7 +626,7 @@ def _phases(record, cond, t, rig_stroke, origin):
     key = (float(T), float(origin), float(t[0]), float(t[-1]), t.size, rig_stroke.sine.tobytes(),
            rig_stroke.cosine.tobytes(), id(cond))
     cached = record.meta.get("_phases")
-    if cached is not None and cached[0] == key:
+    if cached is not None and cached[0] == key and cached[2] is cond:
         return cached[1]
     if cond is not None:
         tq, at_record = cond.model_times(t)
@@ -639,7 +639,7 @@ def _phases(record, cond, t, rig_stroke, origin):
     out = (phase, uniq, inverse, at_record, uq)
     for a in (phase, uniq, inverse, at_record, *uq):
         a.setflags(write=False)
-    record.meta["_phases"] = (key, out)
+    record.meta["_phases"] = (key, out, cond)  # cond kept: its id cannot be reused
     return out
 
 
