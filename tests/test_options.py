@@ -185,7 +185,7 @@ def _calls():
                     lambda: _fn("analysis.measured.calibration.predict")("full", p, (), [])),
         "calibrate": ("analysis.measured.calibration", "fit",
                       lambda: _fn("analysis.measured.calibration.calibrate")([_record()])),
-        "diagnose": ("analysis.measured.diagnosis", "fit",
+        "diagnose": ("analysis.measured.diagnosis_options", "fit",
                      lambda: _fn("analysis.measured.diagnosis.diagnose")([_record()], [_record()])),
         "simulate_rotor": ("options", "rotor", lambda: _fn("coupled.fast_rotor.simulate_rotor")(
             *_rotor_device()[:1], W, _rotor_device()[1], 1.0)),
