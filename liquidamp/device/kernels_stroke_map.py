@@ -56,10 +56,12 @@ from liquidamp.device.kernels_layout import (
     P_CHD,
     S_ASYM,
     S_FPFRIC,
+    S_GROOVE,
     S_FY,
     S_IC,
     S_ICAV,
     S_IEL,
+    S_IW,
     S_IFP,
     S_IZ,
     S_LEAK,
@@ -84,7 +86,8 @@ def stroke_map_jac(spec, x, y, v, prm, ep, J):
 
     Applies to the plain fluid (leakage on ``full``/``no_inertia`` allowed) with smooth
     friction (bristles on the rod) and elastomer states; not to cavities, relief valves,
-    rebound asymmetry, the rotating frame, self-heating, the field yield, an infinite
+    rebound asymmetry, a bypass groove, slip weakening, the rotating frame, self-heating, the
+    field yield, an infinite
     series stiffness, or both maps at once (those keep :func:`model_jac`'s central
     differences).
 
@@ -111,7 +114,8 @@ def stroke_map_jac(spec, x, y, v, prm, ep, J):
     if (icp >= 0) == (ifp >= 0):
         return False
     if (spec[S_ICAV] >= 0 or spec[S_RELIEF] != 0 or spec[S_ROT] > 0 or spec[S_TH] >= 0
-            or spec[S_FY] >= 0 or spec[S_ASYM] != 0):
+            or spec[S_FY] >= 0 or spec[S_ASYM] != 0 or spec[S_GROOVE] > 0
+            or spec[S_IW] >= 0):
         return False
     mid = spec[S_MID]
     nb = spec[S_NB]
@@ -218,7 +222,8 @@ def stroke_map_rhs_t(spec, x, y, v, yd, vd, prm, ep, out):
     if (icp >= 0) == (ifp >= 0):
         return False
     if (spec[S_ICAV] >= 0 or spec[S_RELIEF] != 0 or spec[S_ROT] > 0 or spec[S_TH] >= 0
-            or spec[S_FY] >= 0 or spec[S_ASYM] != 0):
+            or spec[S_FY] >= 0 or spec[S_ASYM] != 0 or spec[S_GROOVE] > 0
+            or spec[S_IW] >= 0):
         return False
     for k in range(N_CH):
         if prm[P_CHD + k] != 0.0:
