@@ -14,7 +14,8 @@ from __future__ import annotations
 
 import time
 
-__all__ = ["REAL_RATE_RECORDS", "HIDDEN_EFFECT_RECORDS", "case_real_rates", "case_diagnosis",
+__all__ = ["REAL_RATE_RECORDS", "HIDDEN_EFFECT_RECORDS", "real_rate_records",
+           "case_real_rates", "case_diagnosis",
            "case_hidden_effects", "median_time", "FIELD_DEVICE", "field_record",
            "case_field_input"]
 
@@ -59,6 +60,46 @@ REAL_RATE_RECORDS = {
 }
 
 
+def real_rate_records(name: str, effect: str, quick: bool = False, warm: bool = False):
+    """The records of one effect of a :data:`REAL_RATE_RECORDS` case, as the bench makes them.
+
+    Parameters
+    ----------
+    name : str
+        A key of :data:`REAL_RATE_RECORDS`.
+    effect : str
+        One of the case's hidden effects.
+    quick : bool
+        The quick configuration's shorter records (3 s or 4 cycles).
+    warm : bool
+        Instead, the short 200 Hz record (2 cycles at the calibration stroke) that compiles
+        or loads the kernels before timing.
+
+    Returns
+    -------
+    tuple of Record
+        (calibration, validation), or (warm record,): the paper's calibrated device with the
+        effect at its truth, sampled at the case's rate [Hz] with the synthetic generator's
+        noise, seeds fixed (700 + 10 k + i for the k-th effect, 699 for the warm record).
+    """
+    from liquidamp.analysis.measured.synthetic import synthetic_record
+
+    rate, duration, cycles, (fc, yc), (fv, yv), truths = REAL_RATE_RECORDS[name]
+    truth = truths[effect]
+    if warm:
+        return (synthetic_record(preset="paper_calibrated", frequency=fc, amplitude=yc,
+                                 cycles=2, sampling_rate=200.0, seed=699,
+                                 effects={effect: truth}),)
+    if quick:
+        duration, cycles = (duration and 3.0), (cycles and 4.0)
+    k = list(truths).index(effect)
+    return tuple(synthetic_record(preset="paper_calibrated", frequency=f, amplitude=y,
+                                  cycles=duration * f if duration else cycles,
+                                  sampling_rate=rate, seed=700 + 10 * k + i,
+                                  effects={effect: truth})
+                 for i, (f, y) in enumerate(((fc, yc), (fv, yv))))
+
+
 def case_real_rates(name: str, quick: bool, repeats: int) -> dict:
     """Diagnosis of synthetic records at a test machine's rate, each holding one hidden effect.
 
@@ -89,7 +130,6 @@ def case_real_rates(name: str, quick: bool, repeats: int) -> dict:
     fitted parameters' largest relative error.
     """
     from liquidamp.analysis.measured.diagnosis import diagnose
-    from liquidamp.analysis.measured.synthetic import synthetic_record
 
     rate, duration, cycles, (fc, yc), (fv, yv), truths = REAL_RATE_RECORDS[name]
     if quick:
@@ -106,17 +146,11 @@ def case_real_rates(name: str, quick: bool, repeats: int) -> dict:
            "repeats": 1}
     # compile or load the kernels first (the whole catalogue, briefly): a first call would
     # time the compilation, not the diagnosis
-    first = dict([next(iter(truths.items()))])
-    warm = synthetic_record(preset="paper_calibrated", frequency=fc, amplitude=yc, cycles=2,
-                            sampling_rate=200.0, seed=699, effects=first)
+    first = next(iter(truths))
+    warm = real_rate_records(name, first, quick, warm=True)[0]
     diagnose([warm], [warm], max_steps=1, max_nfev=2, top=1)
-    for k, (effect, truth) in enumerate(truths.items()):
-        recs = []
-        for i, (f, y) in enumerate(((fc, yc), (fv, yv))):
-            n_cyc = duration * f if duration else cycles
-            recs.append(synthetic_record(preset="paper_calibrated", frequency=f, amplitude=y,
-                                         cycles=n_cyc, sampling_rate=rate,
-                                         seed=700 + 10 * k + i, effects={effect: truth}))
+    for effect, truth in truths.items():
+        recs = real_rate_records(name, effect, quick)
         kw = dict(top=1, max_nfev=4, max_steps=1, candidates=(effect,)) if quick else {}
         t0 = time.perf_counter()
         d = diagnose([recs[0]], [recs[1]], **kw)

@@ -80,6 +80,26 @@ __all__ = ["stroke_map_jac", "stroke_map_rhs_t"]
 
 
 @njit(cache=True, error_model="numpy")
+def _applies(spec, ep):
+    """Whether the stroke-map forms hold the composition: one map (series compliance of
+    finite stiffness with the piston stroke right after the fluid's states, or freeplay),
+    leakage only on the ``full`` and ``no_inertia`` bases, and none of the effects they do not
+    cover (cavities, relief valves, rebound asymmetry, a bypass groove, slip weakening, the
+    rotating frame, self-heating, the field yield)."""
+    icp = spec[S_IC]
+    if (icp >= 0) == (spec[S_IFP] >= 0):
+        return False
+    if (spec[S_ICAV] >= 0 or spec[S_RELIEF] != 0 or spec[S_ROT] > 0 or spec[S_TH] >= 0
+            or spec[S_FY] >= 0 or spec[S_ASYM] != 0 or spec[S_GROOVE] > 0
+            or spec[S_IW] >= 0):
+        return False
+    mid = spec[S_MID]
+    if spec[S_LEAK] != 0 and not (mid == M_FULL or mid == M_NO_INERTIA):
+        return False
+    return not (icp >= 0 and (math.isinf(ep[E_KC]) or icp != spec[S_NB]))
+
+
+@njit(cache=True, error_model="numpy")
 def stroke_map_jac(spec, x, y, v, prm, ep, J):
     """Analytic Jacobian of a base fluid behind a stroke map (series compliance or
     freeplay, one of them), into ``J`` (already zeroed); False where it does not apply.
@@ -109,23 +129,15 @@ def stroke_map_jac(spec, x, y, v, prm, ep, J):
     Checked against central differences of :func:`model_rhs` in
     ``tests/device/test_kernels_stroke_map.py``.
     """
+    if not _applies(spec, ep):
+        return False
     icp = spec[S_IC]
     ifp = spec[S_IFP]
-    if (icp >= 0) == (ifp >= 0):
-        return False
-    if (spec[S_ICAV] >= 0 or spec[S_RELIEF] != 0 or spec[S_ROT] > 0 or spec[S_TH] >= 0
-            or spec[S_FY] >= 0 or spec[S_ASYM] != 0 or spec[S_GROOVE] > 0
-            or spec[S_IW] >= 0):
-        return False
     mid = spec[S_MID]
     nb = spec[S_NB]
-    if spec[S_LEAK] != 0 and not (mid == M_FULL or mid == M_NO_INERTIA):
-        return False
     kL = ep[E_LEAK] if spec[S_LEAK] != 0 else 0.0
     if icp >= 0:
         k = ep[E_KC]
-        if math.isinf(k) or icp != nb:
-            return False
         yp = x[icp]
         a = np.empty(nb)
         b = np.empty(nb)
@@ -219,19 +231,13 @@ def stroke_map_rhs_t(spec, x, y, v, yd, vd, prm, ep, out):
     """
     icp = spec[S_IC]
     ifp = spec[S_IFP]
-    if (icp >= 0) == (ifp >= 0):
-        return False
-    if (spec[S_ICAV] >= 0 or spec[S_RELIEF] != 0 or spec[S_ROT] > 0 or spec[S_TH] >= 0
-            or spec[S_FY] >= 0 or spec[S_ASYM] != 0 or spec[S_GROOVE] > 0
-            or spec[S_IW] >= 0):
+    if not _applies(spec, ep):
         return False
     for k in range(N_CH):
         if prm[P_CHD + k] != 0.0:
             return False
     mid = spec[S_MID]
     nb = spec[S_NB]
-    if spec[S_LEAK] != 0 and not (mid == M_FULL or mid == M_NO_INERTIA):
-        return False
     kL = ep[E_LEAK] if spec[S_LEAK] != 0 else 0.0
     n = spec[S_N]
     for i in range(n):
@@ -241,8 +247,6 @@ def stroke_map_rhs_t(spec, x, y, v, yd, vd, prm, ep, out):
     dvz = vd
     if icp >= 0:
         k = ep[E_KC]
-        if math.isinf(k) or icp != nb:
-            return False
         yp = x[icp]
         a = np.empty(nb)
         b = np.empty(nb)

@@ -1,6 +1,14 @@
 """Side-by-side table of two bench JSON files (old = main bf75667, new = s8-speed)."""
-import json, sys
+import json
+import sys
 from pathlib import Path
+
+
+def _error(result, effect):
+    """The bench's largest relative parameter error of ``effect``, or '-'."""
+    v = result.get(f"parameter_error_{effect}")
+    return "-" if v is None else f"{v:.4g}"
+
 
 d = Path(sys.argv[1])
 for case in ("diagnosis_200hz_10_cycles", "diagnosis_3khz_20s"):
@@ -29,10 +37,10 @@ for case in ("diagnosis_200hz_10_cycles", "diagnosis_3khz_20s"):
     eff = [k[8:] for k in o if k.startswith("seconds_")]
     so, sn = [], []
     for e in eff:
-        so.append(o[f"seconds_{e}"]); sn.append(n.get(f"seconds_{e}", float("nan")))
-        pe = lambda r: "-" if r.get(f"parameter_error_{e}") is None else f"{r[f'parameter_error_{e}']:.4g}"
+        so.append(o[f"seconds_{e}"])
+        sn.append(n.get(f"seconds_{e}", float("nan")))
         print(f"| {e} | {so[-1]:.1f} | {sn[-1]:.1f} | {','.join(o[f'added_{e}'])} | "
-              f"{','.join(n.get(f'added_{e}', []))} | {pe(o)} | {pe(n)} |")
+              f"{','.join(n.get(f'added_{e}', []))} | {_error(o, e)} | {_error(n, e)} |")
     import statistics
     print(f"| median | {statistics.median(so):.1f} | {statistics.median(sn):.1f} | | | | |")
     print(f"| total | {sum(so):.1f} | {sum(sn):.1f} | | | | |")

@@ -2,12 +2,13 @@
 
 PYTHONPATH=. python runs/s8_speed/count_one.py CASE EFFECT
 """
-import collections, sys, time
-import numpy as np
+import collections
+import sys
+import time
+
 import liquidamp.coupled.fast as F
-from liquidamp.analysis.bench_diagnosis import REAL_RATE_RECORDS
+from liquidamp.analysis.bench_diagnosis import real_rate_records
 from liquidamp.analysis.measured.diagnosis import diagnose
-from liquidamp.analysis.measured.synthetic import synthetic_record
 
 C = collections.Counter()
 _orig_run = F._run
@@ -17,25 +18,18 @@ def _run(options, args, out, info):
     spec = args[0]
     key = f"n{int(spec[1])}_ic{int(spec[4])}_ifp{int(spec[5])}_an{int(spec[11])}"
     C[key + ":calls"] += 1
-    C[key + ":steps"] += int(info[3]); C[key + ":explicit"] += int(info[8])
-    C[key + ":rerun"] += int(rerun); C[key + ":cycles"] += int(info[5])
+    C[key + ":steps"] += int(info[3])
+    C[key + ":explicit"] += int(info[8])
+    C[key + ":rerun"] += int(rerun)
+    C[key + ":cycles"] += int(info[5])
     C[key + ":seconds"] += time.perf_counter() - t
     return x, rerun
 F._run = _run
 
 name, effect = sys.argv[1], sys.argv[2]
-rate, duration, cycles, (fc, yc), (fv, yv), truths = REAL_RATE_RECORDS[name]
-k = list(truths).index(effect)
-truth = truths[effect]
-warm = synthetic_record(preset="paper_calibrated", frequency=fc, amplitude=yc, cycles=2,
-                        sampling_rate=200.0, seed=699, effects={effect: truth})
-diagnose([warm], [warm], max_steps=1, max_nfev=2, top=1)
-recs = []
-for i, (f, y) in enumerate(((fc, yc), (fv, yv))):
-    n_cyc = duration * f if duration else cycles
-    recs.append(synthetic_record(preset="paper_calibrated", frequency=f, amplitude=y,
-                                 cycles=n_cyc, sampling_rate=rate,
-                                 seed=700 + 10 * k + i, effects={effect: truth}))
+warm = real_rate_records(name, effect, warm=True)  # compile or load the kernels first
+diagnose(warm, warm, max_steps=1, max_nfev=2, top=1)
+recs = real_rate_records(name, effect)
 C.clear()
 t0 = time.perf_counter()
 d = diagnose([recs[0]], [recs[1]])

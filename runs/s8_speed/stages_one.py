@@ -3,19 +3,24 @@
 
 PYTHONPATH=. python runs/s8_speed/stages_one.py CASE EFFECT
 """
-import collections, functools, sys, time
+import collections
+import functools
+import sys
+import time
+
+import scipy.optimize as LS
+
+import liquidamp.analysis.measured.class_revisit as CR
 import liquidamp.analysis.measured.diagnosis as D
 import liquidamp.analysis.measured.diagnosis_fits as DF
-import liquidamp.analysis.measured.class_revisit as CR
 import liquidamp.analysis.measured.record_model as RM
 import liquidamp.coupled.fast as F
 import liquidamp.coupled.periodic as PER
-import scipy.optimize as LS
-from liquidamp.analysis.bench_diagnosis import REAL_RATE_RECORDS
-from liquidamp.analysis.measured.synthetic import synthetic_record
+from liquidamp.analysis.bench_diagnosis import real_rate_records
 
 STACK = ["other"]
-T = collections.Counter(); N = collections.Counter()
+T = collections.Counter()
+N = collections.Counter()
 
 
 def stage(mod, name, label=None):
@@ -24,7 +29,8 @@ def stage(mod, name, label=None):
 
     @functools.wraps(f)
     def w(*a, **k):
-        STACK.append(lab); t = time.perf_counter()
+        STACK.append(lab)
+        t = time.perf_counter()
         try:
             return f(*a, **k)
         finally:
@@ -65,19 +71,11 @@ def _run(options, args, out, info):
 
 F._run = _run
 name, effect = sys.argv[1], sys.argv[2]
-rate, duration, cycles, (fc, yc), (fv, yv), truths = REAL_RATE_RECORDS[name]
-k = list(truths).index(effect)
-truth = truths[effect]
-warm = synthetic_record(preset="paper_calibrated", frequency=fc, amplitude=yc, cycles=2,
-                        sampling_rate=200.0, seed=699, effects={effect: truth})
-D.diagnose([warm], [warm], max_steps=1, max_nfev=2, top=1)
-recs = []
-for i, (f, y) in enumerate(((fc, yc), (fv, yv))):
-    n_cyc = duration * f if duration else cycles
-    recs.append(synthetic_record(preset="paper_calibrated", frequency=f, amplitude=y,
-                                 cycles=n_cyc, sampling_rate=rate,
-                                 seed=700 + 10 * k + i, effects={effect: truth}))
-T.clear(); N.clear()
+warm = real_rate_records(name, effect, warm=True)  # compile or load the kernels first
+D.diagnose(warm, warm, max_steps=1, max_nfev=2, top=1)
+recs = real_rate_records(name, effect)
+T.clear()
+N.clear()
 t0 = time.perf_counter()
 d = D.diagnose([recs[0]], [recs[1]])
 print(f"{name} {effect}: {time.perf_counter() - t0:.1f} s, added {list(d.added)}")
