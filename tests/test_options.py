@@ -181,7 +181,7 @@ def _calls():
             "analysis.response.equivalent.equivalent_linearization")(p, 3.0, 1e-3)),
         "run_case_study": ("analysis.reports.casestudy", "casestudy",
                            lambda: _fn("analysis.reports.casestudy.run_case_study")()),
-        "predict": ("analysis.measured.calibration", "fit",
+        "predict": ("analysis.measured.fit_objective", "fit",
                     lambda: _fn("analysis.measured.calibration.predict")("full", p, (), [])),
         "calibrate": ("analysis.measured.calibration", "fit",
                       lambda: _fn("analysis.measured.calibration.calibrate")([_record()])),

@@ -740,7 +740,7 @@ def _specialise(fn, name: str, **constants):
     f = types.FunctionType(fn.__code__, g, name, fn.__defaults__)
     f.__qualname__ = name
     f.__doc__ = fn.__doc__
-    return njit(cache=True, error_model="numpy")(f)
+    return njit(cache=True, error_model="numpy", nogil=True)(f)
 
 
 _WITH_RODAS = True

@@ -105,6 +105,7 @@ from liquidamp.analysis.measured.checks import (
     keep_outliers,
 )
 from liquidamp.analysis.measured.device_class import DEVICE_CLASSES, calibrate_by_class
+from liquidamp.analysis.measured.fit_objective import FitObjective, build, predict
 from liquidamp.analysis.measured.fit_spec import (
     PAPER_FOUR,
     FitSpec,
@@ -113,8 +114,8 @@ from liquidamp.analysis.measured.fit_spec import (
     scale_effect_bounds,
 )
 from liquidamp.analysis.measured.plausibility import plausibility_flags
-from liquidamp.analysis.measured.progress import current_progress, with_progress
-from liquidamp.analysis.measured.record_model import nrmse, simulate_record
+from liquidamp.analysis.measured.progress import with_progress
+from liquidamp.analysis.measured.record_model import nrmse
 from liquidamp.analysis.measured.record_quality import as_read, check_record_stroke
 from liquidamp.analysis.measured.records import Record
 from liquidamp.analysis.measured.selection import correlation_inflation
@@ -133,7 +134,7 @@ from liquidamp.analysis.measured.start import (
     stroke_factor,
     stroke_share,
 )
-from liquidamp.device.effects import EFFECTS, Effect, on_absolute_stroke, with_effects
+from liquidamp.device.effects import EFFECTS, on_absolute_stroke, with_effects
 from liquidamp.device.models import get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import (
@@ -161,55 +162,6 @@ rtol 1e-6 RODAS4's global error is several times smaller than Dormand-Prince's
 (|K*| error 2.2e-7 against 1.3e-6 for the reference design at 3 Hz, 3 mm); with
 Dormand-Prince the diagnosis of the bundled demo record took 13x longer and
 added freeplay and leakage beside the true smooth friction."""
-
-def build(base_params: DeviceParams, effects: tuple[Effect, ...], spec: FitSpec,
-          values: dict) -> tuple[DeviceParams, tuple[Effect, ...]]:
-    """Parameters and effects for fit ``values`` (name -> value); inputs untouched.
-
-    Multipliers apply through :meth:`DeviceParams.scaled`: on ``c1``, ``c2``,
-    ``S_t`` they scale the loss/inertance factor (or the explicit value), on
-    ``mu``, ``l_t``, ``A_t`` the geometry the derived coefficients follow.
-    """
-    check_spec_uses(base_params, spec)
-    mult = {p.name: values.get(p.name, p.value) for p in spec.parameters
-            if p.kind == "multiplier"}
-    params = base_params.scaled(**mult) if mult else base_params
-    by_name = {e.name: e for e in effects}
-    for name in spec.effect_names():
-        if name not in by_name:
-            by_name[name] = EFFECTS[name]()
-    changes: dict[str, dict] = {}
-    for p in spec.parameters:
-        if p.kind == "effect":
-            eff, key = p.name.split(".", 1)
-            changes.setdefault(eff, {})[key] = values.get(p.name, p.value)
-    out = []
-    for name, e in by_name.items():
-        out.append(e.replace(**changes[name]) if name in changes else e)
-    return params, tuple(out)
-
-
-def predict(model, params: DeviceParams, effects, records, *, options=None,
-            preroll: int | None = None, warm: dict | None = None) -> list[np.ndarray]:
-    """Model force [N] for each record (driven by its stroke).
-
-    ``warm`` (optional dict, updated in place): the orbit state at each periodic record's
-    first sample from the previous call, by record index, as the first guess of the next
-    periodic orbit (:func:`~liquidamp.analysis.measured.record_model.simulate_record`,
-    ``x0``); ``preroll`` is ignored (kept for existing calls).
-    """
-    m = with_effects(get_model(model), *effects)
-    opts = resolve_options(options, "fit")
-    out = []
-    for i, r in enumerate(records):
-        x0 = None if warm is None else warm.get(i)
-        if x0 is not None and x0.shape != (m.n_states,):
-            x0 = None
-        resp = simulate_record(m, params, r, options=opts, x0=x0)
-        if warm is not None and r.periodic and m.n_states:
-            warm[i] = np.array(resp.states[:, 0])
-        out.append(resp.force)
-    return out
 
 
 # ---------------------------------------------------------------------------
@@ -275,58 +227,12 @@ def _nrmse_kept(preds, records, masks) -> float:
                  [r.force[k] for r, k in zip(records, masks, strict=True)])
 
 
-class _Objective:
-    def __init__(self, model, base_params, effects, spec, records, options, preroll,
-                 keep=None):
-        self.model = get_model(model)
-        self.base, self.effects, self.spec = base_params, tuple(effects), spec
-        self.records, self.options, self.preroll = tuple(records), options, preroll
-        self.var = [p for p in spec.parameters if p.vary]
-        self.fixed = {p.name: p.value for p in spec.parameters}
-        meas = np.concatenate([r.force for r in self.records])
-        self.meas = meas
-        self.keep = (np.ones(meas.size, bool) if keep is None
-                     else np.concatenate(keep).astype(bool))
-        kept = meas[self.keep]
-        self.den = float(np.sqrt(np.mean((kept - kept.mean()) ** 2)))
-        if self.den == 0:
-            raise ParameterError("calibration records hold a constant force")
-        self.scale = self.den * math.sqrt(kept.size)
-        self.nfev = 0
-        self.failures = 0
-        self.last_error = ""
-        self.warm: dict = {}  # the last periodic orbits, first guesses of the next
-
-    def values(self, x) -> dict:
-        v = dict(self.fixed)
-        for p, xi in zip(self.var, x, strict=True):
-            v[p.name] = p.from_x(float(xi))
-        return v
-
-    def forces(self, values):
-        params, effects = build(self.base, self.effects, self.spec, values)
-        return params, effects, predict(self.model, params, effects, self.records,
-                                        options=self.options, warm=self.warm)
-
-    def __call__(self, x):
-        self.nfev += 1
-        report = current_progress()
-        if report is not None:
-            report(1)
-        try:
-            _, _, F = self.forces(self.values(x))
-        except (PressureError, ConvergenceError, ParameterError) as exc:
-            self.failures += 1
-            self.last_error = str(exc)
-            return np.where(self.keep, 3.0 / math.sqrt(self.keep.sum()), 0.0)
-        return np.where(self.keep, np.concatenate(F) - self.meas, 0.0) / self.scale
-
 
 # ---------------------------------------------------------------------------
 # the starting device and the start trials
 
 
-def _trial(obj: _Objective, label: str, values: dict, forces=None,
+def _trial(obj: FitObjective, label: str, values: dict, forces=None,
            params: DeviceParams | None = None) -> StartTrial:
     """Run the objective's model at ``values`` once: a StartTrial (errors recorded).
 
@@ -362,7 +268,7 @@ def _scaled_values(spec: FitSpec, values: dict, force: float, stroke: float) -> 
     return out
 
 
-def _start_device(obj: _Objective, records, validate, sizing: str) -> Sizing:
+def _start_device(obj: FitObjective, records, validate, sizing: str) -> Sizing:
     """The device the fit starts from: the given one when the records are near it, else
     similar to it and sized to the records (module docstring of start).
 
@@ -397,7 +303,7 @@ def _start_device(obj: _Objective, records, validate, sizing: str) -> Sizing:
                    f"({base.stroke_limit * 1e3:.4g} mm; at most {NEAR_STROKE_SHARE:.0%})")
 
     def objective(p, e):
-        o = _Objective(obj.model, p, e, obj.spec, obj.records, obj.options, obj.preroll,
+        o = FitObjective(obj.model, p, e, obj.spec, obj.records, obj.options, obj.preroll,
                        keep=_split(obj.keep, obj.records))
         o.nfev = obj.nfev  # one count of the model runs made to choose the start
         return o
@@ -632,7 +538,7 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
     keep_v = _keep_masks(validate)
     options = resolve_options(options, "fit")
     spec = scale_effect_bounds(spec, records)
-    obj = _Objective(model, base, effects, spec, records, options, preroll, keep=keep_c)
+    obj = FitObjective(model, base, effects, spec, records, options, preroll, keep=keep_c)
     if not obj.var:
         raise ParameterError("the fit specification varies nothing")
     sz = _start_device(obj, records, validate, sizing)
@@ -640,7 +546,7 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
         spec = spec.with_values(_scaled_values(spec, obj.fixed, sz.force_scale,
                                                sz.stroke_scale))
         runs = obj.nfev  # the model runs made to choose the start
-        obj = _Objective(model, sz.params, sz.effects, spec, records, options, preroll,
+        obj = FitObjective(model, sz.params, sz.effects, spec, records, options, preroll,
                          keep=keep_c)
         obj.nfev = runs
         trials = list(sz.trials)
@@ -681,11 +587,12 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
 
         zb = 4.0 * np.ones(len(groups))
         s1 = least_squares(reduced, np.zeros(len(groups)), bounds=(-zb, zb), method="trf",
-                           diff_step=1e-3, ftol=1e-4, xtol=1e-4, max_nfev=8 * len(groups) + 4)
+                           diff_step=1e-3, ftol=1e-4, xtol=1e-4, max_nfev=8 * len(groups) + 4,
+                           workers=obj.columns)
         x0 = np.clip(x0 + G @ s1.x, lo + 1e-12, hi - 1e-12)
     sol = least_squares(obj, x0, bounds=(lo, hi), method="trf", diff_step=1e-3,
                         x_scale=1.0, ftol=tol, xtol=tol, gtol=tol * 1e-2,
-                        max_nfev=max_nfev)
+                        max_nfev=max_nfev, workers=obj.columns)
     values = obj.values(sol.x)
     params_fit, effects_fit = build(obj.base, obj.effects, spec, values)
     pc = predict(model, params_fit, effects_fit, records, options=options, preroll=preroll)
