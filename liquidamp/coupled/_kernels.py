@@ -50,7 +50,10 @@ compiled twice from one text, as :data:`integrate` (both steppers) and as
 :data:`integrate_explicit` (the RODAS4 branches pruned at compile time through
 a global flag), so that a non-stiff first call compiles about half the code;
 each serves a single span and, with ``max_cycles > 0``, the whole
-periodic-steady-state loop.  The linear algebra is one 5 x 5 LU
+periodic-steady-state loop.  The integrators (and the force series of
+:mod:`liquidamp.device.kernels_model`) are compiled ``nogil``: a fit runs the columns of
+its finite-difference Jacobian on several threads
+(:mod:`liquidamp.analysis.measured.fit_objective`).  The linear algebra is one 5 x 5 LU
 specialisation for every base model (smaller systems padded with the identity);
 the full model evaluates f, J and df/dt at the start of a RODAS4 step
 together (``device.kernels.full_all``); the stage times t + h share one stroke

@@ -368,7 +368,7 @@ def state_force(mid, d, prm):
     return d[0]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", nogil=True)
 def base_force_series(mid, X, Y, V, A, prm, with_friction, out):
     """:func:`base_force` (+ the set's friction) over samples, for a model without effects.
 

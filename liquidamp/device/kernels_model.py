@@ -658,7 +658,7 @@ def model_force(spec, x, y, v, a, prm, ep, with_friction):
     return f
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", nogil=True)
 def force_series(spec, X, Y, V, A, prm, ep, with_friction, out):
     """:func:`model_force` over samples: X (n, N) states, Y, V, A (N,) strokes; into ``out``.
 
@@ -676,7 +676,7 @@ def force_series(spec, X, Y, V, A, prm, ep, with_friction, out):
             out[k] = model_force(spec, xk, Y[k], V[k], A[k], prm, ep, False)
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", nogil=True)
 def force_series_inputs(spec, X, Y, V, A, C, prm, ep, with_friction, out):
     """:func:`force_series` with the measured input channels of every sample: ``C`` (N_CH, N)
     the channel values in slot order (``prm[P_CH + k]``, see ``kernels_layout.CHANNELS``)."""
