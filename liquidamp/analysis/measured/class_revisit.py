@@ -61,6 +61,20 @@ The fluid family's other starts (:func:`fluid_alternatives`)
     with its fluid at a bound, as on a friction damper's records) is reported, not
     diagnosed.
 
+The friction start's fluid level (:func:`friction_alternatives`)
+    The friction start holds its fluid at one of two levels, the calibration records' noise
+    floor or negligible (:func:`~liquidamp.analysis.measured.device_class.fluid_levels`),
+    chosen on the bare baselines (held-out records first, then the effective-sample BIC);
+    its fit varies the friction only, so no fit moves the fluid it holds.  An effect
+    found later changes which level the records support: a friction damper with a dead
+    band read from the bare start with a fluid at the noise floor of the 0.5 Hz record (a
+    viscous force that doubles with the rate) predicts the 1 Hz record with 0.147, from
+    the negligible fluid with 0.132 (the real friction-damper records), while after the
+    first effect (the friction's asymmetry) the two levels are alike (0.175, 0.174).  So
+    the level not chosen is a start too, its whole loop run (not gated on its first step
+    as the fluid family's other starts are) and its final model judged against the held
+    one's by the selection rule.
+
 The price is a second loop where the class was in doubt or the first loop ends above the
 noise level; nothing changes where the first loop reached the noise floor.
 
@@ -74,13 +88,20 @@ from __future__ import annotations
 
 import dataclasses
 
-from liquidamp.analysis.measured.device_class import BIC_STRONG, StartOutcome
+from liquidamp.analysis.measured.device_class import (
+    BIC_STRONG,
+    StartOutcome,
+    fluid_levels,
+    friction_start,
+    read_loop,
+)
 from liquidamp.analysis.measured.diagnosis_result import heldout_per_record
 from liquidamp.analysis.measured.selection import judge, sample_count
 from liquidamp.analysis.measured.start import stroke_factor
 from liquidamp.errors import LiquidampError
 
 __all__ = ["CHANNEL_REACH", "runner_up", "design_channels", "fluid_alternatives",
+           "friction_alternatives",
            "alternative_outcome", "unsupported", "UNSUPPORTED", "passes", "revisit",
            "revisit_starts"]
 
@@ -194,6 +215,54 @@ def fluid_alternatives(baseline, run: dict, noise_level: float, params,
                                                       f"with S_t x{f:g} of the reference"),
                              "sizing": "preset", "device_class": "fluid"}))
     return out
+
+
+def friction_alternatives(baseline, run: dict, noise_level: float, params) -> list:
+    """The friction start at the fluid level the class choice did not choose (module
+    docstring).
+
+    Parameters
+    ----------
+    baseline : CalibrationResult
+        The chosen start's calibration (its ``device_class``, ``class_starts``,
+        ``start_params`` and ``calibration`` records).
+    run : dict
+        The loop's state from the chosen start (``current``: the final fit).
+    noise_level : float
+        Calibration NRMSE at or below which the residual is noise [-] (nothing is tried
+        then).
+    params : DeviceParams
+        The device the calibration was given (the friction start's reference).
+
+    Returns
+    -------
+    list of (str, dict)
+        A label and the keywords of :func:`~liquidamp.analysis.measured.calibration.
+        calibrate` (``params``, ``effects``, ``spec``, ``start``, ``sizing``,
+        ``device_class``) of the friction start at each fluid level other than the
+        chosen one; empty where the friction start was not chosen, the caller fixed the
+        structure, the records offer one level only, or the model held is at the noise.
+    """
+    starts = getattr(baseline, "class_starts", ())
+    if (run["current"].nrmse_calibration <= noise_level or params is None or not starts
+            or getattr(baseline, "device_class", "") != "friction"):
+        return []
+    records = tuple(baseline.calibration)
+    levels = fluid_levels(records)
+    if len(levels) < 2:
+        return []
+    reading = read_loop(records)
+    chosen = getattr(baseline.start_params, "name", "") or ""
+    out = []
+    for share in levels:
+        st = friction_start(params, baseline.effects, records, reading, fluid_share=share)
+        if chosen.startswith(st.params.name):
+            continue  # the level the class choice continued
+        label = "the noise floor" if share is None else f"{share:.2g} of |K*|"
+        out.append((f"friction (fluid at {label})",
+                    {"params": st.params, "effects": st.effects, "spec": st.spec,
+                     "start": "spec", "sizing": "preset", "device_class": "friction"}))
+    return out if len(out) < len(levels) else []  # the chosen level not recognised: none
 
 
 #: Plausibility findings that make a fluid start's baseline a device the records cannot
@@ -314,6 +383,8 @@ def revisit_starts(run: dict, baseline, level: float, params, config, fit, loop)
             for a in (runner_up(baseline, run, level),) if a]
     alts += [(label, kw, "fluid") for label, kw in fluid_alternatives(
         baseline, run, level, params, config.sizing)]
+    alts += [(label, kw, "friction") for label, kw in friction_alternatives(
+        baseline, run, level, params)]
     for alt, kw, cls in alts:
         if run["current"].nrmse_calibration <= level:
             break  # the model held has reached the noise: nothing is left to explain
@@ -324,7 +395,10 @@ def revisit_starts(run: dict, baseline, level: float, params, config, fit, loop)
                 run["warnings"].append(f"device class revisited: the {alt} start is not "
                                        f"diagnosed: the records cannot support it ({why})")
                 continue
-            run2 = _alternative_loop(base2, run, bool(cls), loop, config)
+            # the fluid family's other starts gated; the friction start at its other
+            # fluid level differs from the start held by that level alone, which the
+            # first effect hardly tells apart (module docstring): its whole loop
+            run2 = _alternative_loop(base2, run, cls == "fluid", loop, config)
         except LiquidampError as exc:  # an alternative that cannot be run is reported
             run["warnings"].append(f"device class revisited: the {alt} start could not be "
                                    f"diagnosed ({exc})")

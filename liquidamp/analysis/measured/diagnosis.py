@@ -629,10 +629,10 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
                 noise_nrmse)
 
     def fit(kw):  # an alternative start's baseline (stages "start", "fit")
-        base2 = calibrate(calibration, model=model, effects=effects, spec=spec,
-                          validate=validation, options=options, max_nfev=bud.max_nfev,
-                          preroll=bud.preroll, tol=bud.tol, warn=False,
-                          outliers=config.outliers, **{"params": params, **kw})
+        base2 = calibrate(calibration, model=model, validate=validation, options=options,
+                          max_nfev=bud.max_nfev, preroll=bud.preroll, tol=bud.tol,
+                          warn=False, outliers=config.outliers,
+                          **{"params": params, "effects": effects, "spec": spec, **kw})
         if base2.status == "max_nfev":
             base2 = _converge(base2, validation, options, bud.preroll, bud.max_nfev,
                               bud.tol, "preset" if kw["sizing"] == "preset" else "auto")

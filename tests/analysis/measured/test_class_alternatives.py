@@ -200,3 +200,56 @@ def test_shared_records_are_read_as_a_fluid_device(independent_records, case):
         assert prof and prof["open_low"], d.summary()
         assert prof["interval"][0] <= k_e <= prof["interval"][1]
         assert d.steps[0].parameters["parallel_stiffness_N_per_m"] == pytest.approx(k_e, rel=0.3)
+
+
+def _friction_baseline(level, noise: float = 50.0, device_class: str = "friction",
+                       v0: float = 1e-3):
+    from liquidamp.analysis.measured.device_class import friction_start, read_loop
+
+    t = np.arange(0, 8.0, 0.002)
+    y = 0.01 * np.sin(2 * np.pi * t)
+    F = 500.0 * np.tanh(np.gradient(y, t) / v0)
+    F = F + noise * np.random.default_rng(1).standard_normal(t.size)
+    rec = Record.from_arrays(t, y, F)
+    params = preset("paper_initial")
+    st = friction_start(params, (), [rec], read_loop([rec]), fluid_share=level)
+    starts = (StartOutcome("friction", "", 0.2, 0.2, {}, 2, 0.0, True, True, 20,
+                           continued=True),)
+    base = SimpleNamespace(calibration=(rec,), class_starts=starts, device_class=device_class,
+                           start_params=st.params, effects=st.effects)
+    return base, params, rec
+
+
+def test_friction_alternatives_offer_the_fluid_level_not_chosen():
+    from liquidamp.analysis.measured.class_revisit import friction_alternatives
+    from liquidamp.analysis.measured.device_class import FLUID_FLOOR, linear_stiffness
+    from liquidamp.analysis.measured.record_quality import noise_floor
+
+    run = {"current": SimpleNamespace(nrmse_calibration=0.3)}
+    base, params, rec = _friction_baseline(None)  # the noise floor chosen
+    (label, kw), = friction_alternatives(base, run, 0.01, params)
+    assert "0.001 of |K*|" in label
+    assert kw["device_class"] == "friction" and kw["sizing"] == "preset"
+    assert kw["start"] == "spec" and kw["spec"].varying == ("smooth_friction.force_N",
+                                                            "smooth_friction.stiffness_N_per_m")
+    # the alternative's fluid carries FLUID_FLOOR of |K*| where the chosen one carries the
+    # record's noise floor: |K_fluid| in their ratio (both matched to their targets)
+    Y = rec.stroke_scale
+    k_alt = abs(linear_stiffness(kw["params"], rec.frequency, Y))
+    k_held = abs(linear_stiffness(base.start_params, rec.frequency, Y))
+    ratio = FLUID_FLOOR / noise_floor(rec).nrmse
+    assert k_alt / k_held == pytest.approx(ratio, rel=0.05)
+    # the other way round: the negligible fluid chosen, the noise floor offered
+    base2, params, _ = _friction_baseline(FLUID_FLOOR)
+    (label2, kw2), = friction_alternatives(base2, run, 0.01, params)
+    assert "noise floor" in label2
+    assert kw2["params"].name == base.start_params.name
+    # nothing where the model held is at the noise, the class is not friction, or the
+    # records offer one level (noise floor below FLUID_FLOOR)
+    assert friction_alternatives(base, {"current": SimpleNamespace(nrmse_calibration=0.01)},
+                                 0.01, params) == []
+    fluid, params, _ = _friction_baseline(None, device_class="fluid")
+    assert friction_alternatives(fluid, run, 0.01, params) == []
+    clean, params, rec = _friction_baseline(None, noise=0.0, v0=0.02)
+    assert noise_floor(rec).nrmse < FLUID_FLOOR
+    assert friction_alternatives(clean, run, 0.01, params) == []
