@@ -32,7 +32,11 @@ velocity):
    by the residual: the fit cannot move them), and the linearized drop of the
    residual sum of squares from adding the effect is (s_perp . r)^2 / |s_perp|^2 (a
    Lagrange-multiplier test).  A signature that would need a negative
-   strength scores zero.  Simple signatures (correlation of the residual
+   strength scores zero; so does a candidate whose model at the probe reaches no periodic
+   orbit on a calibration record (the record simulation returns its last marched cycle,
+   flagged: vapour cavities that settle over hundreds of cycles), whose force then follows
+   where the march started rather than the parameters, so that neither its signature nor a
+   fit of it is evidence; it is not refitted.  Simple signatures (correlation of the residual
    with sign(v), a, a constant, the dead-band indicator and the low-pressure
    phases) are reported too.
 4. Refit also, in every round and whatever its score, each device parameter the preset

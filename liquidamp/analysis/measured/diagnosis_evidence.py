@@ -186,7 +186,10 @@ def score(name: str, result: CalibrationResult, options, preroll: int):
     (Candidate, Change)
         The evidence (linearized relative drop of the calibration RSS, correlation with the
         residual, linearized value of the lead parameter) and the change it was computed
-        with (:func:`~.candidates.candidate_change`).
+        with (:func:`~.candidates.candidate_change`).  A candidate whose probe model
+        reaches no periodic orbit on a calibration record
+        (:data:`~liquidamp.analysis.measured.record_model.NOT_PERIODIC`) scores 0, with a
+        note saying so (its force follows where the march started, not the parameters).
     """
     change = candidate_change(name, result)
     resp = []
