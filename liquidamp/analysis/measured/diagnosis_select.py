@@ -131,8 +131,9 @@ def _bounded_reductions(ranked, refits, probes, current, validation, options, bu
         ranked[i] = _with(ranked[i], refitted=True, note=why)
     refits.update(new)
     ranked = _judge_round(ranked, new, probes, current, sel)
-    return [_with(c, note=f"{todo[c.effect]}'s reduction; {c.note}") if c.effect in new
-            else c for c in ranked]
+    return [_with(c, note="; ".join(x for x in (f"{todo[c.effect]}'s reduction (it ended with "
+                                                 "a parameter at a bound)", c.note) if x))
+            if c.effect in new else c for c in ranked]
 
 
 def _no_pass(ranked, scored, probes, n_now, sel: SelectionRule) -> str:
