@@ -32,7 +32,11 @@ velocity):
    by the residual: the fit cannot move them), and the linearized drop of the
    residual sum of squares from adding the effect is (s_perp . r)^2 / |s_perp|^2 (a
    Lagrange-multiplier test).  A signature that would need a negative
-   strength scores zero.  Simple signatures (correlation of the residual
+   strength scores zero; so does a candidate whose model at the probe reaches no periodic
+   orbit on a calibration record (the record simulation returns its last marched cycle,
+   flagged: vapour cavities that settle over hundreds of cycles), whose force then follows
+   where the march started rather than the parameters, so that neither its signature nor a
+   fit of it is evidence; it is not refitted.  Simple signatures (correlation of the residual
    with sign(v), a, a constant, the dead-band indicator and the low-pressure
    phases) are reported too.
 4. Refit also, in every round and whatever its score, each device parameter the preset
@@ -75,7 +79,11 @@ velocity):
      of 30 harmonics counts 61 whatever its sampling rate; ``sample_count="correlation"``
      uses N_i / tau_i of the residual instead);
    * no parameter the candidate frees ends at a bound (there its value is the bound's,
-     not the data's).
+     not the data's).  A candidate rejected so has the records asking for a limit of its
+     model: the simpler candidates it contains as limits (``REDUCTIONS``: a digressive valve
+     cracking at its least pressure is a relief valve cracking at none, a laminar bypass)
+     are refitted from their own probes, if they were not, and judged by the same rule (the
+     richer refit reaching the limit would otherwise "explain" the round first).
 
    Among the refits kept the best held out (lowest geometric mean ratio) is added; the
    others within ``tie_tolerance`` (10 %) of it are reported as tied with their evidence.
@@ -143,7 +151,6 @@ References
 from __future__ import annotations
 
 import dataclasses
-import math
 import warnings as _warnings
 
 import numpy as np
@@ -185,12 +192,21 @@ from liquidamp.analysis.measured.diagnosis_options import (
     broadband,
     march_options,
 )
-from liquidamp.analysis.measured.diagnosis_result import Diagnosis, Step, heldout_per_record
+from liquidamp.analysis.measured.diagnosis_result import Diagnosis, Step
+from liquidamp.analysis.measured.diagnosis_select import (
+    _bounded_reductions,
+    _judge_round,
+    _linear_delta_bic,
+    _no_pass,
+    _reduce,
+    _select,
+    _with,
+)
 from liquidamp.analysis.measured.fit_spec import Parameter
 from liquidamp.analysis.measured.record_model import nrmse, simulate_record
 from liquidamp.analysis.measured.record_quality import noise_floor
 from liquidamp.analysis.measured.reference_models import reference_models
-from liquidamp.analysis.measured.selection import judge, sample_count
+from liquidamp.analysis.measured.selection import sample_count
 from liquidamp.analysis.measured.stationarity import cycle_drift
 from liquidamp.device.effects import EFFECTS
 from liquidamp.errors import (
@@ -437,99 +453,6 @@ def _fit_round(ranked, probes, queue, extra, current, validation, options, bud, 
     return refits
 
 
-def _freed_at_bound(res: CalibrationResult, change) -> list:
-    """The parameters a candidate freed that end at a bound of the refit."""
-    at = res.at_bounds()
-    return ([f"{n}.{k} ({at[f'{n}.{k}']})" for n, k in change.free if f"{n}.{k}" in at]
-            + [f"{n} ({at[n]})" for n in change.multipliers if n in at])
-
-
-def _judge_round(ranked, refits, probes, current, sel: SelectionRule):
-    """Stage "select", part 1: the selection rule on every refit (per held-out record, the
-    honest sample count, no freed parameter at a bound)."""
-    now = heldout_per_record(current)
-    for cand in [c for c in ranked if c.effect in refits]:
-        res = refits[cand.effect]
-        new = heldout_per_record(res)
-        n_eff = sample_count(res.calibration, res.residuals("calibration"), sel.sample_count)
-        v = judge(current.residuals("calibration"), res.residuals("calibration"),
-                  len(res.varying) - len(current.varying), [now[k] for k in now],
-                  [new[k] for k in now], bic_threshold=sel.bic_threshold,
-                  validation_tolerance=sel.validation_tolerance, n_eff=n_eff)
-        why = ([f"refit: {res.message}"] if not res.converged else []) + list(v.reasons)
-        bound = _freed_at_bound(res, probes[cand.effect])
-        if bound and sel.reject_at_bound:
-            why.append("parameter at a bound (its value is the bound's, not the data's): "
-                       + ", ".join(bound))
-        ranked[ranked.index(cand)] = _with(
-            cand, refitted=True, nrmse_calibration=res.nrmse_calibration,
-            nrmse_validation=res.nrmse_validation, relative_reduction=v.relative_reduction,
-            delta_bic=v.delta_bic, n_effective=v.n_effective,
-            accepted=v.accepted and not (bound and sel.reject_at_bound),
-            note="; ".join(why), validation_records=new,
-            parameters=probes[cand.effect].parameters(res))
-    return ranked
-
-
-def _select(ranked, sel: SelectionRule):
-    """Stage "select", part 2: the best held-out candidate that passed, and those tied with
-    it (held-out geometric-mean ratio within ``tie_tolerance``)."""
-    passed = sorted([c for c in ranked if c.accepted], key=lambda c: -c.relative_reduction)
-    if not passed:
-        return None, []
-    best = 1.0 - passed[0].relative_reduction
-    tied = [c for c in passed if 1.0 - c.relative_reduction <= (1 + sel.tie_tolerance) * best]
-    return passed[0], tied
-
-
-def _reduce(chosen, tied, ranked, refits, probes, current, validation, options, bud, sel):
-    """Stage "select", part 3: a chosen candidate that contains a simpler one as a limit
-    (:data:`~.candidates.REDUCTIONS`: a relief valve cracking near zero is a laminar bypass)
-    gives way to it where the simpler one, refitted if it was not, passes the rule and ties
-    on held-out data (within ``tie_tolerance``)."""
-    simpler = REDUCTIONS.get(chosen.effect) if chosen is not None else None
-    if simpler is None:
-        return ranked, chosen, tied
-    cand = next((c for c in ranked if c.effect == simpler), None)
-    if cand is None or cand.note.startswith("not applicable"):
-        return ranked, chosen, tied
-    if simpler not in refits:
-        if simpler not in probes:
-            return ranked, chosen, tied
-        try:
-            refits[simpler] = _refit(cand, probes[simpler], current, validation, options,
-                                     bud.preroll, bud.max_nfev, bud.tol, "auto")
-        except (ConvergenceError, ParameterError) as exc:
-            ranked[ranked.index(cand)] = _with(cand, refitted=True, note=f"refit failed: {exc}")
-            return ranked, chosen, tied
-        ranked = _judge_round(ranked, {simpler: refits[simpler]}, probes, current, sel)
-    cand = next(c for c in ranked if c.effect == simpler)
-    best = 1.0 - chosen.relative_reduction
-    if cand.accepted and 1.0 - cand.relative_reduction <= (1 + sel.tie_tolerance) * best:
-        i = ranked.index(cand)
-        ranked[i] = _with(cand, note=(cand.note + "; " if cand.note else "") + (
-            f"added instead of {chosen.effect}, which reduces to it and ties on held-out "
-            "data"))
-        tied = [ranked[i]] + [c for c in tied if c.effect != simpler]
-        return ranked, ranked[i], tied
-    return ranked, chosen, tied
-
-
-def _no_pass(ranked, scored, probes, n_now, sel: SelectionRule) -> str:
-    best = min((c for c in ranked if c.refitted and c.delta_bic is not None),
-               key=lambda c: c.delta_bic, default=None)
-    return ("no candidate passes the selection rule (held out: no record worse by more than "
-            f"{sel.validation_tolerance:.0%} and better together by more than it; delta BIC "
-            f"over the {sel.sample_count} sample count < -{sel.bic_threshold:g}; no freed "
-            "parameter at a bound)"
-            + (f"; best: {best.effect}, delta BIC {best.delta_bic:.4g} (N {best.n_effective:.4g}"
-               f"), held-out change {-best.relative_reduction:+.1%}"
-               + (f" ({best.note})" if best.note else "") if best else "")
-            + (f"; best score: {scored[0].effect} {scored[0].score:.3g}, linearized "
-               f"delta BIC {_linear_delta_bic(scored[0], probes[scored[0].effect], n_now):+.3g}"
-               ", not refitted" if scored and not best else ""))
-
-
 @with_progress
 def diagnose(calibration, validation=(), *, model="full", params=None, effects=(),
              spec: FitSpec | None = None, options=None, config: DiagnoseOptions | None = None,
@@ -712,6 +635,8 @@ def _loop(baseline, names, device_names, validation, options, config, spec,
         refits.update(dev_refits)
         # stage "select"
         ranked = _judge_round(ranked, refits, probes, current, sel)
+        ranked = _bounded_reductions(ranked, refits, probes, current, validation, options,
+                                     bud, sel)
         chosen, tied = _select(ranked, sel)
         ranked, chosen, tied = _reduce(chosen, tied, ranked, refits, probes, current,
                                        validation, options, bud, sel)
@@ -756,20 +681,9 @@ def _loop(baseline, names, device_names, validation, options, config, spec,
             "device_evidence": device_evidence, "warnings": warnings}
 
 
-def _linear_delta_bic(cand: Candidate, change, n_eff: float) -> float:
-    """delta BIC the score test predicts: N_eff ln(1 - score) + k ln N_eff (k freed)."""
-    return n_eff * math.log(max(1.0 - cand.score, 1e-300)) + len(change.free) * math.log(n_eff)
-
-
 def _explained(refits: dict, level: float) -> bool:
     """Whether a refit of the round brought the calibration NRMSE down to ``level``."""
     return any(r.nrmse_calibration <= level for r in refits.values())
-
-
-def _with(c: Candidate, **changes) -> Candidate:
-    from dataclasses import replace
-
-    return replace(c, **changes)
 
 
 def bundled_records() -> dict:

@@ -37,7 +37,7 @@ from liquidamp.analysis.measured.candidates import (
     free_columns,
     probe_effect,
 )
-from liquidamp.analysis.measured.record_model import simulate_record
+from liquidamp.analysis.measured.record_model import NOT_PERIODIC, simulate_record
 from liquidamp.device.effects import EFFECTS
 from liquidamp.errors import LiquidampError
 
@@ -186,14 +186,25 @@ def score(name: str, result: CalibrationResult, options, preroll: int):
     (Candidate, Change)
         The evidence (linearized relative drop of the calibration RSS, correlation with the
         residual, linearized value of the lead parameter) and the change it was computed
-        with (:func:`~.candidates.candidate_change`).
+        with (:func:`~.candidates.candidate_change`).  A candidate whose probe model
+        reaches no periodic orbit on a calibration record
+        (:data:`~liquidamp.analysis.measured.record_model.NOT_PERIODIC`) scores 0, with a
+        note saying so (its force follows where the march started, not the parameters).
     """
     change = candidate_change(name, result)
+    resp = []
     try:
         Fp = predict(result.model, change.params or result.params, change.effects,
-                     result.calibration, options=options, preroll=preroll)
+                     result.calibration, options=options, preroll=preroll, responses=resp)
     except LiquidampError as exc:
         return Candidate(name, 0.0, 0.0, {}, note=f"probe run failed: {exc}"), change
+    off = [w for r in resp if r.solver_stats.get("route") == NOT_PERIODIC for w in r.warnings]
+    if off:
+        # its force follows where the march started, not the parameters alone: neither the
+        # signature nor a least-squares fit of it is evidence (a refit ends above its start)
+        return Candidate(name, 0.0, 0.0, {}, note="not scored: the model with it reaches no "
+                         "periodic orbit on the calibration records (" + "; ".join(off)
+                         + ")"), change
     meas = np.concatenate([r.force for r in result.calibration])
     scale = float(np.sqrt(np.mean((meas - meas.mean()) ** 2))) * math.sqrt(meas.size)
     r = (np.concatenate(result.predictions_calibration) - meas) / scale

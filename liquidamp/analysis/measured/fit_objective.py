@@ -122,13 +122,15 @@ def build(base_params: DeviceParams, effects: tuple[Effect, ...], spec: FitSpec,
 
 
 def predict(model, params: DeviceParams, effects, records, *, options=None,
-            preroll: int | None = None, warm: dict | None = None) -> list[np.ndarray]:
+            preroll: int | None = None, warm: dict | None = None,
+            responses: list | None = None) -> list[np.ndarray]:
     """Model force [N] for each record (driven by its stroke).
 
     ``warm`` (optional dict, updated in place): the orbit state at each periodic record's
     first sample from the previous call, by record index, as the first guess of the next
     periodic orbit (:func:`~liquidamp.analysis.measured.record_model.simulate_record`,
-    ``x0``); ``preroll`` is ignored (kept for existing calls).
+    ``x0``); ``preroll`` is ignored (kept for existing calls).  ``responses`` (optional
+    list): receives each record's :class:`~liquidamp.coupled.testrig.DeviceResponse`.
     """
     m = with_effects(get_model(model), *effects)
     opts = resolve_options(options, "fit")
@@ -140,6 +142,8 @@ def predict(model, params: DeviceParams, effects, records, *, options=None,
         resp = simulate_record(m, params, r, options=opts, x0=x0)
         if warm is not None and r.periodic and m.n_states:
             warm[i] = np.array(resp.states[:, 0])
+        if responses is not None:
+            responses.append(resp)
         out.append(resp.force)
     return out
 

@@ -64,8 +64,14 @@ from liquidamp.errors import ConvergenceError, ParameterError, PressureError, ch
 from liquidamp.options import SolverOptions, resolve_options
 from liquidamp.structure.testmachine import FourierStroke, RecordedStroke
 
-__all__ = ["simulate_record", "record_stroke", "integrate", "nrmse", "stationary"]
+__all__ = ["simulate_record", "record_stroke", "integrate", "nrmse", "stationary",
+           "NOT_PERIODIC"]
 
+
+#: ``solver_stats["route"]`` of a periodic record's response that is NOT on a periodic
+#: orbit: neither the march nor the shooting arrived, the last marched cycle is returned (its
+#: force then depends on where the march started, not on the parameters alone).
+NOT_PERIODIC = "march (not converged)"
 
 #: Newton iterations the record simulation allows the shooting (the march's last cycle,
 #: flagged, where it does not arrive: a fit must not stall on one hard point).
@@ -423,7 +429,7 @@ def _simulate_periodic(model, params, record, cond, options, x0, route):
             # last marched cycle, said so
             states, cycles, change = exc.marched
             Xq = np.ascontiguousarray(states[:, inverse])
-            stats = {"route": "march (not converged)", "march_cycles": cycles}
+            stats = {"route": NOT_PERIODIC, "march_cycles": cycles}
             how = (f"NOT on a periodic orbit: the last of {cycles} marched cycles (change per "
                    f"cycle {change:.2e}; shooting did not converge)")
             warn.append(f"{record.label}: {how}")

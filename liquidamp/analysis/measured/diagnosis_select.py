@@ -1,0 +1,166 @@
+"""Stage "select" of the residual diagnosis: the selection rule on each refit, the
+reductions to simpler candidates, the choice among those that pass, and why none did.
+
+Helpers of :func:`liquidamp.analysis.measured.diagnosis.diagnose` (step 5 of its algorithm;
+the rule itself is :func:`~liquidamp.analysis.measured.selection.judge`).
+
+References
+----------
+.. [1] R. E. Kass, A. E. Raftery, "Bayes factors", JASA 90(430), 1995.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+from liquidamp.analysis.measured.calibration import CalibrationResult
+from liquidamp.analysis.measured.diagnosis_evidence import REDUCTIONS, Candidate
+from liquidamp.analysis.measured.diagnosis_fits import _refit
+from liquidamp.analysis.measured.diagnosis_options import SelectionRule
+from liquidamp.analysis.measured.diagnosis_result import heldout_per_record
+from liquidamp.analysis.measured.selection import judge, sample_count
+from liquidamp.errors import ConvergenceError, ParameterError
+
+__all__: list = []
+
+
+def _freed_at_bound(res: CalibrationResult, change) -> list:
+    """The parameters a candidate freed that end at a bound of the refit."""
+    at = res.at_bounds()
+    return ([f"{n}.{k} ({at[f'{n}.{k}']})" for n, k in change.free if f"{n}.{k}" in at]
+            + [f"{n} ({at[n]})" for n in change.multipliers if n in at])
+
+
+def _judge_round(ranked, refits, probes, current, sel: SelectionRule):
+    """Stage "select", part 1: the selection rule on every refit (per held-out record, the
+    honest sample count, no freed parameter at a bound)."""
+    now = heldout_per_record(current)
+    for cand in [c for c in ranked if c.effect in refits]:
+        res = refits[cand.effect]
+        new = heldout_per_record(res)
+        n_eff = sample_count(res.calibration, res.residuals("calibration"), sel.sample_count)
+        v = judge(current.residuals("calibration"), res.residuals("calibration"),
+                  len(res.varying) - len(current.varying), [now[k] for k in now],
+                  [new[k] for k in now], bic_threshold=sel.bic_threshold,
+                  validation_tolerance=sel.validation_tolerance, n_eff=n_eff)
+        why = ([f"refit: {res.message}"] if not res.converged else []) + list(v.reasons)
+        bound = _freed_at_bound(res, probes[cand.effect])
+        if bound and sel.reject_at_bound:
+            why.append("parameter at a bound (its value is the bound's, not the data's): "
+                       + ", ".join(bound))
+        ranked[ranked.index(cand)] = _with(
+            cand, refitted=True, nrmse_calibration=res.nrmse_calibration,
+            nrmse_validation=res.nrmse_validation, relative_reduction=v.relative_reduction,
+            delta_bic=v.delta_bic, n_effective=v.n_effective,
+            accepted=v.accepted and not (bound and sel.reject_at_bound),
+            note="; ".join(why), validation_records=new,
+            parameters=probes[cand.effect].parameters(res))
+    return ranked
+
+
+def _select(ranked, sel: SelectionRule):
+    """Stage "select", part 2: the best held-out candidate that passed, and those tied with
+    it (held-out geometric-mean ratio within ``tie_tolerance``)."""
+    passed = sorted([c for c in ranked if c.accepted], key=lambda c: -c.relative_reduction)
+    if not passed:
+        return None, []
+    best = 1.0 - passed[0].relative_reduction
+    tied = [c for c in passed if 1.0 - c.relative_reduction <= (1 + sel.tie_tolerance) * best]
+    return passed[0], tied
+
+
+def _reduce(chosen, tied, ranked, refits, probes, current, validation, options, bud, sel):
+    """Stage "select", part 3: a chosen candidate that contains a simpler one as a limit
+    (:data:`~.candidates.REDUCTIONS`: a relief valve cracking near zero is a laminar bypass)
+    gives way to it where the simpler one, refitted if it was not, passes the rule and ties
+    on held-out data (within ``tie_tolerance``).  The chain is followed to its end, each
+    link refitted from its own probe: the simplest that ties wins (a digressive valve whose
+    cracking pressures sit near zero is a leak; the relief valve between them may not tie,
+    its refit caught at a cracking pressure the records do not ask for)."""
+    if chosen is None:
+        return ranked, chosen, tied
+    best = 1.0 - chosen.relative_reduction
+    simpler = REDUCTIONS.get(chosen.effect)
+    while simpler is not None:
+        cand = next((c for c in ranked if c.effect == simpler), None)
+        if cand is None or cand.note.startswith("not applicable"):
+            break
+        if simpler not in refits:
+            if simpler not in probes:
+                break
+            try:
+                refits[simpler] = _refit(cand, probes[simpler], current, validation, options,
+                                         bud.preroll, bud.max_nfev, bud.tol, "auto")
+            except (ConvergenceError, ParameterError) as exc:
+                ranked[ranked.index(cand)] = _with(cand, refitted=True,
+                                                   note=f"refit failed: {exc}")
+                break
+            ranked = _judge_round(ranked, {simpler: refits[simpler]}, probes, current, sel)
+        cand = next(c for c in ranked if c.effect == simpler)
+        if cand.accepted and 1.0 - cand.relative_reduction <= (1 + sel.tie_tolerance) * best:
+            i = ranked.index(cand)
+            ranked[i] = _with(cand, note=(cand.note + "; " if cand.note else "") + (
+                f"added instead of {chosen.effect}, which reduces to it and ties on held-out "
+                "data"))
+            tied = [ranked[i]] + [c for c in tied if c.effect != simpler]
+            chosen = ranked[i]
+        simpler = REDUCTIONS.get(simpler)
+    return ranked, chosen, tied
+
+
+def _bounded_reductions(ranked, refits, probes, current, validation, options, bud, sel):
+    """Stage "select", part 1b: a refit rejected for a freed parameter at a bound has the
+    records asking for a limit of its model; the simpler candidates it contains as limits
+    (:data:`~.candidates.REDUCTIONS`, followed to the end: a digressive valve cracking at
+    its least pressure is a relief valve cracking at none, a laminar bypass) not refitted yet
+    are refitted from their own probes and judged by the same rule (a richer refit that
+    reaches the limit "explains" the round before the simpler one is tried)."""
+    todo = {}
+    for c in ranked:
+        if c.effect in refits and not c.accepted and _freed_at_bound(refits[c.effect],
+                                                                       probes[c.effect]):
+            s = REDUCTIONS.get(c.effect)
+            while s is not None and s not in todo:
+                todo[s], s = c.effect, REDUCTIONS.get(s)
+    new = {}
+    for s, richer in todo.items():
+        i = next((i for i, c in enumerate(ranked) if c.effect == s), None)
+        if s in refits or s not in probes or i is None:
+            continue
+        why = f"refitted: {richer}, which reduces to it, ended with a parameter at a bound"
+        try:
+            new[s] = _refit(ranked[i], probes[s], current, validation, options, bud.preroll,
+                            bud.max_nfev, bud.tol, "auto")
+        except (ConvergenceError, ParameterError) as exc:
+            why += f"; refit failed: {exc}"
+        ranked[i] = _with(ranked[i], refitted=True, note=why)
+    refits.update(new)
+    ranked = _judge_round(ranked, new, probes, current, sel)
+    return [_with(c, note="; ".join(x for x in (f"{todo[c.effect]}'s reduction (it ended with "
+                                                 "a parameter at a bound)", c.note) if x))
+            if c.effect in new else c for c in ranked]
+
+
+def _no_pass(ranked, scored, probes, n_now, sel: SelectionRule) -> str:
+    best = min((c for c in ranked if c.refitted and c.delta_bic is not None),
+               key=lambda c: c.delta_bic, default=None)
+    return ("no candidate passes the selection rule (held out: no record worse by more than "
+            f"{sel.validation_tolerance:.0%} and better together by more than it; delta BIC "
+            f"over the {sel.sample_count} sample count < -{sel.bic_threshold:g}; no freed "
+            "parameter at a bound)"
+            + (f"; best: {best.effect}, delta BIC {best.delta_bic:.4g} (N {best.n_effective:.4g}"
+               f"), held-out change {-best.relative_reduction:+.1%}"
+               + (f" ({best.note})" if best.note else "") if best else "")
+            + (f"; best score: {scored[0].effect} {scored[0].score:.3g}, linearized "
+               f"delta BIC {_linear_delta_bic(scored[0], probes[scored[0].effect], n_now):+.3g}"
+               ", not refitted" if scored and not best else ""))
+
+
+def _linear_delta_bic(cand: Candidate, change, n_eff: float) -> float:
+    """delta BIC the score test predicts: N_eff ln(1 - score) + k ln N_eff (k freed)."""
+    return n_eff * math.log(max(1.0 - cand.score, 1e-300)) + len(change.free) * math.log(n_eff)
+
+
+def _with(c: Candidate, **changes) -> Candidate:
+    return replace(c, **changes)
