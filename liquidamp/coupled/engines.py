@@ -144,8 +144,10 @@ class Engine:
                                  else f"{head} cannot run this system: {reason}")
 
     def march(self, rig: TestRig, x0, t0: float, t1: float, t_eval, options, max_step: float,
-              stats: dict) -> np.ndarray:  # pragma: no cover - abstract
-        """States of ``rig`` at ``t_eval`` (contract item 3)."""
+              stats: dict, max_steps: int | None = None) -> np.ndarray:  # pragma: no cover
+        """States of ``rig`` at ``t_eval`` (contract item 3); ``max_steps``: the most
+        integrator steps before ConvergenceError, where the engine counts steps (None: the
+        engine's own limit)."""
         raise NotImplementedError
 
     def march_cycles(self, rig: TestRig, x0, options, stats: dict, grid=None
@@ -181,7 +183,7 @@ class ScipyEngine(Engine):
             return f"not a DeviceModel: {type(system.model).__name__}"
         return None
 
-    def march(self, rig, x0, t0, t1, t_eval, options, max_step, stats):
+    def march(self, rig, x0, t0, t1, t_eval, options, max_step, stats, max_steps=None):
         sol = _solve_span(rig.model, rig.params, rig.stroke, x0, t0, t1, t_eval, options, max_step)
         _add_scipy_stats(stats, options, sol)
         return sol.y
@@ -240,11 +242,11 @@ class CompiledEngine(Engine):
 
         return compiled_support(system)
 
-    def march(self, rig, x0, t0, t1, t_eval, options, max_step, stats):
+    def march(self, rig, x0, t0, t1, t_eval, options, max_step, stats, max_steps=None):
         from liquidamp.coupled import fast
 
         X, _, _ = fast.march(rig.model, rig.params, rig.stroke, x0, t0, t1, t_eval, options,
-                             max_step, stats=stats)
+                             max_step, stats=stats, max_steps=max_steps)
         return X
 
     def march_cycles(self, rig, x0, options, stats, grid=None):

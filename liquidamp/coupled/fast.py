@@ -236,7 +236,7 @@ def _fill_stats(stats: dict | None, options, info, rerun: bool) -> None:
                   "rerun_with_rodas4": rerun})
 
 
-def _raise_status(model, options, info, t0, t1) -> None:
+def _raise_status(model, options, info, t0, t1, max_steps: int = MAX_STEPS) -> None:
     status = int(info[0])
     if status == K.ST_PRESSURE:
         raise PressureError(
@@ -254,7 +254,7 @@ def _raise_status(model, options, info, t0, t1) -> None:
     if status == K.ST_TOO_MANY_STEPS:
         raise ConvergenceError(
             f"model {model.name!r}: time integration failed between t = {t0:.6g} s and "
-            f"{t1:.6g} s: more than {MAX_STEPS} steps (compiled engine, method "
+            f"{t1:.6g} s: more than {max_steps} steps (compiled engine, method "
             f"{options.compiled_method!r}, stopped at "
             f"t = {info[1]:.6g} s)"
         )
@@ -262,7 +262,8 @@ def _raise_status(model, options, info, t0, t1) -> None:
 
 def march(model: DeviceModel, params: DeviceParams, stroke, x0, t0: float, t1: float, t_eval,
           options, max_step: float, *, h0: float = 0.0,
-          stats: dict | None = None) -> tuple[np.ndarray, np.ndarray, float]:
+          stats: dict | None = None,
+          max_steps: int | None = None) -> tuple[np.ndarray, np.ndarray, float]:
     """Integrate one span with the compiled engine.
 
     Parameters
@@ -287,6 +288,9 @@ def march(model: DeviceModel, params: DeviceParams, stroke, x0, t0: float, t1: f
         ``switches_to_rodas4``, ``rerun_with_rodas4`` (the explicit-only
         kernel met a stiff stretch and the call was rerun) and the
         ``method`` used.
+    max_steps : int, optional
+        Most integrator steps (accepted and rejected) before the run is refused with
+        ConvergenceError (default :data:`MAX_STEPS`).
 
     Returns
     -------
@@ -313,15 +317,16 @@ def march(model: DeviceModel, params: DeviceParams, stroke, x0, t0: float, t1: f
         raise ParameterError(f"x0 must have {n} entries for model {model.name!r}, got "
                              f"shape {x0.shape}")
     fi1, fi2 = _floor_indices(model, params)
+    limit = MAX_STEPS if max_steps is None else int(max_steps)
     out = np.empty((n, t_eval.size))
     info = np.zeros(N_INFO)
     x_end, rerun = _run(options, (spec, prm, ep, kind, sp, st, sy, sv, sa, x0,
                                   float(t0), float(t1), t_eval, float(options.rtol),
                                   _atol(model, params, options), float(max_step), float(h0), fi1,
-                                  fi2, float(options.pressure_floor), MAX_STEPS, 0.0, 0, 0),
+                                  fi2, float(options.pressure_floor), limit, 0.0, 0, 0),
                         out, info)
     _fill_stats(stats, options, info, rerun)
-    _raise_status(model, options, info, t0, t1)
+    _raise_status(model, options, info, t0, t1, limit)
     if not (np.all(np.isfinite(out)) and np.all(np.isfinite(x_end))):
         raise ConvergenceError(f"model {model.name!r}: non-finite state in time integration")
     return out, x_end, float(info[2])

@@ -67,7 +67,7 @@ from liquidamp.errors import ConvergenceError, ParameterError, PressureError, ch
 
 __all__ = ["periodic_state", "PeriodicState", "ShootingOptions", "ROUTES", "invariants",
            "project_level_set", "state_swing", "FD_STEP", "STEP_LENGTHS", "STALL_RATIO",
-           "MIN_RTOL", "RHO_STALL", "FIRST_CHUNK", "FINE_GRID_FACTOR"]
+           "MIN_RTOL", "RHO_STALL", "FIRST_CHUNK", "FINE_GRID_FACTOR", "RUN_STEPS"]
 
 #: Routes of :func:`periodic_state`: march then shoot, march alone, shoot alone.
 ROUTES = ("auto", "march", "shooting")
@@ -95,6 +95,13 @@ FIRST_CHUNK = 40
 
 #: Largest relative drift of an invariant over one period for it to be held [-].
 INVARIANT_DRIFT = 1e-6
+
+#: A one-period run of the shooting is refused (ConvergenceError, like any failed run)
+#: past this many times the first period's integrator steps (scaled by rtol^(-1/4) where the
+#: runs were tightened): a perturbed state that runs into a much harder stretch than the
+#: orbit (a friction contact chattering behind a dead band: 986 000 steps, 5 s, against
+#: 1 800 for the orbit's period) says nothing the Newton step can use [-].
+RUN_STEPS = 25
 
 #: A ``grid`` of more than this many times ``options.samples_per_period`` points is not
 #: marched on: the march compares the force waveforms on the uniform grid and the states at
@@ -419,12 +426,18 @@ def _shoot(rig, engine, x, target, options, shooting: ShootingOptions, out_grid=
     max_step = options.max_step_fraction * step_period(stroke)
     runs = 0
     run_opts = options  # tightened when the residual stalls at the integration error
+    first = {}  # the first period's integrator steps (RUN_STEPS)
 
     def period(xs, t_eval=None):
         nonlocal runs
         runs += 1
         te = grid[-1:] if t_eval is None else t_eval  # ends at T either way
-        X = engine.march(rig, xs, 0.0, T, te, run_opts, max_step, {})
+        limit = None
+        if first.get("steps"):  # a 4th-order pair's steps grow as rtol^(-1/4)
+            limit = int(RUN_STEPS * first["steps"]
+                        * (options.rtol / run_opts.rtol) ** 0.25) + 1000
+        X = engine.march(rig, xs, 0.0, T, te, run_opts, max_step, first if limit is None
+                         else {}, max_steps=limit)
         return X[:, -1], X
 
     # one marched period removes the fast (stiff) part of the transient and shows how

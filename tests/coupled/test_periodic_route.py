@@ -166,3 +166,24 @@ def test_warm_start_with_rest_invariants_selects_the_same_orbit():
     rig = TestRig(m, p, s)
     st = periodic.periodic_state(rig, engine_for(rig, COMPILED), ref.states[:, 0], COMPILED)
     assert st.route == "march" and st.cycles <= 4  # from the orbit: accepted at once
+
+
+def test_a_run_past_its_step_limit_is_refused_naming_the_limit():
+    """``max_steps`` of the compiled march (the shooting's per-run limit, RUN_STEPS x the
+    first period's steps): refused with the limit in the message, and the same run within
+    its limit gives the states of an unlimited run."""
+    m, p, s = get_model("full"), preset("reference"), HarmonicStroke(1e-3, 3.0)
+    rig = TestRig(m, p, s)
+    eng = engine_for(rig, COMPILED)
+    x0 = m.initial_state(p, 0.0)
+    te = np.array([s.period])
+    st: dict = {}
+    X = eng.march(rig, x0, 0.0, s.period, te, COMPILED, 0.02 * s.period, st)
+    n = st["steps"]
+    assert n > 20
+    with pytest.raises(ConvergenceError, match=f"more than {n // 2} steps"):
+        eng.march(rig, x0, 0.0, s.period, te, COMPILED, 0.02 * s.period, {},
+                  max_steps=n // 2)
+    Y = eng.march(rig, x0, 0.0, s.period, te, COMPILED, 0.02 * s.period, {}, max_steps=n + 1)
+    np.testing.assert_array_equal(X, Y)
+    assert periodic.RUN_STEPS >= 10  # far above the spread of ordinary runs (about 2x)

@@ -162,3 +162,32 @@ def test_dynamic_stiffness_refuses_a_partial_period_or_a_run_from_rest():
     # two whole periods are fine and give the one-period answer
     tt = np.arange(128) / 64.0
     assert first_harmonic(tt, np.sin(2 * np.pi * tt), 1.0) == pytest.approx(1.0 + 0j)
+
+
+def test_a_warm_start_that_fails_is_retried_from_rest(monkeypatch):
+    """A warm start (another parameter point's orbit) that finds no orbit is not the end:
+    the record is simulated from the rest state, as without a warm start, and gives the same
+    force to the orbit's tolerance."""
+    import liquidamp.analysis.measured.record_model as RM
+    from liquidamp.errors import ConvergenceError
+
+    rec = _record("reference", 3.0)
+    real = RM.periodic_state
+    firsts = []
+
+    def spy(rig, engine, first, *a, **k):
+        firsts.append(np.array(first))
+        if fail and len(firsts) == 1:
+            raise ConvergenceError("no periodic steady state (simulated failure)")
+        return real(rig, engine, first, *a, **k)
+
+    monkeypatch.setattr(RM, "periodic_state", spy)
+    fail = False
+    ref = simulate_record("full", preset("reference"), rec, options=FIT)
+    rest = firsts.pop()
+    fail = True
+    got = simulate_record("full", preset("reference"), rec, options=FIT,
+                          x0=np.array(ref.states[:, 0]) * 1.01)
+    assert len(firsts) == 2 and not np.allclose(firsts[0], rest)
+    np.testing.assert_array_equal(firsts[1], rest)
+    assert nrmse(got.force, ref.force) < 1e-5
