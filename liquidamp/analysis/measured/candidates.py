@@ -81,9 +81,10 @@ __all__ = ["Change", "Composite", "COMPOSITES", "DEVICE_REFINEMENTS", "REDUCTION
 #: refitted too, and added instead where it ties on held-out data (the extra parameter then
 #: sits at the limit the data cannot tell from the simpler model).  A digressive valve whose
 #: two directions crack and open alike is the relief valve.  The pressure level freed with
-#: the inertance, its level left where it was, is the inertance alone.
+#: the inertance, its level left where it was, is the inertance alone.  Backlash whose dead
+#: band closes (a gap of a micrometre on a friction-and-leak record) is its friction alone.
 REDUCTIONS = {"relief_valve": "leakage", "digressive_valve": "relief_valve",
-              "pressure_level": "inertance"}
+              "pressure_level": "inertance", "backlash": "smooth_friction"}
 
 
 @dataclass(frozen=True)
