@@ -136,7 +136,14 @@ def test_elastomer_parallel_spring_from_a_stroke_with_a_strong_third_harmonic():
     the fit from a start a decade low (k_e 1.5 kN/m, as the diagnosis's probe) finds k_e
     within 5 % and its 95 % profile interval is closed and within 15 %; with the 1 % of
     the shared records the same profile stays below D = 3.84 down to a tenth of the value
-    on most noise seeds (the record does not bound it below: Profile.open_low)."""
+    on most noise seeds (the record does not bound it below: Profile.open_low).
+
+    The least-squares minimum of this noise seed is itself 5.5 % high: with k_e held at the
+    truth and the rest refitted the cost is 4.191e-5, at the fit's 21.2 kN/m 4.145e-5, and a
+    free fit started at the truth goes to 21.1 kN/m (4.144e-5); session 9's Jacobian (its
+    columns from the base point's orbits) stops at 21.2 kN/m, session 8's chained one
+    stopped nearer the truth by chance.  Hence 7 % on the point, the truth inside the closed
+    95 % interval, the interval within 15 %."""
     from liquidamp.analysis.measured.calibration import calibrate
     from liquidamp.analysis.measured.conditioning import condition
     from liquidamp.analysis.measured.synthetic import synthetic_record
@@ -158,7 +165,7 @@ def test_elastomer_parallel_spring_from_a_stroke_with_a_strong_third_harmonic():
     out, prof = profile_restart(res, NAME, lambda s: calibrate([cal], effects=res.effects,
                                                                spec=s, **kw))
     k_e = out.values[NAME]
-    assert k_e == pytest.approx(2e4, rel=0.05)
+    assert k_e == pytest.approx(2e4, rel=0.07)
     assert prof.determined
     lo, hi = prof.interval
     assert 0.85 * 2e4 < lo < 2e4 < hi < 1.15 * 2e4 * 10 ** 0.25
