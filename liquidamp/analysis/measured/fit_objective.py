@@ -170,6 +170,12 @@ class FitObjective:
     keep : sequence of ndarray of bool, optional
         Per record, the samples fitted (False at dropped outliers).
 
+    Raises
+    ------
+    ParameterError
+        Records of constant force, or ``LIQUIDAMP_THREADS`` not a whole number from 1 to 64
+        (:func:`fit_threads`), before any model run.
+
     Notes
     -----
     Calling it runs the model over every record (:func:`predict`), counts the run in
@@ -199,6 +205,7 @@ class FitObjective:
         self.failures = 0
         self.last_error = ""
         self.warm: dict = {}  # the last periodic orbits, first guesses of the next
+        self.threads = fit_threads()  # checked before any model run
         self._lock = threading.Lock()
         self._local = threading.local()  # a Jacobian column's own orbits
 
@@ -267,7 +274,7 @@ class FitObjective:
             finally:
                 self._local.warm = None
 
-        n = min(fit_threads(), len(points))
+        n = min(self.threads, len(points))
         if n <= 1:
             return [one(x) for x in points]
         contexts = [contextvars.copy_context() for _ in points]  # the progress callable
