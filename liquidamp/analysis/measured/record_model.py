@@ -431,7 +431,8 @@ def _simulate_periodic(model, params, record, cond, options, x0, route):
                     raise
                 # a warm start (another parameter point's orbit) can sit on a slow branch
                 # the rest state does not (a friction contact behind a dead band: 40 cycles
-                # creeping, then shooting's budget spent, against 4 cycles from rest)
+                # creeping, then the shooting's runs past their step limit, against 4
+                # cycles from rest)
                 orbit = orbit_from(rest)
         except ConvergenceError as exc:
             if getattr(exc, "marched", None) is None:
