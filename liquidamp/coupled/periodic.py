@@ -98,9 +98,10 @@ INVARIANT_DRIFT = 1e-6
 
 #: A one-period run of the shooting is refused (ConvergenceError, like any failed run)
 #: past this many times the first period's integrator steps (scaled by rtol^(-1/4) where the
-#: runs were tightened; 1000 steps more for very short periods): a perturbed state that runs into a much harder stretch than the
-#: orbit (a friction contact chattering behind a dead band: 986 000 steps, 5 s, against
-#: 1 800 for the orbit's period) says nothing the Newton step can use [-].
+#: runs were tightened; 1000 steps more for very short periods): a perturbed state that
+#: runs into a much harder stretch than the orbit (a friction contact chattering behind a
+#: dead band: 986 000 steps, 5 s, against 1 800 for the orbit's period) says nothing the
+#: Newton step can use [-].
 RUN_STEPS = 25
 
 #: A ``grid`` of more than this many times ``options.samples_per_period`` points is not
