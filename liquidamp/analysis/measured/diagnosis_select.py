@@ -81,22 +81,21 @@ def _reduce(chosen, tied, ranked, refits, probes, current, validation, options, 
     if chosen is None:
         return ranked, chosen, tied
     best = 1.0 - chosen.relative_reduction
-    simpler = REDUCTIONS.get(chosen.effect)
-    while simpler is not None:
+    for simpler in _chain(chosen.effect):
         cand = next((c for c in ranked if c.effect == simpler), None)
         if cand is None or cand.note.startswith("not applicable"):
             break
         if simpler not in refits:
             if simpler not in probes:
                 break
-            try:
-                refits[simpler] = _refit(cand, probes[simpler], current, validation, options,
-                                         bud.preroll, bud.max_nfev, bud.tol, "auto")
-            except (ConvergenceError, ParameterError) as exc:
+            res, failure = _refit_link(cand, probes[simpler], current, validation, options,
+                                       bud)
+            if res is None:
                 ranked[ranked.index(cand)] = _with(cand, refitted=True,
-                                                   note=f"refit failed: {exc}")
+                                                   note=f"refit failed: {failure}")
                 break
-            ranked = _judge_round(ranked, {simpler: refits[simpler]}, probes, current, sel)
+            refits[simpler] = res
+            ranked = _judge_round(ranked, {simpler: res}, probes, current, sel)
         cand = next(c for c in ranked if c.effect == simpler)
         if cand.accepted and 1.0 - cand.relative_reduction <= (1 + sel.tie_tolerance) * best:
             i = ranked.index(cand)
@@ -105,8 +104,26 @@ def _reduce(chosen, tied, ranked, refits, probes, current, validation, options, 
                 "data"))
             tied = [ranked[i]] + [c for c in tied if c.effect != simpler]
             chosen = ranked[i]
-        simpler = REDUCTIONS.get(simpler)
     return ranked, chosen, tied
+
+
+def _chain(effect: str):
+    """The simpler candidates ``effect`` reduces to, in order (:data:`~.candidates.
+    REDUCTIONS` followed to its end: digressive valve, relief valve, leakage)."""
+    s = REDUCTIONS.get(effect)
+    while s is not None:
+        yield s
+        s = REDUCTIONS.get(s)
+
+
+def _refit_link(cand, probe, current, validation, options, bud):
+    """One reduction refitted from its own probe: ``(result, None)``, or ``(None, why)``
+    where the fit could not be made."""
+    try:
+        return _refit(cand, probe, current, validation, options, bud.preroll, bud.max_nfev,
+                      bud.tol, "auto"), None
+    except (ConvergenceError, ParameterError) as exc:
+        return None, str(exc)
 
 
 def _bounded_reductions(ranked, refits, probes, current, validation, options, bud, sel):
@@ -120,20 +137,21 @@ def _bounded_reductions(ranked, refits, probes, current, validation, options, bu
     for c in ranked:
         if c.effect in refits and not c.accepted and _freed_at_bound(refits[c.effect],
                                                                        probes[c.effect]):
-            s = REDUCTIONS.get(c.effect)
-            while s is not None and s not in todo:
-                todo[s], s = c.effect, REDUCTIONS.get(s)
+            for s in _chain(c.effect):
+                if s in todo:
+                    break
+                todo[s] = c.effect
     new = {}
     for s, richer in todo.items():
         i = next((i for i, c in enumerate(ranked) if c.effect == s), None)
         if s in refits or s not in probes or i is None:
             continue
         why = f"refitted: {richer}, which reduces to it, ended with a parameter at a bound"
-        try:
-            new[s] = _refit(ranked[i], probes[s], current, validation, options, bud.preroll,
-                            bud.max_nfev, bud.tol, "auto")
-        except (ConvergenceError, ParameterError) as exc:
-            why += f"; refit failed: {exc}"
+        res, failure = _refit_link(ranked[i], probes[s], current, validation, options, bud)
+        if res is None:
+            why += f"; refit failed: {failure}"
+        else:
+            new[s] = res
         ranked[i] = _with(ranked[i], refitted=True, note=why)
     refits.update(new)
     ranked = _judge_round(ranked, new, probes, current, sel)

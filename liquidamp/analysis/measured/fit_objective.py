@@ -265,7 +265,7 @@ class FitObjective:
             ``fun`` at each point, in order.
         """
         points = list(points)
-        base = {k: np.array(v) for k, v in self.warm.items()}
+        base = self.warm  # read only here: the caller waits for the columns
 
         def one(x):
             self._local.warm = {k: v.copy() for k, v in base.items()}
