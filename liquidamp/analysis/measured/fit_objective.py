@@ -15,9 +15,12 @@ record of session 8).  The columns are independent, and the compiled integrators
 the GIL (``nogil``, :mod:`liquidamp.coupled._kernels`), so :meth:`FitObjective.columns`,
 passed to ``least_squares(workers=...)``, runs them on :func:`fit_threads` threads.  Every
 column starts its periodic orbits from the orbits at the base point (a private copy per
-column), never from another column's, so the Jacobian does not depend on the number of
-threads or on the order in which the columns finish: one thread and two give the same
-numbers to the last bit.  The steps are scipy's own (``diff_step``, bounds respected).
+column; the records' memory between runs likewise), never from another column's, so the
+Jacobian does not depend on the number of threads or on the order in which the columns
+finish: one thread and two give the same numbers to the last bit (a drifting record's start
+temperature, kept in ``record.meta`` as the next estimate's first guess, made d07's fit vary
+from run to run on two threads before the records were copied too).  The steps are scipy's
+own (``diff_step``, bounds respected).
 
 The thread count is the usable cores (``os.sched_getaffinity``), at most
 :data:`MAX_THREADS`, or the environment variable ``LIQUIDAMP_THREADS`` (1 turns it off).
@@ -32,6 +35,7 @@ References
 from __future__ import annotations
 
 import contextvars
+import dataclasses
 import math
 import os
 import threading
@@ -219,8 +223,10 @@ class FitObjective:
     def forces(self, values):
         """``(params, effects, forces)`` of the model at fit ``values`` [N per record]."""
         warm = getattr(self._local, "warm", None)
+        records = getattr(self._local, "records", None)
         params, effects = build(self.base, self.effects, self.spec, values)
-        return params, effects, predict(self.model, params, effects, self.records,
+        return params, effects, predict(self.model, params, effects,
+                                        self.records if records is None else records,
                                         options=self.options,
                                         warm=self.warm if warm is None else warm)
 
@@ -249,8 +255,10 @@ class FitObjective:
         """``map(fun, points)`` for the Jacobian's columns, on :func:`fit_threads` threads.
 
         Each call starts its periodic orbits from a private copy of the orbits at the base
-        point (the last point evaluated before the Jacobian), so the result is the same
-        for any thread count; ``self.warm`` keeps the base point's orbits.
+        point (the last point evaluated before the Jacobian) and runs on copies of the
+        records whose ``meta`` (the memory a record simulation keeps between runs) is the
+        base point's, so the result is the same for any thread count; ``self.warm`` and the
+        records keep the base point's.
 
         Parameters
         ----------
@@ -269,10 +277,15 @@ class FitObjective:
 
         def one(x):
             self._local.warm = {k: v.copy() for k, v in base.items()}
+            # the records' own memory (record.meta: e.g. a drifting record's last start
+            # temperature, the first guess of the next estimate) as at the base point too,
+            # a column's writes kept to itself
+            self._local.records = tuple(dataclasses.replace(r, meta=dict(r.meta))
+                                        for r in self.records)
             try:
                 return fun(x)
             finally:
-                self._local.warm = None
+                self._local.warm = self._local.records = None
 
         n = min(self.threads, len(points))
         if n <= 1:

@@ -81,3 +81,31 @@ def test_thread_count_defaults_to_the_usable_cores(monkeypatch):
     monkeypatch.setattr(fit_objective.os, "sched_getaffinity", lambda pid: {0},
                         raising=False)
     assert fit_threads() == 1
+
+
+def test_a_columns_record_memory_stays_with_the_column(record, monkeypatch):
+    """What a record simulation keeps in ``record.meta`` between runs (a drifting record's
+    last start temperature, the next estimate's first guess) is the base point's in every
+    column, and a column's writes never reach the objective's records: otherwise the order
+    in which the threads finish would move the Jacobian (d07 on two threads: held-out
+    0.02535, 0.02566, 0.02595 in three runs of the same code)."""
+    monkeypatch.setenv("LIQUIDAMP_THREADS", "2")
+    obj = FitObjective("full", preset("paper_initial"), (), FitSpec.default(), [record],
+                       PRESETS["fit"], 1)
+    x0 = np.zeros(len(obj.var))
+    obj(x0)
+    record.meta["_probe"] = "base"
+    seen = []
+
+    def fun(x):
+        rec = obj._local.records[0]
+        seen.append(rec.meta["_probe"])
+        rec.meta["_probe"] = float(x[0])  # a column's own memory
+        np.testing.assert_array_equal(rec.force, record.force)
+        return obj(x)
+
+    pts = [x0 + 1e-3 * np.eye(len(x0))[j] for j in range(len(x0))]
+    obj.columns(fun, pts)
+    assert seen == ["base"] * len(pts)
+    assert record.meta["_probe"] == "base"
+    del record.meta["_probe"]
