@@ -392,7 +392,7 @@ def decimation_factor(record: Record, harmonics: float = HARMONICS) -> int:
     >>> r = Record.from_arrays(t, 0.0127 * np.sin(np.pi * t), 1e4 * np.cos(np.pi * t))
     >>> decimation_factor(r), decimation_factor(r, 40.0)
     (27, 20)
-    >>> env = np.minimum(1.0, np.minimum(t, 6.0 - t))     # ramps over 2 of the 6 cycles
+    >>> env = np.minimum(1.0, np.minimum(t, 6.0 - t))  # 1 Hz, ramps over the end cycles
     >>> tap = Record.from_arrays(t, env * 0.0127 * np.sin(2 * np.pi * t), np.cos(2 * np.pi * t))
     >>> tap.shape.kind, decimation_factor(tap)
     ('tapered', 13)
