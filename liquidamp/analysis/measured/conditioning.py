@@ -15,7 +15,9 @@ what was done and what it removed:
    records).
 2. **Decimation** (``decimate``, default ``"auto"``): the factor q is the largest integer
    with fs / q >= 2.5 ``harmonics`` f (f the stroke frequency), so that at least
-   ``harmonics`` (30) harmonics lie below the anti-alias cut-off; before every q-th sample
+   ``harmonics`` (30) harmonics lie below the anti-alias cut-off (a tapered stroke: those
+   of its carrier plus its envelope's bandwidth; broadband: of its band's upper edge,
+   :func:`decimation_factor`); before every q-th sample
    is kept, every channel (force, displacement and its Savitzky-Golay smoothing, velocity
    and acceleration, which were computed at the full rate) passes the same zero-phase
    Butterworth low-pass of order 8 at 0.8 x the new Nyquist frequency (0.4 fs / q), as
@@ -371,9 +373,18 @@ def _butter(order: int, wn: float) -> np.ndarray:
 
 
 def decimation_factor(record: Record, harmonics: float = HARMONICS) -> int:
-    """The automatic decimation factor: largest q with fs / q >= 2.5 ``harmonics`` f (to
-    0.1 %) [-]; f is the stroke frequency, or for a stroke that is not periodic the upper
-    edge of its band (``record.shape.band``).
+    """The automatic decimation factor: largest q with fs / q >= 2.5 f_h (to 0.1 %) [-].
+
+    f_h is the highest frequency to keep: ``harmonics`` x f for a periodic stroke (f its
+    frequency).  A broadband stroke has no harmonics: f_h is ``harmonics`` x the upper
+    edge of its band (``record.shape.band``, 95 % of the stroke power below it).  A
+    tapered stroke is one carrier f whose amplitude changes slowly (ramps): a
+    device's force to it holds the carrier's harmonics k f, each spread by the envelope's
+    bandwidth B = band edge - f (a force g(y) of the stroke y = A(t) sin(2 pi f t) is
+    sum_k c_k(A(t)) sin(2 pi k f t), whose k-th term spreads about k f by the bandwidth
+    of c_k(A(t)), about that of A(t)), not by k B; so f_h = ``harmonics`` x f + B, and a
+    tapered record keeps the harmonics its steady part would keep (the 1 Hz friction-damper
+    ramps: 31.4 Hz, not 34.4 Hz).
 
     Examples
     --------
@@ -381,17 +392,23 @@ def decimation_factor(record: Record, harmonics: float = HARMONICS) -> int:
     >>> r = Record.from_arrays(t, 0.0127 * np.sin(np.pi * t), 1e4 * np.cos(np.pi * t))
     >>> decimation_factor(r), decimation_factor(r, 40.0)
     (27, 20)
+    >>> env = np.minimum(1.0, np.minimum(t, 6.0 - t))  # 1 Hz, ramps over the end cycles
+    >>> tap = Record.from_arrays(t, env * 0.0127 * np.sin(2 * np.pi * t), np.cos(2 * np.pi * t))
+    >>> tap.shape.kind, decimation_factor(tap)
+    ('tapered', 13)
     """
     h = check_finite("harmonics", harmonics, "-")
     if not 2.0 <= h <= 1e4:
         raise ParameterError(f"harmonics kept must lie between 2 and 1e4, got {h:g}")
-    # a stroke that is not periodic: its harmonics are those of the upper edge of its band
-    # (95 % of the stroke power below it), so the decimation keeps that band's harmonics
     f = record.frequency
+    top = h * f
     if not record.periodic and record.shape is not None:
-        f = max(f, float(record.shape.band[1]))
+        edge = max(f, float(record.shape.band[1]))
+        # tapered: the carrier's harmonics, each spread by the envelope's bandwidth;
+        # broadband: the harmonics of the band's upper edge
+        top = h * f + (edge - f) if record.shape.kind == "tapered" else h * edge
     # to 0.1 %: a stroke frequency inferred a hair above a round value keeps its round factor
-    return max(1, int(1.001 * record.sampling_rate / (_RATE_MARGIN * h * f)))
+    return max(1, int(1.001 * record.sampling_rate / (_RATE_MARGIN * top)))
 
 
 def _removed(raw, kept) -> tuple[float, float]:

@@ -69,6 +69,22 @@ def test_force_filter_reports_what_it_removed():
         condition(r, force_cutoff=0.3)
 
 
+def test_tapered_stroke_keeps_its_carriers_harmonics_not_its_band_edges():
+    # 1 Hz at 1024 Hz, 7 cycles ramping over 2 at each end (the friction-damper's tapered
+    # records): its force holds k f spread by the envelope's bandwidth B, so the cut-off
+    # reaches 30 f + B (q = 13, as the constant-amplitude record), not 30 (f + B) (q = 11)
+    t = np.arange(0, 7.0, 1 / 1024)
+    env = np.clip(np.minimum(t, 7.0 - t) / 2.0, 0.0, 1.0)
+    y = 0.0127 * np.sin(2 * np.pi * t)
+    tap = Record.from_arrays(t, env * y, 1e4 * np.cos(2 * np.pi * t))
+    edge = tap.shape.band[1]
+    assert tap.shape.kind == "tapered" and 1.05 < edge < 1.3
+    assert decimation_factor(tap) == int(1.001 * 1024 / (2.5 * (30 * tap.frequency + edge
+                                                                 - tap.frequency))) == 13
+    assert int(1.001 * 1024 / (2.5 * 30 * edge)) <= 11  # the band edge's harmonics
+    assert decimation_factor(Record.from_arrays(t, y, 1e4 * np.cos(2 * np.pi * t))) == 13
+
+
 def test_automatic_decimation_keeps_the_harmonics_asked_for():
     t = np.arange(0, 6.0, 1 / 1024)
     r = Record.from_arrays(t, 0.0127 * np.sin(np.pi * t), 1e4 * np.cos(np.pi * t))
