@@ -4,13 +4,13 @@ import time
 
 import numpy as np
 
+from liquidamp.analysis.measured.record_model import integrate
 from liquidamp.coupled.periodic import _chamber_density
 from liquidamp.device import preset
 from liquidamp.device.effects import with_effects
 from liquidamp.device.effects_fluid import Cavitation
 from liquidamp.device.models import get_model
 from liquidamp.structure.testmachine import HarmonicStroke
-from liquidamp.analysis.measured.record_model import integrate
 
 pv = float(sys.argv[1]) if len(sys.argv) > 1 else 40e3
 f, Y = (4.0, 0.002) if len(sys.argv) < 3 else (float(sys.argv[2]), float(sys.argv[3]))
