@@ -30,8 +30,9 @@ multiplier at exactly 1, so the periodic orbits form a family and ``x(T) - x0``
 has a singular Jacobian.  The iteration holds the invariants of the march's start
 exactly (every iterate is projected onto their level set, which selects the orbit
 the march converges to; an invariant that the composed model does not conserve to
-1e-6, over the march so far or over one period, is dropped: e.g. with vapour
-cavities open a chamber's density leaves its pressure curve) and solves
+1e-6, over the march so far or over one period, is dropped; with vapour cavities the
+chamber rows count the liquid in the chamber less its cavity, which the cavity
+equations conserve exactly) and solves
 
 .. math:: (M - I)\\, Z\\, a = -(x(T) - x_0), \\qquad \\Delta x = Z a,
 
@@ -215,9 +216,11 @@ def invariants(model: DeviceModel, params: DeviceParams, x, y: float):
     Returns
     -------
     values : ndarray
-        ``[rho1 / r1(p1), rho2 / r2(p2), M]`` for eqs. (10)-(11) (the density
-        ratios are 1 on the rest-state curve; M the total mass [kg]),
-        ``[M]`` for eqs. (13), (17), empty for the others.
+        ``[rho1 V1 / (r1(p1) (V1 - Vc1)), rho2 V2 / (r2(p2) (V2 - Vc2)), M]`` for eqs.
+        (10)-(11) (the liquid of mass rho_i V_i fills its chamber less the vapour
+        cavity Vc_i, 0 without ``cavitation``, at its rest-state density curve, so the
+        ratios are 1 there; M the total mass [kg]), ``[M]`` for eqs. (13), (17) (M =
+        sum r_i(p_i) (V_i - Vc_i)), empty for the others.
     gradient : ndarray
         d values / dx, shape (len(values), n_states).
 
@@ -233,24 +236,34 @@ def invariants(model: DeviceModel, params: DeviceParams, x, y: float):
     x = np.asarray(x, float)
     n = model.n_states
     base = getattr(model, "base", model.name)
-    V1, V2 = params.V01 - params.A_p * y, params.V02 + params.A_p * y
+    V = (params.V01 - params.A_p * y, params.V02 + params.A_p * y)
+    names = tuple(getattr(model, "state_names", ()))
+    ic = names.index("Vc1") if "Vc1" in names else -1  # vapour cavities (``cavitation``)
     if base in ("full", "no_inertia"):
         G = np.zeros((3, n))
         vals = np.zeros(3)
         for k, (ip, ir) in enumerate(((0, 1), (2, 3))):
             r, dr = _chamber_density(x[ip], k + 1, params)
-            vals[k] = x[ir] / r
-            G[k, ir] = 1.0 / r
-            G[k, ip] = -x[ir] * dr / (r * r)
-        vals[2] = x[1] * V1 + x[3] * V2
-        G[2, 1], G[2, 3] = V1, V2
+            # the liquid (mass rho V) fills V - Vc at density r(p)
+            lv = V[k] - (x[ic + k] if ic >= 0 else 0.0)
+            vals[k] = x[ir] * V[k] / (r * lv)
+            G[k, ir] = V[k] / (r * lv)
+            G[k, ip] = -vals[k] * dr / r
+            if ic >= 0:
+                G[k, ic + k] = vals[k] / lv
+        vals[2] = x[1] * V[0] + x[3] * V[1]
+        G[2, 1], G[2, 3] = V
         return vals, G
     if base in ("constant_bulk", "inertial"):
         r1 = params.rho0 * math.exp((x[0] - params.p0) / params.B01)
         r2 = params.rho0 * math.exp((x[1] - params.p0) / params.B02)
+        lv1, lv2 = V
         G = np.zeros((1, n))
-        G[0, 0], G[0, 1] = r1 / params.B01 * V1, r2 / params.B02 * V2
-        return np.array([r1 * V1 + r2 * V2]), G
+        if ic >= 0:
+            lv1, lv2 = V[0] - x[ic], V[1] - x[ic + 1]
+            G[0, ic], G[0, ic + 1] = -r1, -r2
+        G[0, 0], G[0, 1] = r1 / params.B01 * lv1, r2 / params.B02 * lv2
+        return np.array([r1 * lv1 + r2 * lv2]), G
     return np.zeros(0), np.zeros((0, n))
 
 

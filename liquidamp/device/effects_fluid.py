@@ -425,7 +425,12 @@ class Cavitation(Effect):
     (:func:`cavity_rates`: a regularised switch over a pressure width of
     0.05 p_v + 500 Pa, :func:`cavity_width`, so that the equations stay
     integrable).  Mass is untouched (vapour mass neglected), so a
-    mass-conserving model stays so.  Needs chamber pressure states.  In this
+    mass-conserving model stays so, and the liquid fills the chamber less
+    its cavity at its own pressure curve, rho_i V_i = r_i(p_i) (V_i - Vc_i),
+    exactly (the switch splits the compression of the liquid's volume), so
+    the periodic orbits keep the sealed device's invariants
+    (:func:`liquidamp.coupled.periodic.invariants`).  Needs chamber pressure
+    states.  In this
     model family a little more entrained air (a softer low-pressure
     chamber) can mimic a cavity closely: report ties.
 

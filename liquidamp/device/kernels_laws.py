@@ -242,7 +242,11 @@ def cavity_width(p_v):
 def cavity_rates(p, dp_base, Vc, V, B, p_v):
     """(dp/dt, dVc/dt) of one chamber with a vapour cavity Vc [Pa/s, m^3/s].
 
-    The chamber's compression rate (volume per second) is w = dp_base V / B.
+    ``V`` is the volume the liquid fills (the chamber's less the cavity,
+    V_i - Vc_i [m^3]) and ``dp_base`` B times its compression rate [Pa/s]
+    (:func:`~liquidamp.device.kernels_model._fluid_rhs`), so that the liquid
+    stays on its pressure curve, rho V_chamber = r(p) (V_chamber - Vc).
+    The liquid's compression rate (volume per second) is w = dp_base V / B.
     A share sigma of it goes to the cavity, dVc/dt = -sigma w, the rest to
     the pressure, dp/dt = (1 - sigma) dp_base.  Regularised complementarity
     over a small pressure width delta = :func:`cavity_width` (p_v): while the

@@ -368,8 +368,24 @@ def _fluid_rhs(spec, x, y, v, prm, ep, out):
             o2 += pg
             s1 += sg
             s2 += sg
-        dp1, dc1 = cavity_rates(x[i1] + o1, out[i1] + s1, x[ic], V1, B1, pv)
-        dp2, dc2 = cavity_rates(x[i2] + o2, out[i2] + s2, x[ic + 1], V2, B2, pv)
+        # the liquid fills V_i - Vc_i: its mass m_i at its pressure-curve density r_i(p_i)
+        # (m_i = rho_i V_i on the bases with density states, r_i(p_i) (V_i - Vc_i) on the
+        # others), so the compression rate the switch splits between the pressure and the
+        # cavity is that of the liquid volume, u_i = d ln m_i/dt - (dV_i/dt) / (V_i - Vc_i),
+        # times B_i; then dp_i/B_i - dVc_i/(V_i - Vc_i) = u_i for any share, and
+        # rho_i V_i = r_i(p_i) (V_i - Vc_i) holds exactly (with the base's rate over V_i
+        # the chambers' liquid drifted off its pressure curve while a cavity was open, a
+        # slow mode that kept the orbit from settling for hundreds of cycles)
+        Vl1 = V1 - x[ic]
+        Vl2 = V2 - x[ic + 1]
+        if mid == M_FULL or mid == M_NO_INERTIA:
+            a1 = out[i1] + B1 * Ap * v * x[ic] / (V1 * Vl1)
+            a2 = out[i2] - B2 * Ap * v * x[ic + 1] / (V2 * Vl2)
+        else:
+            a1 = out[i1] * V1 / Vl1
+            a2 = out[i2] * V2 / Vl2
+        dp1, dc1 = cavity_rates(x[i1] + o1, a1 + s1, x[ic], Vl1, B1, pv)
+        dp2, dc2 = cavity_rates(x[i2] + o2, a2 + s2, x[ic + 1], Vl2, B2, pv)
         out[i1] = dp1 - s1
         out[i2] = dp2 - s2
         out[ic] = dc1

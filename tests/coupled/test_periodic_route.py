@@ -110,24 +110,28 @@ def test_a_converging_march_is_kept():
 
 
 def test_inerter_with_cavitation_arrives_and_is_the_march_limit():
-    """Issue #21: failed after 27 s.  The cavities' volumes decay slower than
-    geometrically (the march stalls); the shot orbit is where a long march is heading."""
+    """Issue #21: failed after 27 s; then (session 10) the cavities' volumes decayed slower
+    than geometrically because the cavity equations let the chamber liquid drift off its
+    pressure curve.  With the liquid's volume V - Vc in the split the march arrives within a
+    few cycles, the shooting (holding all three invariants) reaches the same orbit, and a long
+    march from rest stays on it."""
     m = with_effects(get_model("full"), make_effect("cavitation"))
     p, s = preset("inerter"), HarmonicStroke(3e-3, 3.0)
     r = steady_state(m, p, s, options=COMPILED)
-    assert r.solver_stats["route"] == "shooting" and r.residual < 1e-6
+    assert r.solver_stats["route"] == "march" and r.cycles < 20
     assert r.mass_error < 1e-9
+    assert np.max(r.states[5:]) > 1e-9  # a cavity opens on the orbit (m^3)
     K = dynamic_stiffness(r).value
-    # march 40 and 160 cycles from rest: the distance to the orbit shrinks
-    d = []
-    for n in (40, 160):
-        T = s.period
-        run = simulate(m, p, s, (n + 1) * T, options=COMPILED,
-                       t_eval=n * T + np.arange(COMPILED.samples_per_period) * T
-                       / COMPILED.samples_per_period)
-        F1 = first_harmonic(run.time - n * T, run.force, s.frequency)
-        d.append(abs(F1 / s.amplitude - K) / abs(K))
-    assert d[1] < 0.5 * d[0], d
+    shot = steady_state(m, p, s, options=COMPILED, route="shooting")
+    assert shot.solver_stats["route"] == "shooting" and shot.residual < 1e-6
+    assert abs(dynamic_stiffness(shot).value - K) < 1e-6 * abs(K)
+    # marched 160 cycles from rest: on the same orbit
+    n, T = 160, s.period
+    run = simulate(m, p, s, (n + 1) * T, options=COMPILED,
+                   t_eval=n * T + np.arange(COMPILED.samples_per_period) * T
+                   / COMPILED.samples_per_period)
+    F1 = first_harmonic(run.time - n * T, run.force, s.frequency)
+    assert abs(F1 / s.amplitude - K) < 1e-6 * abs(K)
 
 
 def test_both_routes_fail_with_both_figures():

@@ -669,9 +669,9 @@ def _onto_invariants(model, params, x, rest, y=0.0):
     if x.shape != rest.shape:
         raise ParameterError(f"x0 must hold the {rest.size} states of model {model.name!r}, "
                              f"got shape {x.shape}")
+    # all rows: with vapour cavities too, the chamber rows count the liquid less the cavity
+    # (conserved exactly, :func:`~liquidamp.device.kernels_laws.cavity_rates`)
     target, _ = invariants(model, params, rest, y)
-    rows = _conserved_rows(model, target.size)
-    target = target[rows]
     if not target.size:
         return x
     scale = np.asarray(model.state_scales(params), float)
@@ -679,22 +679,9 @@ def _onto_invariants(model, params, x, rest, y=0.0):
 
     def gap(z):
         v, G = invariants(model, params, z, y)
-        return (v[rows] - target) / size, G[rows] * scale / size[:, None]
+        return (v - target) / size, G * scale / size[:, None]
 
     return project_level_set(x, gap, scale)
-
-
-def _conserved_rows(model, m: int) -> np.ndarray:
-    """The rows of :func:`~liquidamp.coupled.periodic.invariants` the model's equations
-    conserve whatever the state: all, except with vapour cavities (``cavitation``), where a
-    chamber's density leaves its pressure curve while its cavity is open, so that only the
-    total mass (the last row; vapour mass neglected) is conserved.  A warm start keeps the
-    chamber rows of the orbit it came from there: projected onto those of rest it would
-    restart the slow drift of the cavities from rest (0.3-1 s of marching and shooting per
-    model run in a fit instead of a few cycles)."""
-    if m > 1 and model.effect("cavitation") is not None:
-        return np.arange(m - 1, m)
-    return np.arange(m)
 
 
 def _response(model, params, t, X, u, options, stats=None, force=None,

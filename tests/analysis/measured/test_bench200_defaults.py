@@ -2,6 +2,7 @@
 diagnosis_200hz_10_cycles``, issue 19): the right effect first and alone, its parameter near
 the truth."""
 
+import numpy as np
 import pytest
 
 from liquidamp.analysis.bench_diagnosis import REAL_RATE_RECORDS, real_rate_records
@@ -34,28 +35,61 @@ def test_a_leak_is_found_alone_through_the_valves_that_reduce_to_it():
     assert v["inv_gamma2"] == pytest.approx(1.22, rel=0.02)
 
 
-def test_a_model_without_a_periodic_orbit_is_not_scored():
-    # The paper's device with vapour cavities at 40 kPa under the 4 Hz, 2 mm stroke settles
-    # for hundreds of cycles (the cavitating chamber's density leaves its pressure curve and
-    # the mass moves slowly between the chambers: marched from rest, the force's swing still
-    # grows 0.2 % per 20 cycles after 160): the record simulation returns its last marched
-    # cycle, flagged, and a fit over such a model follows where each march started, not the
-    # parameters (in the bench's default diagnoses its refits ended above their own start,
-    # about half of the series-compliance record's 108 s).  The score test says so and the
-    # candidate is not refitted.
-    from liquidamp.analysis.measured.calibration import calibrate, predict
+def test_the_cavitation_record_is_stationary_and_the_truth_reproduces_it():
+    # The paper's device with vapour cavities at 40 kPa under the 4 Hz, 2 mm stroke.  Until
+    # session 10 the cavity equations split the chamber's compression over its whole volume
+    # V rather than the liquid's V - Vc, so the chamber liquid drifted off its pressure curve
+    # at every cavity: marched from rest the force's swing still grew 0.2 % per 20 cycles
+    # after 160, the generator's orbit search failed (the record settled from rest over 6
+    # cycles and kept drifting), and the truth itself gave held-out 0.118.  Now the record
+    # starts on the orbit, and the true model reproduces it to the noise floor (the other
+    # effects' truths: 0.0007-0.0013) on its periodic orbit.
     from liquidamp.analysis.measured.conditioning import condition
-    from liquidamp.analysis.measured.diagnosis_evidence import score
+    from liquidamp.analysis.measured.fit_objective import predict
     from liquidamp.analysis.measured.record_model import NOT_PERIODIC
     from liquidamp.device import preset
     from liquidamp.device.effects import make_effect
 
-    rec = condition(real_rate_records(CASE, "cavitation")[1])[0]
+    raw = real_rate_records(CASE, "cavitation")[1]
+    # stationary: its cycles (50 samples at 200 Hz, 4 Hz) repeat to the load cell's noise,
+    # 1 N, so sqrt(2) N RMS between two cycles (before: 2.7 N after one cycle, 15 N after 8)
+    d = raw.force[400:450] - raw.force[0:50]
+    assert np.sqrt(np.mean(d ** 2)) < 2.5
+    rec = condition(raw)[0]
     resp = []
     truth = make_effect("cavitation", vapour_pressure_Pa=40e3)
-    predict("full", preset("paper_calibrated"), (truth,), [rec], responses=resp)
-    assert resp[0].solver_stats["route"] == NOT_PERIODIC
-    assert "NOT on a periodic orbit" in resp[0].warnings[0]
+    (f,) = predict("full", preset("paper_calibrated"), (truth,), [rec], responses=resp)
+    assert resp[0].solver_stats["route"] != NOT_PERIODIC and not resp[0].warnings
+    assert np.max(resp[0].states[5]) > 1e-8  # chamber 1 cavitates (m^3)
+    nrmse = np.sqrt(np.mean((f - rec.force) ** 2)) / np.std(rec.force)
+    assert nrmse < 0.0015, nrmse
+
+
+def test_a_model_without_a_periodic_orbit_is_not_scored(monkeypatch):
+    # A candidate whose model reaches no periodic orbit on a calibration record (the record
+    # simulation returns its last marched cycle, flagged) is not scored nor refitted: a fit
+    # of such a model follows where each march started, not the parameters.  No catalogue
+    # model of these records fails to arrive any more, so the orbit search of the candidate's
+    # model is made to fail here.
+    from liquidamp.analysis.measured import record_model
+    from liquidamp.analysis.measured.calibration import calibrate
+    from liquidamp.analysis.measured.conditioning import condition
+    from liquidamp.analysis.measured.diagnosis_evidence import score
+    from liquidamp.device import preset
+    from liquidamp.errors import ConvergenceError
+
+    real = record_model.periodic_state
+
+    def fails_with_cavities(rig, *args, **kw):
+        orbit = real(rig, *args, **kw)
+        if rig.model.effect("cavitation") is None:
+            return orbit
+        err = ConvergenceError("no periodic steady state (made to fail)")
+        err.marched = (orbit.states, 40, 1e-3)
+        raise err
+
+    monkeypatch.setattr(record_model, "periodic_state", fails_with_cavities)
+    rec = condition(real_rate_records(CASE, "cavitation")[1])[0]
     base = calibrate([rec], model="full", params=preset("paper_initial"), sizing="preset",
                      device_class="fluid", warn=False)
     cand, _ = score("cavitation", base, None, 1)
