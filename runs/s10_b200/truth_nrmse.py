@@ -11,8 +11,7 @@ from liquidamp.analysis.measured.conditioning import condition
 from liquidamp.analysis.measured.diagnosis_options import march_options
 from liquidamp.analysis.measured.record_model import nrmse, simulate_record
 from liquidamp.device import preset
-from liquidamp.device.effects import make_effect
-from liquidamp.device.effects import with_effects
+from liquidamp.device.effects import make_effect, with_effects
 from liquidamp.device.models import get_model
 
 name = "diagnosis_200hz_10_cycles"
@@ -28,7 +27,7 @@ if extra.get("scale"):
     p = p.scaled(**extra["scale"])
 for routes in ("auto", "march"):
     out = []
-    for r, c in zip(recs, conds, strict=True):
+    for _r, c in zip(recs, conds, strict=True):
         f = simulate_record(model, p, c, options=opts, route=routes).force
         out.append(nrmse(f, c.force))
     print(routes, [round(x, 6) for x in out])
