@@ -34,8 +34,8 @@ def _round(monkeypatch, fitted_nrmse, restarted_nrmse):
     current = types.SimpleNamespace(calibration=(rec,))
     a, b, c = (Candidate(n, s, 0.0, {}) for n, s in (("a", 0.9), ("b", 0.8), ("c", 0.5)))
     cfg = DiagnoseOptions()
-    refits = D._fit_round([a, b, c], dict.fromkeys("abc"), [a, b], [c], current, (), None, cfg.budget,
-                          level=0.01, start0={}, sel=cfg.selection)
+    refits = D._fit_round([a, b, c], dict.fromkeys("abc"), [a, b], [c], current, (), None,
+                          cfg.budget, level=0.01, start0={}, sel=cfg.selection)
     return calls, {k: v.nrmse_calibration for k, v in refits.items()}
 
 
