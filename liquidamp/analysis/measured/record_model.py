@@ -681,7 +681,45 @@ def _onto_invariants(model, params, x, rest, y=0.0):
         v, G = invariants(model, params, z, y)
         return (v - target) / size, G * scale / size[:, None]
 
-    return project_level_set(x, gap, scale)
+    balance = _compliance_balance(model, params, y)
+    if balance is None:
+        return project_level_set(x, gap, scale)
+    # behind a series spring the massless piston's balance k (y - y_p) - F_fluid is
+    # conserved too (the piston's rate is its time derivative: compliance_rate): a warm
+    # start from another point's orbit keeps that point's, a piston offset from the rod
+    # by the difference over k, and so another orbit (chamber volumes and pressures
+    # shifted).  It is held at the rest state's, alternately with the mass (the mass
+    # depends on the piston's stroke, the balance on the pressures; a few rounds agree)
+    ic, k, force = balance
+    c0 = k * (y - rest[ic]) - force(rest)
+    z = np.array(x, float)
+    for _ in range(4):
+        z = project_level_set(z, gap, scale)
+        miss = k * (y - z[ic]) - force(z) - c0
+        z[ic] += miss / k
+        if abs(miss) <= 1e-9 * (abs(c0) + abs(force(z)) + 1.0):
+            break
+    return project_level_set(z, gap, scale)
+
+
+def _compliance_balance(model, params, y):
+    """``(index of y_piston, k [N/m], F_fluid(x) [N])`` of a model behind a finite series
+    compliance, else None.  F_fluid is the bare fluid model's force at the piston stroke
+    (what the spring carries; a linear function of its states)."""
+    from liquidamp.device.models import BASES
+
+    eff = model.effect("series_compliance") if model.effects else None
+    if eff is None or not np.isfinite(eff.stiffness_N_per_m):
+        return None
+    nb = model.n_base_states
+    ic = nb + next(i for i, n in enumerate(model.state_names[nb:]) if n == "y_piston")
+    bare = BASES[model.base]
+
+    def force(z):
+        return float(np.asarray(bare.force(0.0, np.asarray(z[:nb], float),
+                                           (z[ic], 0.0, 0.0), params), float))
+
+    return ic, float(eff.stiffness_N_per_m), force
 
 
 def _response(model, params, t, X, u, options, stats=None, force=None,

@@ -1,0 +1,66 @@
+"""The order of a diagnosis round's fits (diagnosis._fit_round, module doc step 4): the
+second wave's first fit comes before any restart, and restarts are made only where no refit
+of the round (both waves) reaches the structure level.  The refits are stand-ins recorded in
+call order (no model runs; well under a second)."""
+
+import types
+
+import numpy as np
+import pytest
+
+import liquidamp.analysis.measured.diagnosis as D
+from liquidamp.analysis.measured.diagnosis_evidence import Candidate
+from liquidamp.analysis.measured.diagnosis_options import DiagnoseOptions
+from liquidamp.analysis.measured.records import Record
+
+
+def _round(monkeypatch, fitted_nrmse, restarted_nrmse):
+    calls = []
+
+    def refit(cand, *a, **k):
+        calls.append(("refit", cand.effect))
+        return types.SimpleNamespace(nrmse_calibration=fitted_nrmse[cand.effect],
+                                     effect=cand.effect)
+
+    def restart(res, *a, **k):
+        calls.append(("restart", res.effect))
+        return types.SimpleNamespace(nrmse_calibration=restarted_nrmse[res.effect],
+                                     effect=res.effect)
+
+    monkeypatch.setattr(D, "_refit", refit)
+    monkeypatch.setattr(D, "_restart", restart)
+    t = np.arange(0.0, 2.0, 0.005)
+    rec = Record.from_arrays(t, 3e-3 * np.sin(6 * np.pi * t), 500 * np.sin(6 * np.pi * t))
+    current = types.SimpleNamespace(calibration=(rec,))
+    a, b, c = (Candidate(n, s, 0.0, {}) for n, s in (("a", 0.9), ("b", 0.8), ("c", 0.5)))
+    cfg = DiagnoseOptions()
+    refits = D._fit_round([a, b, c], dict.fromkeys("abc"), [a, b], [c], current, (), None,
+                          cfg.budget, level=0.01, start0={}, sel=cfg.selection)
+    return calls, {k: v.nrmse_calibration for k, v in refits.items()}
+
+
+def test_the_next_candidate_is_fitted_before_any_restart(monkeypatch):
+    # the third candidate reaches the level at once: nothing is restarted
+    calls, got = _round(monkeypatch, {"a": 0.05, "b": 0.04, "c": 0.005},
+                        {"a": 0.001, "b": 0.001, "c": 0.001})
+    assert calls == [("refit", "a"), ("refit", "b"), ("refit", "c")]
+    assert got == {"a": 0.05, "b": 0.04, "c": 0.005}
+
+
+@pytest.mark.parametrize(("restarted", "expected"), [
+    # no restart reaches the level: every refit of the round is restarted, in order
+    ({"a": 0.03, "b": 0.02, "c": 0.02}, ["a", "b", "c"]),
+    # the first restart reaches it: the others are not restarted
+    ({"a": 0.005, "b": 0.02, "c": 0.02}, ["a"])])
+def test_restarts_only_where_no_refit_of_the_round_reaches_the_level(monkeypatch, restarted,
+                                                                      expected):
+    calls, got = _round(monkeypatch, {"a": 0.05, "b": 0.04, "c": 0.03}, restarted)
+    assert calls[:3] == [("refit", "a"), ("refit", "b"), ("refit", "c")]
+    assert [n for what, n in calls[3:] if what == "restart"] == expected
+    assert got[expected[-1]] == restarted[expected[-1]]
+
+
+def test_a_first_wave_at_the_level_leaves_the_next_candidate_unfitted(monkeypatch):
+    calls, got = _round(monkeypatch, {"a": 0.005, "b": 0.04, "c": 0.03}, {})
+    assert calls == [("refit", "a"), ("refit", "b")]
+    assert set(got) == {"a", "b"}
