@@ -14,7 +14,7 @@ from liquidamp.analysis.measured.diagnosis_options import DiagnoseOptions
 from liquidamp.analysis.measured.records import Record
 
 
-def _round(monkeypatch, fitted_nrmse, restarted_nrmse):
+def _round(monkeypatch, fitted_nrmse, restarted_nrmse, n_free=None, noise=1e-4):
     calls = []
 
     def refit(cand, *a, **k):
@@ -34,14 +34,18 @@ def _round(monkeypatch, fitted_nrmse, restarted_nrmse):
     current = types.SimpleNamespace(calibration=(rec,))
     a, b, c = (Candidate(n, s, 0.0, {}) for n, s in (("a", 0.9), ("b", 0.8), ("c", 0.5)))
     cfg = DiagnoseOptions()
-    refits = D._fit_round([a, b, c], dict.fromkeys("abc"), [a, b], [c], current, (), None,
-                          cfg.budget, level=0.01, start0={}, sel=cfg.selection)
-    return calls, {k: v.nrmse_calibration for k, v in refits.items()}
+    n_free = n_free or dict.fromkeys("abc", 1)
+    probes = {k: types.SimpleNamespace(free=(("x", "y"),) * n, multipliers=())
+              for k, n in n_free.items()}
+    ranked = [a, b, c]
+    refits = D._fit_round(ranked, probes, [a, b], [c], current, (), None,
+                          cfg.budget, level=0.01, start0={}, sel=cfg.selection, noise=noise)
+    return calls, {k: v.nrmse_calibration for k, v in refits.items()}, ranked
 
 
 def test_the_next_candidate_is_fitted_before_any_restart(monkeypatch):
     # the third candidate reaches the level at once: nothing is restarted
-    calls, got = _round(monkeypatch, {"a": 0.05, "b": 0.04, "c": 0.005},
+    calls, got, _ = _round(monkeypatch, {"a": 0.05, "b": 0.04, "c": 0.005},
                         {"a": 0.001, "b": 0.001, "c": 0.001})
     assert calls == [("refit", "a"), ("refit", "b"), ("refit", "c")]
     assert got == {"a": 0.05, "b": 0.04, "c": 0.005}
@@ -54,13 +58,35 @@ def test_the_next_candidate_is_fitted_before_any_restart(monkeypatch):
     ({"a": 0.005, "b": 0.02, "c": 0.02}, ["a"])])
 def test_restarts_only_where_no_refit_of_the_round_reaches_the_level(monkeypatch, restarted,
                                                                       expected):
-    calls, got = _round(monkeypatch, {"a": 0.05, "b": 0.04, "c": 0.03}, restarted)
+    calls, got, _ = _round(monkeypatch, {"a": 0.05, "b": 0.04, "c": 0.03}, restarted)
     assert calls[:3] == [("refit", "a"), ("refit", "b"), ("refit", "c")]
     assert [n for what, n in calls[3:] if what == "restart"] == expected
     assert got[expected[-1]] == restarted[expected[-1]]
 
 
 def test_a_first_wave_at_the_level_leaves_the_next_candidate_unfitted(monkeypatch):
-    calls, got = _round(monkeypatch, {"a": 0.005, "b": 0.04, "c": 0.03}, {})
+    calls, got, _ = _round(monkeypatch, {"a": 0.005, "b": 0.04, "c": 0.03}, {})
     assert calls == [("refit", "a"), ("refit", "b")]
     assert set(got) == {"a", "b"}
+
+
+@pytest.mark.parametrize(("n_free", "fitted", "quiet"), [
+    # a (1 parameter) at the noise: b frees more and is not refitted, c (as many) is
+    ({"a": 1, "b": 3, "c": 1}, ["a", "c"], "a"),
+    # a frees the most: b, simpler, is still refitted, reaches the noise too and then
+    # holds c (2 parameters) back
+    ({"a": 3, "b": 1, "c": 2}, ["a", "b"], "b"),
+    ({"a": 3, "b": 3, "c": 2}, ["a", "b", "c"], None)])
+def test_a_refit_at_the_noise_leaves_richer_candidates_unfitted(monkeypatch, n_free, fitted,
+                                                                quiet):
+    """Parsimony at the noise: once a refit leaves the residual at the noise (here 0.008 <=
+    0.01), a later candidate freeing more parameters could only tie on noise and lose on the
+    BIC; it is not refitted, and its note says which candidate and why.  The second wave is
+    not reached (the first explains the round), so c is in the first here."""
+    monkeypatch.setattr(D, "_explained", lambda refits, level: False)
+    calls, got, ranked = _round(monkeypatch, {"a": 0.008, "b": 0.009, "c": 0.02},
+                                dict.fromkeys("abc", 0.02), n_free=n_free, noise=0.01)
+    assert [n for what, n in calls if what == "refit"] == fitted
+    skipped = [c for c in ranked if c.effect not in fitted]
+    assert all(c.note.startswith(f"not refitted: {quiet} already leaves the residual at "
+                                 "the noise") for c in skipped)
