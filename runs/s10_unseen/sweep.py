@@ -229,19 +229,22 @@ def row(out: Path, rid: str) -> dict:
 
 def table(out: Path, ids) -> str:
     lines = ["| record | effect rms / noise [N] | added (order) | key parameter vs truth "
-             "| held-out NRMSE before->after | stop reason | diagnose s | failure classes |",
+             "| held-out NRMSE before->after | stop reason | diagnose s (whole subprocess s, load "
+             "at its start) | failure classes |",
              "|---|---|---|---|---|---|---|---|"]
     for rid in ids:
         r = row(out, rid)
         if "error" in r:
-            lines.append(f"| {rid} | | CRASH/TIMEOUT | | | {r['error']} | {r['time']} "
-                         "| crash/refusal |")
+            slow = r["error"].startswith("rc 124")
+            lines.append(f"| {rid} | | {'TIMEOUT' if slow else 'CRASH'} | | | {r['error']} "
+                         f"| {r['time']} | {'very slow (timeout)' if slow else 'crash'} |")
             continue
         size = f"{r['size']:.3g} / {r['noise']:g}" if r["size"] is not None else \
             f"- / {r['noise']:g}"
         lines.append(f"| {rid} | {size} | {','.join(r['added']) or '-'} | {r['key']} "
                      f"| {r['before']:.4g}->{r['after']:.4g} | {r['stop'][:90]} "
-                     f"| {r['seconds']:.0f} | {'; '.join(r['classes']) or 'ok'} |")
+                     f"| {r['seconds']:.0f} ({r['time']}) "
+                     f"| {'; '.join(r['classes']) or 'ok'} |")
     return "\n".join(lines) + "\n"
 
 
