@@ -1,7 +1,7 @@
 """One sweep record's default diagnosis under an experiment on files this helper does not
 own (the library is not changed; module attributes are set in this process only).
 
-PYTHONPATH=. python runs/s10_unseen/variant.py ID OUTDIR [reach=R] [air=A] [preset=NAME]
+PYTHONPATH=. python runs/s10_unseen/variant.py ID OUTDIR [reach=R] [air=A] [preset=NAME] [airfree=1]
 
 reach: class_revisit.CHANNEL_REACH (2 on main); air: class_revisit._AIR (1e-3 on main: the
 least air ratio of a design "with air"); preset: the device given to diagnose (``params``;
@@ -25,6 +25,28 @@ if "reach" in opts:
     CR.CHANNEL_REACH = float(opts["reach"])
 if "air" in opts:
     CR._AIR = float(opts["air"])
+if opts.get("airfree"):
+    # the family's air-free designs (air ratio below _AIR: the inerter) as starts too, with
+    # their own air and channel (what the report proposes for fluid_alternatives)
+    from liquidamp.device import preset_names
+
+    _orig = CR.fluid_alternatives
+
+    def _with_airfree(baseline, run, noise_level, params, sizing="auto"):
+        out = _orig(baseline, run, noise_level, params, sizing)
+        if not out and (run["current"].nrmse_calibration <= noise_level or params is None):
+            return out
+        for name in preset_names():
+            q = preset(name)
+            if min(q.inv_gamma1, q.inv_gamma2) < CR._AIR and q.S_t > 0:
+                out.append((f"fluid ({name} design: air-free, channel S_t {q.S_t:.3g})",
+                            {"params": params.replace(S_t=q.S_t, inv_gamma1=q.inv_gamma1,
+                                                      inv_gamma2=q.inv_gamma2,
+                                                      name=f"{params.name} as {name}"),
+                             "sizing": "preset", "device_class": "fluid"}))
+        return out
+
+    CR.fluid_alternatives = _with_airfree
 kw = {"params": preset(opts["preset"])} if "preset" in opts else {}
 out.mkdir(parents=True, exist_ok=True)
 cal, val = sweep.records(rid)
