@@ -213,7 +213,7 @@ from liquidamp.analysis.measured.selection import sample_count
 from liquidamp.analysis.measured.stationarity import cycle_drift
 from liquidamp.device.effects import EFFECTS
 from liquidamp.errors import (
-    ConvergenceError,
+    LiquidampError,
     LiquidampWarning,
     ParameterError,
     check_choice,
@@ -369,7 +369,7 @@ def _device_round(current, validation, options, bud, names):
                     current.spec.parameters + held))
                 refits[name] = _refit(cand, change, current_held, validation, options,
                                       bud.preroll, bud.max_nfev, bud.tol, "auto")
-        except (ConvergenceError, ParameterError) as exc:
+        except LiquidampError as exc:  # the candidate's model failed, not the loop
             cand = _with(cand, refitted=True, note=f"refit failed: {exc}")
         cands.append(cand)
         changes[name] = change
@@ -469,7 +469,7 @@ def _fit_round(ranked, probes, queue, extra, current, validation, options, bud, 
                 refits[cand.effect] = _refit(cand, probes[cand.effect], current, validation,
                                              options, bud.preroll, bud.max_nfev, bud.tol,
                                              "auto")
-            except (ConvergenceError, ParameterError) as exc:
+            except LiquidampError as exc:  # e.g. a chamber at the pressure floor
                 ranked[ranked.index(cand)] = _with(cand, refitted=True,
                                                    note=f"refit failed: {exc}")
                 continue

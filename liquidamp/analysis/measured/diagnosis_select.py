@@ -20,7 +20,7 @@ from liquidamp.analysis.measured.diagnosis_fits import _refit
 from liquidamp.analysis.measured.diagnosis_options import SelectionRule
 from liquidamp.analysis.measured.diagnosis_result import heldout_per_record
 from liquidamp.analysis.measured.selection import judge, sample_count
-from liquidamp.errors import ConvergenceError, ParameterError
+from liquidamp.errors import LiquidampError
 
 __all__: list = []
 
@@ -122,7 +122,7 @@ def _refit_link(cand, probe, current, validation, options, bud):
     try:
         return _refit(cand, probe, current, validation, options, bud.preroll, bud.max_nfev,
                       bud.tol, "auto"), None
-    except (ConvergenceError, ParameterError) as exc:
+    except LiquidampError as exc:  # the reduction's model failed
         return None, str(exc)
 
 

@@ -23,7 +23,6 @@ import numpy as np
 import pytest
 
 from liquidamp.analysis.measured.class_revisit import (
-    CHANNEL_REACH,
     design_channels,
     fluid_alternatives,
     revisit,
@@ -63,26 +62,38 @@ def test_fluid_alternatives_follow_the_size_and_the_channel():
     labels = [(a, kw["sizing"], kw["params"].S_t / preset("reference").S_t)
               for a, kw in fluid_alternatives(_baseline(True), above, 0.01, p)]
     # sized for its force (the 3 mm stroke fits paper_initial's 25 mm chamber): as given,
-    # unsized; and Device B's channel, a decade below paper_initial's (x1, the reference's)
+    # unsized; every other published channel (Device B's x0.1, Device A's x1.8; x1 is
+    # paper_initial's own, the reference's); the air-free inerter design with its air
+    ref = preset("reference").S_t
     assert labels[0][1:] == ("preset", 1.0) and "as given" in labels[0][0]
-    assert labels[1][1:] == ("preset", pytest.approx(0.1)) and len(labels) == 2
-    # not sized: the device as given is the fluid start already; the channel start stays
+    assert [lab[1:] for lab in labels[1:3]] == [("preset", pytest.approx(0.1)),
+                                                ("preset", pytest.approx(1.8))]
+    assert labels[3][1:] == ("preset", pytest.approx(7.0)) and len(labels) == 4
+    air = fluid_alternatives(_baseline(True), above, 0.01, p)[3][1]["params"]
+    assert "air-free" in fluid_alternatives(_baseline(True), above, 0.01, p)[3][0]
+    assert air.inv_gamma1 == preset("inerter").inv_gamma1 and air.A_p == p.A_p
+    # not sized: the device as given is the fluid start already; the design starts stay
     alts = fluid_alternatives(_baseline(False), above, 0.01, p)
-    assert [kw["params"].S_t / p.S_t for _, kw in alts] == [pytest.approx(0.1)]
+    assert [kw["params"].S_t / p.S_t for _, kw in alts] == [pytest.approx(0.1),
+                                                            pytest.approx(1.8),
+                                                            pytest.approx(7.0)]
     # sized for the stroke (15 mm past half of the 25 mm chamber): the device as given
     # cannot take it, no other start (a friction damper's 12.7 mm on paper_initial)
     assert fluid_alternatives(_baseline(True, 0.015), above, 0.01, p) == []
     assert fluid_alternatives(_baseline(False), above, 0.01, p, sizing="data") == []
-    # a device on Device B's channel: the reference channel (x10) is the one out of reach,
-    # Device A's (x18) too; within CHANNEL_REACH nothing
+    # a device on Device B's channel: the reference's and Device A's channels
     b = preset("device_b")
     alts = fluid_alternatives(_baseline(False), above, 0.01, b)
-    got = sorted(round(kw["params"].S_t / preset("reference").S_t, 6) for _, kw in alts)
-    assert got == [1.0, 1.8]
-    near = p.replace(S_t=p.S_t * 0.1 * CHANNEL_REACH * 0.99)   # x0.198: 0.1 within reach
+    got = sorted(round(kw["params"].S_t / ref, 6) for _, kw in alts)
+    assert got == [1.0, 1.8, 7.0]
+    # a channel between the designs' (x0.198): every published channel is a start (a
+    # local fit's reach depends on the effect in the residual, not on a ratio)
+    near = p.replace(S_t=p.S_t * 0.198)
     alts = fluid_alternatives(_baseline(False), above, 0.01, near)
-    assert [kw["params"].S_t / p.S_t for _, kw in alts] == [pytest.approx(1.0),
-                                                            pytest.approx(1.8)]
+    assert [round(kw["params"].S_t / ref, 6) for _, kw in alts] == [0.1, 1.0, 1.8, 7.0]
+    # an air-free device given: no air-free start again
+    alts = fluid_alternatives(_baseline(False), above, 0.01, preset("inerter"))
+    assert [round(kw["params"].S_t / ref, 6) for _, kw in alts] == [0.1, 1.0, 1.8]
     # at the noise, or without a class choice (a fixed structure): nothing
     at_noise = {"current": SimpleNamespace(nrmse_calibration=0.005)}
     assert fluid_alternatives(_baseline(True), at_noise, 0.01, p) == []
