@@ -61,14 +61,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from liquidamp.device.fluid import density_gholizadeh
-from liquidamp.device.models import DeviceModel
-from liquidamp.device.params import DeviceParams
+from liquidamp.coupled.invariants import invariants, project_level_set
 from liquidamp.errors import ConvergenceError, ParameterError, PressureError, check_choice
 
-__all__ = ["periodic_state", "PeriodicState", "ShootingOptions", "ROUTES", "invariants",
-           "project_level_set", "state_swing", "FD_STEP", "STEP_LENGTHS", "STALL_RATIO",
-           "MIN_RTOL", "RHO_STALL", "FIRST_CHUNK", "FINE_GRID_FACTOR", "RUN_STEPS"]
+__all__ = ["periodic_state", "PeriodicState", "ShootingOptions", "ROUTES", "state_swing",
+           "FD_STEP", "STEP_LENGTHS", "STALL_RATIO", "MIN_RTOL", "RHO_STALL", "FIRST_CHUNK",
+           "FINE_GRID_FACTOR", "RUN_STEPS"]
 
 #: Routes of :func:`periodic_state`: march then shoot, march alone, shoot alone.
 ROUTES = ("auto", "march", "shooting")
@@ -185,125 +183,6 @@ class PeriodicState:
     stats: dict = field(default_factory=dict)
 
 
-# --------------------------------------------------------------- invariants
-def _chamber_density(p, chamber: int, params: DeviceParams) -> tuple[float, float]:
-    """r_i(p) on the rest-state curve and its slope r_i / B_i(p) [kg/m^3, kg/(m^3 Pa)]."""
-    X0 = params.X01 if chamber == 1 else params.X02
-    p = max(p, 1.0)
-    B = params.bulk_modulus_at(p, chamber)
-    if params.bulk_law == "constant":
-        r = params.rho0 * math.exp((p - params.p0) / B)
-    else:
-        r = density_gholizadeh(p, params.rho0, params.B_l, X0, params.p0, params.n)
-    return r, r / B
-
-
-def invariants(model: DeviceModel, params: DeviceParams, x, y: float):
-    """Conserved quantities of ``model`` at state ``x`` and stroke ``y`` and their gradients.
-
-    Parameters
-    ----------
-    model : DeviceModel
-        Device model (a composed model: those of its base equation, on the base's
-        states).
-    params : DeviceParams
-        Parameters.
-    x : array
-        State.
-    y : float
-        Rod stroke [m] (the chamber volumes enter the total mass).  Where a kinematic
-        effect puts the piston behind the rod (``freeplay``'s dead band, a
-        ``series_compliance``), the chambers follow the piston's own state, not ``y``:
-        the total mass is counted at the piston's stroke, and its gradient has a column
-        for that state.
-
-    Returns
-    -------
-    values : ndarray
-        ``[rho1 V1 / (r1(p1) (V1 - Vc1)), rho2 V2 / (r2(p2) (V2 - Vc2)), M]`` for eqs.
-        (10)-(11) (the liquid of mass rho_i V_i fills its chamber less the vapour
-        cavity Vc_i, 0 without ``cavitation``, at its rest-state density curve, so the
-        ratios are 1 there; M the total mass [kg]), ``[M]`` for eqs. (13), (17) (M =
-        sum r_i(p_i) (V_i - Vc_i)), empty for the others.
-    gradient : ndarray
-        d values / dx, shape (len(values), n_states).
-
-    Notes
-    -----
-    Counting the mass at the rod stroke behind a dead band moved a warm-started orbit (its
-    piston up to the gap away from the rod) onto another sealed device's orbit, by
-    rho A_p (y_piston - y) of fluid: the fit's objective then depended on the points it had
-    visited (session 10: the 200 Hz freeplay bench record's truth gave NRMSE 0.00072 from
-    rest and 0.0022 warm-started; its fit stopped at c1 +1.4 %).
-
-    Examples
-    --------
-    >>> from liquidamp.device import preset
-    >>> from liquidamp.device.models import get_model
-    >>> p = preset("reference")
-    >>> v, G = invariants(get_model("full"), p, get_model("full").initial_state(p, 0.0), 0.0)
-    >>> bool(abs(v[0] - 1) < 1e-12), bool(abs(v[2] / (p.rho_l * (p.V01 + p.V02)) - 1) < 1e-12)
-    (True, True)
-
-    Behind a dead band the mass is counted where the piston is (its state ``y_fp``):
-
-    >>> from liquidamp.device.effects import Freeplay, with_effects
-    >>> m = with_effects(get_model("full"), Freeplay(1e-4))
-    >>> x = m.initial_state(p, 0.0)
-    >>> x[5], x[3] = 1e-4, 1.01 * x[3]  # the piston at the gap's end, the rod at 0
-    >>> v, G = invariants(m, p, x, 0.0)
-    >>> M = x[1] * (p.V01 - p.A_p * 1e-4) + x[3] * (p.V02 + p.A_p * 1e-4)
-    >>> bool(abs(v[2] / M - 1) < 1e-14), bool(abs(G[2, 5] / (p.A_p * (x[3] - x[1])) - 1) < 1e-14)
-    (True, True)
-    """
-    from liquidamp.device.effects_base import _piston_stroke
-
-    x = np.asarray(x, float)
-    n = model.n_states
-    base = getattr(model, "base", model.name)
-    # the chambers sit at the piston's stroke: a state behind a dead band or a compliance
-    ipis = _piston_stroke(model.effects, model.n_base_states) if model.effects else None
-    if ipis is not None:
-        y = float(x[ipis])
-    V = (params.V01 - params.A_p * y, params.V02 + params.A_p * y)
-    dV = (-params.A_p, params.A_p)  # d V_i / d y_piston
-    names = tuple(getattr(model, "state_names", ()))
-    ic = names.index("Vc1") if "Vc1" in names else -1  # vapour cavities (``cavitation``)
-    if base in ("full", "no_inertia"):
-        G = np.zeros((3, n))
-        vals = np.zeros(3)
-        for k, (ip, ir) in enumerate(((0, 1), (2, 3))):
-            r, dr = _chamber_density(x[ip], k + 1, params)
-            # the liquid (mass rho V) fills V - Vc at density r(p)
-            vc = x[ic + k] if ic >= 0 else 0.0
-            lv = V[k] - vc
-            vals[k] = x[ir] * V[k] / (r * lv)
-            G[k, ir] = V[k] / (r * lv)
-            G[k, ip] = -vals[k] * dr / r
-            if ic >= 0:
-                G[k, ic + k] = vals[k] / lv
-            if ipis is not None:  # d/dV (V / (V - Vc)) = -Vc / (V - Vc)^2
-                G[k, ipis] = -vals[k] * vc / (V[k] * lv) * dV[k]
-        vals[2] = x[1] * V[0] + x[3] * V[1]
-        G[2, 1], G[2, 3] = V
-        if ipis is not None:
-            G[2, ipis] = params.A_p * (x[3] - x[1])
-        return vals, G
-    if base in ("constant_bulk", "inertial"):
-        r1 = params.rho0 * math.exp((x[0] - params.p0) / params.B01)
-        r2 = params.rho0 * math.exp((x[1] - params.p0) / params.B02)
-        lv1, lv2 = V
-        G = np.zeros((1, n))
-        if ic >= 0:
-            lv1, lv2 = V[0] - x[ic], V[1] - x[ic + 1]
-            G[0, ic], G[0, ic + 1] = -r1, -r2
-        G[0, 0], G[0, 1] = r1 / params.B01 * lv1, r2 / params.B02 * lv2
-        if ipis is not None:
-            G[0, ipis] = params.A_p * (r2 - r1)
-        return np.array([r1 * lv1 + r2 * lv2]), G
-    return np.zeros(0), np.zeros((0, n))
-
-
 class _Manifold:
     """The level set ``g(x) = g(x_start)`` of the held invariants, in swing coordinates."""
 
@@ -335,47 +214,6 @@ class _Manifold:
         _, Gs = self.gap(x)
         _, _, vt = np.linalg.svd(Gs)
         return vt[self.m:].T
-
-
-def project_level_set(x, gap, scale, cols=slice(None)):
-    """Nearest point of a level set g(x) = 0 by minimum-norm Gauss-Newton, states ``cols``
-    moved only.
-
-    Parameters
-    ----------
-    x : ndarray
-        Start state (units of the states).
-    gap : callable
-        ``gap(x) -> (g, Gs)``: scaled residuals [-] and their Jacobian in the scaled
-        coordinates x / ``scale``.
-    scale : ndarray
-        State scales (units of the states).
-    cols : slice or index array
-        States the projection may move (default: all).
-
-    Returns
-    -------
-    ndarray
-        At most 12 steps, stopped once |g| < 1e-15 or a step fails to halve it.
-
-    Examples
-    --------
-    >>> g = lambda x: (np.array([x[0] + x[1] - 1.0]), np.array([[1.0, 1.0]]))
-    >>> project_level_set(np.zeros(2), g, np.ones(2)).tolist()
-    [0.5, 0.5]
-    """
-    x = np.array(x, float)
-    last = math.inf
-    for _ in range(12):
-        g, Gs = gap(x)
-        size = float(np.max(np.abs(g)))
-        if size < 1e-15 or size >= 0.5 * last:
-            break
-        last = size
-        step = np.zeros_like(x)
-        step[cols] = np.linalg.lstsq(Gs[:, cols], g, rcond=None)[0]
-        x = x - scale * step
-    return x
 
 
 def state_swing(X, scale):

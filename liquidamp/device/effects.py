@@ -152,7 +152,7 @@ import numpy as np
 
 from liquidamp.device.effects_base import (
     Effect,
-    _piston_stroke,
+    piston_stroke_index,
 )
 from liquidamp.device.effects_damper import DigressiveValve, GasCharge
 from liquidamp.device.effects_field import FieldYield
@@ -361,7 +361,7 @@ states p1, p2; model 'single_state' has states (dp); use 'full', 'no_inertia', \
         e.check(bare)
         e.check_with(ordered)
     nb = bare.n_states
-    ip = _piston_stroke(ordered, nb)
+    ip = piston_stroke_index(ordered, nb)
     base_x0, base_sc = bare.initial_state, bare.state_scales
 
     def initial_state(p, y0=0.0):

@@ -359,8 +359,29 @@ def _check_harmonic(amplitude, omega) -> tuple[float, float]:
 
 
 
-def _piston_stroke(model_effects, n_base: int):
-    """Index of the state that holds the piston stroke (innermost kinematic effect), or None."""
+def piston_stroke_index(model_effects, n_base: int):
+    """Index of the state that holds the piston's stroke, or None where the piston is the rod.
+
+    Behind a kinematic effect (``series_compliance``, ``freeplay``'s dead band with the
+    fluid behind it) the piston has a state of its own [m]; the innermost such effect's.
+
+    Parameters
+    ----------
+    model_effects : sequence of Effect
+        A composed model's effects, in its state order.
+    n_base : int
+        Number of the base model's states (the effects' states follow them).
+
+    Returns
+    -------
+    int or None
+
+    Examples
+    --------
+    >>> from liquidamp.device.effects import Freeplay
+    >>> piston_stroke_index((Freeplay(1e-4),), 5), piston_stroke_index((), 5)
+    (5, None)
+    """
     i = n_base
     index = {}
     for e in model_effects:

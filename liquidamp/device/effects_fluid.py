@@ -429,7 +429,7 @@ class Cavitation(Effect):
     its cavity at its own pressure curve, rho_i V_i = r_i(p_i) (V_i - Vc_i),
     exactly (the switch splits the compression of the liquid's volume), so
     the periodic orbits keep the sealed device's invariants
-    (:func:`liquidamp.coupled.periodic.invariants`).  Needs chamber pressure
+    (:func:`liquidamp.coupled.invariants.invariants`).  Needs chamber pressure
     states.  In this
     model family a little more entrained air (a softer low-pressure
     chamber) can mimic a cavity closely: report ties.

@@ -283,7 +283,7 @@ def least_pressures(model, x, u, params):
     >>> [round(float(q)) for q in least_pressures(m, x, (0.0, 0.0, 0.0), p)]
     [96252, 101252]
     """
-    from liquidamp.device.effects_base import _piston_stroke
+    from liquidamp.device.effects_base import piston_stroke_index
 
     if model.pressures is None:
         raise ParameterError(f"model {model.name!r} has no chamber pressure states")
@@ -291,6 +291,6 @@ def least_pressures(model, x, u, params):
     rf = model.effect("rotating_frame")
     if rf is None:
         return p1, p2
-    ip = _piston_stroke(model.effects, model.n_base_states)
+    ip = piston_stroke_index(model.effects, model.n_base_states)
     y = u[0] if ip is None else np.asarray(x)[ip]
     return rf.inboard_pressures(p1, p2, params, y)

@@ -162,9 +162,9 @@ def test_warm_start_with_rest_invariants_selects_the_same_orbit():
     ref = steady_state(m, p, s, options=COMPILED)
     other = steady_state(m, preset("device_b"), s, options=COMPILED)
     rest = m.initial_state(p, 0.0)
-    from liquidamp.analysis.measured.record_model import _onto_invariants
+    from liquidamp.coupled.invariants import onto_invariants
 
-    guess = _onto_invariants(m, p, other.states[:, 0], rest)
+    guess = onto_invariants(m, p, other.states[:, 0], rest)
     warm = steady_state(m, p, s, options=COMPILED, x0=guess, invariants_of=rest)
     assert abs(dynamic_stiffness(warm).value / dynamic_stiffness(ref).value - 1) < 1e-5
     rig = TestRig(m, p, s)

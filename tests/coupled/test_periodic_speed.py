@@ -17,9 +17,10 @@ Cost (warm, idle machine): about 2 s.
 import numpy as np
 import pytest
 
-from liquidamp.analysis.measured.record_model import _onto_invariants
+from liquidamp.coupled import invariants as invariants_mod
 from liquidamp.coupled import periodic
 from liquidamp.coupled.engines import TestRig, engine_for
+from liquidamp.coupled.invariants import onto_invariants
 from liquidamp.device import preset
 from liquidamp.device.effects import make_effect, with_effects
 from liquidamp.device.models import get_model
@@ -61,27 +62,27 @@ def test_cavitation_warm_start_is_projected_onto_the_invariants_of_rest():
         rest = m.initial_state(p, 0.0)
         x = rest.copy()
         x[1] *= 0.95  # chamber 1's density 5 % off its pressure curve, the mass changed
-        out = _onto_invariants(m, p, x, rest, 0.0)
-        v, _ = periodic.invariants(m, p, out, 0.0)
-        v_rest, _ = periodic.invariants(m, p, rest, 0.0)
+        out = onto_invariants(m, p, x, rest, 0.0)
+        v, _ = invariants_mod.invariants(m, p, out, 0.0)
+        v_rest, _ = invariants_mod.invariants(m, p, rest, 0.0)
         assert v[2] == pytest.approx(v_rest[2], rel=1e-12)  # the mass of rest
         assert v[0] == pytest.approx(1.0, abs=1e-12)  # the chamber curves of rest restored
         assert v[1] == pytest.approx(1.0, abs=1e-12)
     # an open cavity with the liquid on its curve, rho1 V1 = r1(p_v) (V1 - Vc1), sits on the
     # chamber level set of rest: the row counts the liquid, not the chamber
     x = cav.initial_state(p, 0.0)
-    r_v, _ = periodic._chamber_density(5e4, 1, p)
+    r_v, _ = invariants_mod._chamber_density(5e4, 1, p)
     x[0], x[5] = 5e4, 0.01 * p.V01
     x[1] = r_v * 0.99
-    v, G = periodic.invariants(cav, p, x, 0.0)
+    v, G = invariants_mod.invariants(cav, p, x, 0.0)
     assert v[0] == pytest.approx(1.0, abs=1e-12)
     # the gradient against central differences (the cavity column is new)
     h = np.array(cav.state_scales(p)) * 1e-6
     for k in (0, 1, 5):
         e = np.zeros(x.size)
         e[k] = h[k]
-        fd = (periodic.invariants(cav, p, x + e, 0.0)[0]
-              - periodic.invariants(cav, p, x - e, 0.0)[0]) / (2 * h[k])
+        fd = (invariants_mod.invariants(cav, p, x + e, 0.0)[0]
+              - invariants_mod.invariants(cav, p, x - e, 0.0)[0]) / (2 * h[k])
         assert np.allclose(G[:, k], fd, rtol=1e-6, atol=1e-9 * np.abs(G[:, k]).max()), k
     # behind a dead band with a cavity open: every column, the piston's included (the
     # chamber rows then move with the piston's stroke through V / (V - Vc))
@@ -92,12 +93,12 @@ def test_cavitation_warm_start_is_projected_onto_the_invariants_of_rest():
     x[names.index("p1")], x[names.index("Vc1")] = 5e4, 0.01 * p.V01
     x[names.index("rho1")] = r_v * 0.99
     x[names.index("y_fp")] = 0.7e-4
-    v, G = periodic.invariants(both, p, x, 0.0)
+    v, G = invariants_mod.invariants(both, p, x, 0.0)
     assert G[0, names.index("y_fp")] != 0.0
     h = np.array(both.state_scales(p)) * 1e-6
     for k in range(x.size):
         e = np.zeros(x.size)
         e[k] = h[k]
-        fd = (periodic.invariants(both, p, x + e, 0.0)[0]
-              - periodic.invariants(both, p, x - e, 0.0)[0]) / (2 * h[k])
+        fd = (invariants_mod.invariants(both, p, x + e, 0.0)[0]
+              - invariants_mod.invariants(both, p, x - e, 0.0)[0]) / (2 * h[k])
         assert np.allclose(G[:, k], fd, rtol=1e-6, atol=1e-9 * np.abs(G).max()), names[k]

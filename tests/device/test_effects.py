@@ -112,7 +112,7 @@ def test_cavity_rates_keep_the_liquid_on_its_pressure_curve(base):
     invariants' rates grad(g) . dx/dt vanish (closed form: 0) inside the switch, where
     pressure and cavity share the compression, expanding and compressed; with the split over
     the whole chamber V (before session 10) they were of order Vc / V times the rate."""
-    from liquidamp.coupled.periodic import invariants
+    from liquidamp.coupled.invariants import invariants
 
     pv = 40e3
     m = with_effects(get_model(base), Cavitation(pv), make_effect("leakage",

@@ -54,6 +54,7 @@ import numpy as np
 from liquidamp.analysis.measured.record_quality import velocity_gain
 from liquidamp.analysis.measured.records import Record
 from liquidamp.coupled.engines import TestRig, engine_for, stroke_inputs
+from liquidamp.coupled.invariants import onto_invariants
 from liquidamp.coupled.periodic import ROUTES, ShootingOptions, periodic_state
 from liquidamp.coupled.testrig import DeviceResponse
 from liquidamp.device.effects import on_absolute_stroke
@@ -409,7 +410,7 @@ def _simulate_periodic(model, params, record, cond, options, x0, route):
     model, options = prepare_run(model, params, rig_stroke, options)
     y0 = float(rig_stroke(0.0)[0])
     rest = model.initial_state(params, y0)
-    guess = rest if x0 is None else _onto_invariants(model, params, np.asarray(x0, float), rest,
+    guess = rest if x0 is None else onto_invariants(model, params, np.asarray(x0, float), rest,
                                                      y0)
     phase, uniq, inverse, at_record, uq = _phases(record, cond, t, rig_stroke, origin)
     warn = []
@@ -659,78 +660,6 @@ def _phases(record, cond, t, rig_stroke, origin):
         a.setflags(write=False)
     record.meta["_phases"] = (key, out, cond)  # cond kept: its id cannot be reused
     return out
-
-
-def _onto_invariants(model, params, x, rest, y=0.0):
-    """``x`` moved (minimum-norm, in state scales) onto the invariants of ``rest``, both at
-    stroke ``y`` [m] (the total mass depends on the chamber volumes there)."""
-    from liquidamp.coupled.periodic import invariants, project_level_set
-
-    if x.shape != rest.shape:
-        raise ParameterError(f"x0 must hold the {rest.size} states of model {model.name!r}, "
-                             f"got shape {x.shape}")
-    fp = model.effect("freeplay") if model.effects else None
-    if fp is not None:
-        # the dead band's driven side lies within the gap of the rod, |y - y_fp| <= gap: a
-        # warm start from another gap's orbit can hold it further, where the contact never
-        # opens and the piston stays locked to the rod past the band's edge (200 Hz
-        # Coulomb-friction bench record, backlash at gap 1.75 mm: locked 0.51 mm past it,
-        # NRMSE 0.00084, against 0.0527 on the orbit from rest), an orbit no motion from
-        # inside the band reaches
-        i = model.state_names.index("y_fp")
-        x = np.array(x, float)
-        x[i] = min(max(x[i], y - fp.gap_m), y + fp.gap_m)
-    # all rows: with vapour cavities too, the chamber rows count the liquid less the cavity
-    # (conserved exactly, :func:`~liquidamp.device.kernels_laws.cavity_rates`)
-    target, _ = invariants(model, params, rest, y)
-    if not target.size:
-        return x
-    scale = np.asarray(model.state_scales(params), float)
-    size = np.abs(target) + (target == 0.0)
-
-    def gap(z):
-        v, G = invariants(model, params, z, y)
-        return (v - target) / size, G * scale / size[:, None]
-
-    balance = _compliance_balance(model, params, y)
-    if balance is None:
-        return project_level_set(x, gap, scale)
-    # behind a series spring the massless piston's balance k (y - y_p) - F_fluid is
-    # conserved too (the piston's rate is its time derivative: compliance_rate): a warm
-    # start from another point's orbit keeps that point's, a piston offset from the rod
-    # by the difference over k, and so another orbit (chamber volumes and pressures
-    # shifted).  It is held at the rest state's, alternately with the mass (the mass
-    # depends on the piston's stroke, the balance on the pressures; a few rounds agree)
-    ic, k, force = balance
-    c0 = k * (y - rest[ic]) - force(rest)
-    z = np.array(x, float)
-    for _ in range(4):
-        z = project_level_set(z, gap, scale)
-        miss = k * (y - z[ic]) - force(z) - c0
-        z[ic] += miss / k
-        if abs(miss) <= 1e-9 * (abs(c0) + abs(force(z)) + 1.0):
-            break
-    return project_level_set(z, gap, scale)
-
-
-def _compliance_balance(model, params, y):
-    """``(index of y_piston, k [N/m], F_fluid(x) [N])`` of a model behind a finite series
-    compliance, else None.  F_fluid is the bare fluid model's force at the piston stroke
-    (what the spring carries; a linear function of its states)."""
-    from liquidamp.device.models import BASES
-
-    eff = model.effect("series_compliance") if model.effects else None
-    if eff is None or not np.isfinite(eff.stiffness_N_per_m):
-        return None
-    nb = model.n_base_states
-    ic = nb + next(i for i, n in enumerate(model.state_names[nb:]) if n == "y_piston")
-    bare = BASES[model.base]
-
-    def force(z):
-        return float(np.asarray(bare.force(0.0, np.asarray(z[:nb], float),
-                                           (z[ic], 0.0, 0.0), params), float))
-
-    return ic, float(eff.stiffness_N_per_m), force
 
 
 def _response(model, params, t, X, u, options, stats=None, force=None,

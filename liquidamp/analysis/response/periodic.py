@@ -18,12 +18,8 @@ References
 
 from __future__ import annotations
 
-from liquidamp.coupled.periodic import (
-    ShootingOptions,
-    invariants,
-    project_level_set,
-    state_swing,
-)
+from liquidamp.coupled.invariants import invariants, project_level_set
+from liquidamp.coupled.periodic import ShootingOptions, state_swing
 from liquidamp.coupled.testrig import DeviceResponse, steady_state
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ParameterError, check_choice

@@ -33,7 +33,7 @@ Orbit (:func:`forced_orbit`)
     and :func:`coupled_jacobian` for any host (the reference route; the two
     agree to 1e-7 in the scaled monodromy, tested).  A sealed
     device conserves its fluid mass and, per chamber, the relation between
-    density and pressure (:func:`~liquidamp.coupled.periodic.invariants`):
+    density and pressure (:func:`~liquidamp.coupled.invariants.invariants`):
     each invariant puts a multiplier at exactly 1, so the orbits form a
     family.  As in :func:`~liquidamp.coupled.periodic.periodic_state`,
     every iterate is projected onto the level set of the invariants of the
@@ -75,7 +75,7 @@ from scipy.integrate import solve_ivp
 from liquidamp.analysis.stability.floquet import FloquetResult, floquet_from_monodromy
 from liquidamp.coupled import kernels as RK
 from liquidamp.coupled.assembly import CoupledSystem
-from liquidamp.coupled.periodic import invariants, project_level_set
+from liquidamp.coupled.invariants import invariants, project_level_set
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, ParameterError, check_positive
 from liquidamp.options import SolverOptions, resolve_options

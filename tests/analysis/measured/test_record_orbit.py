@@ -199,9 +199,9 @@ def test_a_warm_start_that_fails_is_retried_from_rest(monkeypatch):
 def test_warm_start_behind_a_dead_band_or_compliance_keeps_the_fluid_mass(effect, kw, near):
     """Behind a dead band (or a series spring) the chambers follow the piston's state, not
     the rod: a warm start from a nearby point's orbit, moved onto the invariants of rest,
-    must count the fluid mass at the piston's stroke (periodic.invariants), and behind a
+    must count the fluid mass at the piston's stroke (coupled.invariants.invariants), and behind a
     spring hold the massless piston's balance k (y - y_p) - F_fluid at rest's too
-    (record_model._onto_invariants).  Otherwise it lands on another sealed device's orbit
+    (invariants.onto_invariants).  Otherwise it lands on another sealed device's orbit
     (session 10: freeplay's bench record gave NRMSE 0.00072 cold against 0.0022 warm).
     Before the fix the warm force here was 6.6 N (freeplay) and 9.9 N (compliance; 2.0 N
     with the mass alone counted at the piston) off the cold one, of 830 and 450 N."""
@@ -226,7 +226,7 @@ def test_warm_start_outside_the_dead_band_is_brought_back_into_it():
     never opens and the piston stays locked to the rod past the band's edge, an orbit no
     motion from inside the band reaches (session 10: a backlash refit of the 200 Hz
     Coulomb-friction bench record reached NRMSE 0.00084 on it, 0.0527 on the orbit from
-    rest).  record_model._onto_invariants clips y_fp into |y - y_fp| <= gap; here 1 mm
+    rest).  invariants.onto_invariants clips y_fp into |y - y_fp| <= gap; here 1 mm
     outside a 0.2 mm band, the force was 6.8 % of its peak off the cold one before, now
     within 0.1 %."""
     from liquidamp.device.effects import make_effect, with_effects
