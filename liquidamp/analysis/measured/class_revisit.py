@@ -174,8 +174,13 @@ def design_channels() -> tuple[float, ...]:
 
 def airfree_designs() -> tuple:
     """The family's published air-free designs (air ratio below 1e-3: the inerter, eqs.
-    19-20) as starts: ``(name, S_t [kg/m^4], inv_gamma1, inv_gamma2)`` each (module
+    19-20), the starts of :func:`fluid_alternatives` that carry their air ratios (module
     docstring).
+
+    Returns
+    -------
+    tuple of (str, float, float, float)
+        ``(preset name, S_t [kg/m^4], inv_gamma1 [-], inv_gamma2 [-])`` of each.
 
     Examples
     --------
