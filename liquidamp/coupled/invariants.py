@@ -22,7 +22,7 @@ import math
 import numpy as np
 
 from liquidamp.device.fluid import density_gholizadeh
-from liquidamp.device.models import DeviceModel
+from liquidamp.device.models import BASES, DeviceModel
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ParameterError
 
@@ -217,7 +217,7 @@ def onto_invariants(model: DeviceModel, params: DeviceParams, x, rest, y: float 
         v, G = invariants(model, params, z, y)
         return (v - target) / size, G * scale / size[:, None]
 
-    balance = _compliance_balance(model, params, y)
+    balance = _compliance_balance(model, params)
     if balance is None:
         return project_level_set(x, gap, scale)
     # behind a series spring the massless piston's balance k (y - y_p) - F_fluid is
@@ -238,17 +238,15 @@ def onto_invariants(model: DeviceModel, params: DeviceParams, x, rest, y: float 
     return project_level_set(z, gap, scale)
 
 
-def _compliance_balance(model, params, y):
+def _compliance_balance(model, params):
     """``(index of y_piston, k [N/m], F_fluid(x) [N])`` of a model behind a finite series
     compliance, else None.  F_fluid is the bare fluid model's force at the piston stroke
     (what the spring carries; a linear function of its states)."""
-    from liquidamp.device.models import BASES
-
     eff = model.effect("series_compliance") if model.effects else None
     if eff is None or not np.isfinite(eff.stiffness_N_per_m):
         return None
     nb = model.n_base_states
-    ic = nb + next(i for i, n in enumerate(model.state_names[nb:]) if n == "y_piston")
+    ic = model.state_names.index("y_piston", nb)
     bare = BASES[model.base]
 
     def force(z):

@@ -7,7 +7,6 @@ import json
 import sys
 import time
 
-import liquidamp.analysis.measured.class_revisit as CR
 import liquidamp.analysis.measured.diagnosis as D
 from liquidamp.analysis.bench_diagnosis import REAL_RATE_RECORDS, real_rate_records
 
@@ -52,23 +51,31 @@ def _loop(*a, **k):
     return run
 
 
-D._loop = _loop
+def traced(fn, *a, **k):
+    """``fn(*a, **k)`` with every diagnosis loop printed round by round."""
+    D._loop = _loop
+    try:
+        return fn(*a, **k)
+    finally:
+        D._loop = _orig_loop
 
-effect = sys.argv[1]
-name = sys.argv[2] if len(sys.argv) > 2 and sys.argv[2] else "diagnosis_200hz_10_cycles"
-kw = json.loads(sys.argv[3]) if len(sys.argv) > 3 else {}
-warm = real_rate_records(name, effect, warm=True)
-_q = D._loop
-D._loop = _orig_loop
-D.diagnose(warm, warm, max_steps=1, max_nfev=2, top=1)
-D._loop = _q
-recs = real_rate_records(name, effect)
-t0 = time.perf_counter()
-d = D.diagnose([recs[0]], [recs[1]], **kw)
-print(f"{effect}: {time.perf_counter() - t0:.1f} s, added {list(d.added)}")
-print("truth", REAL_RATE_RECORDS[name][-1][effect])
-print("noise nrmse", d.noise_nrmse)
-print(d.summary())
-for w in d.warnings:
-    print("warning:", w[:400])
-_ = CR
+
+def report(d):
+    print("noise nrmse", d.noise_nrmse)
+    print(d.summary())
+    for w in d.warnings:
+        print("warning:", w[:400])
+
+
+if __name__ == "__main__":
+    effect = sys.argv[1]
+    name = sys.argv[2] if len(sys.argv) > 2 and sys.argv[2] else "diagnosis_200hz_10_cycles"
+    kw = json.loads(sys.argv[3]) if len(sys.argv) > 3 else {}
+    warm = real_rate_records(name, effect, warm=True)
+    D.diagnose(warm, warm, max_steps=1, max_nfev=2, top=1)
+    recs = real_rate_records(name, effect)
+    t0 = time.perf_counter()
+    d = traced(D.diagnose, [recs[0]], [recs[1]], **kw)
+    print(f"{effect}: {time.perf_counter() - t0:.1f} s, added {list(d.added)}")
+    print("truth", REAL_RATE_RECORDS[name][-1][effect])
+    report(d)
