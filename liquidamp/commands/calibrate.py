@@ -32,8 +32,8 @@ REPORT_FILES = ("index.html", "records.png", "loops_calibration.png",
 def add_fit_arguments(p) -> None:
     """Arguments shared by calibrate and diagnose."""
     p.add_argument("records", nargs="+", metavar="RECORD",
-                   help="calibration record CSV files (time [s], displacement [mm] or [m], "
-                   "force [N] or [kN])")
+                   help="calibration record CSV files (time [s], displacement [mm], [m] or [in], "
+                   "force [N], [kN], [lbf] or [kip])")
     p.add_argument("--validate", action="append", default=[], metavar="FILE",
                    help="held-out record CSV file; repeat the option for several")
     add_device_arguments(p, default="paper_initial")

@@ -9,9 +9,13 @@ byte-order mark is ignored):
 column                 units accepted
 =====================  =====================================
 ``time``               ``[s]``, ``[ms]``
-``displacement``       ``[m]``, ``[mm]``, ``[um]``
-``force``              ``[N]``, ``[kN]``
+``displacement``       ``[m]``, ``[mm]``, ``[um]``, ``[in]``
+``force``              ``[N]``, ``[kN]``, ``[lbf]``, ``[kip]``
 =====================  =====================================
+
+(US test laboratories record inches and pounds-force or kips: 1 in = 25.4 mm exactly,
+1 lbf = 4.4482216152605 N exactly by definition; the unit may also be written in
+parentheses, ``force (kip)``.)
 
 and, optionally, measured channels carried beside them (:data:`CHANNEL_UNITS`; read with
 their units, kept in SI in :attr:`Record.channels`, filtered, decimated and averaged as
@@ -89,8 +93,8 @@ __all__ = ["Record", "StrokeShape", "stroke_shape", "read_record", "write_record
 
 COLUMN_UNITS: dict[str, dict[str, float]] = {
     "time": {"s": 1.0, "ms": 1e-3},
-    "displacement": {"m": 1.0, "mm": 1e-3, "um": 1e-6},
-    "force": {"N": 1.0, "kN": 1e3},
+    "displacement": {"m": 1.0, "mm": 1e-3, "um": 1e-6, "in": 0.0254},
+    "force": {"N": 1.0, "kN": 1e3, "lbf": 4.4482216152605, "kip": 4448.2216152605},
 }
 """Accepted columns and units: name -> {unit: factor to SI}."""
 
@@ -107,7 +111,7 @@ offset (temperature in K, voltage in V, current in A, pressure in Pa)."""
 #: SI unit of each measured channel.
 CHANNEL_SI = {"temperature": "K", "voltage": "V", "current": "A", "pressure": "Pa"}
 
-_HEADER = re.compile(r"^\s*([A-Za-z_ ]+?)\s*\[\s*([^\]]*?)\s*\]\s*$")
+_HEADER = re.compile(r"^\s*([A-Za-z_ ]+?)\s*(?:\[\s*([^\]]*?)\s*\]|\(\s*([^)]*?)\s*\))\s*$")
 
 
 def _fit_sine(t, y, f):
@@ -591,8 +595,9 @@ def _parse_header(row, where):
         if not m:
             raise DataFileError(
                 f"{where}, line 1, column {j + 1}: header {cell!r} must read 'name [unit]' "
-                f"with name one of {valid}")
-        name, unit = m.group(1).strip().lower(), m.group(2).strip()
+                f"(or 'name (unit)') with name one of {valid}")
+        name = m.group(1).strip().lower()
+        unit = (m.group(2) if m.group(2) is not None else m.group(3)).strip()
         if name not in COLUMN_UNITS and name not in CHANNEL_UNITS:
             raise DataFileError(
                 f"{where}, line 1, column {j + 1}: unknown column {name!r}; valid: {valid}")
@@ -608,7 +613,8 @@ def _parse_header(row, where):
     missing = [c for c in COLUMN_UNITS if c not in cols]
     if missing:
         raise DataFileError(f"{where}: missing column(s) {', '.join(missing)}; the header must "
-                            "name time [s], displacement [mm] or [m], force [N] or [kN]")
+                            "name time [s], displacement [mm], [m] or [in], "
+                            "force [N], [kN], [lbf] or [kip]")
     return cols
 
 
@@ -631,7 +637,7 @@ def _decode(raw: bytes, where: str) -> str:
         raise DataFileError(
             f"{where} is not a text CSV file (binary content: {at} in its first "
             f"{len(head)} bytes); a record is a CSV text file whose header row names "
-            "time [s], displacement [mm] or [m], force [N] or [kN]")
+            "time [s], displacement [mm], [m] or [in], force [N], [kN], [lbf] or [kip]")
     try:
         return raw.decode("utf-8-sig")  # a UTF-8 byte-order mark (Excel) is dropped
     except UnicodeDecodeError:

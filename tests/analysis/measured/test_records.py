@@ -37,9 +37,27 @@ def test_roundtrip_units_and_inference(tmp_path):
     assert np.allclose(r2.force, r.force[10:-10], atol=1e-3)
 
 
+def test_imperial_units_and_parenthesised_headers_read_as_si(tmp_path):
+    """A US laboratory's record (inches, kips; units in parentheses) reads as its SI twin:
+    1 in = 0.0254 m and 1 lbf = 4.4482216152605 N exactly (the friction-damper dataset of
+    Coble et al. 2022 was recorded in inches and kips)."""
+    t, y, F = _sine()
+    si = read_record(_write(tmp_path / "si.csv", "time [s],displacement [m],force [N]",
+                            zip(t, y, F, strict=True)))
+    us = read_record(_write(tmp_path / "us.csv", "Time (s), Displacement (in), Force (kip)",
+                            zip(t, y / 0.0254, F / 4448.2216152605, strict=True)))
+    lb = read_record(_write(tmp_path / "lb.csv", "time [s],displacement [in],force [lbf]",
+                            zip(t, y / 0.0254, F / 4.4482216152605, strict=True)))
+    for r in (us, lb):
+        assert np.allclose(r.displacement, si.displacement, rtol=1e-9, atol=1e-12)
+        assert np.allclose(r.force, si.force, rtol=1e-9, atol=1e-9)
+    assert us.amplitude == pytest.approx(0.003, rel=1e-4)
+
+
 @pytest.mark.parametrize("header,rows,match", [
     ("time [s],force [N]", [[0, 1]] * 50, "missing column"),
-    ("time [s],displacement [in],force [N]", [[0, 1, 1]] * 50, r"unknown unit \[in\]"),
+    ("time [s],displacement [ft],force [N]", [[0, 1, 1]] * 50, r"unknown unit \[ft\]"),
+    ("time (s),displacement (mm,force (N)", [[0, 1, 1]] * 50, "column 2"),
     ("time [s],stroke [mm],force [N]", [[0, 1, 1]] * 50, "unknown column 'stroke'"),
     ("time,displacement [mm],force [N]", [[0, 1, 1]] * 50, "column 1"),
 ])
