@@ -686,7 +686,8 @@ def candidate_change(name: str, result: CalibrationResult) -> Change:
 
     A catalogue effect is added at :func:`probe_effect`'s strength (its fit keys freed, the
     first estimated from where the effect is absent: 0, or rigid for a spring in series,
-    whose compliance is the strength, :meth:`Change.estimate`); a composite (:data:`COMPOSITES`) states its own change.
+    whose compliance is the strength, :meth:`Change.estimate`); a composite
+    (:data:`COMPOSITES`) states its own change.
     """
     if name in COMPOSITES:
         return COMPOSITES[name].change(result)
