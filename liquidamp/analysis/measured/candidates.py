@@ -100,8 +100,8 @@ class Change:
     lead : (str, str)
         The parameter the score test estimates.
     base, probe : float
-        Its value where the candidate is absent (0 for a catalogue effect's strength) and
-        in ``effects`` (SI).
+        Its value where the candidate is absent (0 for a catalogue effect's strength;
+        ``math.inf`` for a stiffness in series, absent when rigid) and in ``effects`` (SI).
     added : str or None
         The catalogue effect the candidate adds (its parameters are reported by bare key).
     report : tuple of str
@@ -129,14 +129,35 @@ class Change:
     bounds: tuple = ()
 
     def estimate(self, beta: float) -> float:
-        """Lead value at the linearized strength ``beta`` of the probe step [SI]."""
+        """Lead value at the linearized strength ``beta`` of the probe step [SI].
+
+        The score test is linear in the effect's strength, the coordinate that is 0 where the
+        effect is absent: the lead less ``base``, or, for a lead absent at infinity (a
+        stiffness in series, k = inf: rigid), its inverse (the compliance 1/k, to which the
+        force of a spring in series with the device is linear near rigid).  So a finite base
+        gives base + beta (probe - base), an infinite one probe / beta (beta > 0; ``inf``
+        otherwise).
+
+        Examples
+        --------
+        >>> Change((), (), ("moving_mass", "mass_kg"), 0.0, 2.0).estimate(0.5)
+        1.0
+        >>> Change((), (), ("series_compliance", "stiffness_N_per_m"), math.inf,
+        ...        2.0e6).estimate(0.5)  # half the probe's compliance: twice its stiffness
+        4000000.0
+        """
+        if math.isinf(self.base):
+            return self.probe / beta if beta > 0 else math.inf
         return self.base + beta * (self.probe - self.base)
 
     @property
     def signed(self) -> bool:
-        """Whether the lead may move either way from ``base`` (inside its bounds)."""
+        """Whether the lead may move either way from ``base`` (inside its bounds): not a
+        lead absent at infinity (a negative compliance is no spring)."""
         if self.lead[0] == "device":
             return True
+        if math.isinf(self.base):
+            return False
         lo, _ = EFFECTS[self.lead[0]].bounds[self.lead[1]]
         return lo < self.base
 
@@ -664,7 +685,9 @@ def candidate_change(name: str, result: CalibrationResult) -> Change:
     """The model candidate ``name`` proposes for the calibrated ``result``, at its probe.
 
     A catalogue effect is added at :func:`probe_effect`'s strength (its fit keys freed, the
-    first estimated from 0); a composite (:data:`COMPOSITES`) states its own change.
+    first estimated from where the effect is absent: 0, or rigid for a spring in series,
+    whose compliance is the strength, :meth:`Change.estimate`); a composite
+    (:data:`COMPOSITES`) states its own change.
     """
     if name in COMPOSITES:
         return COMPOSITES[name].change(result)
@@ -679,8 +702,11 @@ def candidate_change(name: str, result: CalibrationResult) -> Change:
         # gas, held): the probe adds the rod, whose area is the preload's strength (the lead)
         # and whose gas volume sets the gas spring
         key, keys = "rod_area_m2", ("rod_area_m2", "gas_volume_m3")
+    # the lead where the effect is absent: 0 for a strength, infinity for the catalogue's
+    # stiffness in series (its default, k = inf, is the bare model)
+    base = math.inf if math.isinf(getattr(type(e)(), key)) else 0.0
     return Change(tuple(result.effects) + (e,), free=tuple((name, k) for k in keys),
-                  lead=(name, key), base=0.0, probe=float(getattr(e, key)), added=name,
+                  lead=(name, key), base=base, probe=float(getattr(e, key)), added=name,
                   params=_gas_device(result, result.params) if gas else None,
                   start=_gas_device(result, result.start_params) if gas else None)
 

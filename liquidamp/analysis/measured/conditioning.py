@@ -79,11 +79,13 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from liquidamp.analysis.measured.drift import ALPHA
 from liquidamp.analysis.measured.record_quality import NoiseFloor, noise_floor
 from liquidamp.analysis.measured.records import Record
 from liquidamp.errors import ParameterError, check_choice, check_finite
 
 __all__ = ["Conditioning", "condition", "recondition", "decimation_factor", "lowpass",
+           "stroke_threshold",
            "HARMONICS", "AVERAGE_MIN_CYCLES"]
 
 #: Default number of harmonics of the stroke frequency kept below the anti-alias cut-off.
@@ -594,7 +596,8 @@ def _average(dec: Record, cond: Conditioning, cycles: int, meta: dict, t_orig):
     Phase points j / M (M samples per cycle at the fitted rate) of every whole cycle c are
     interpolated linearly between the record's force samples and averaged over c.  The
     stroke is the periodic least-squares fit of the displacement over the whole record (the
-    harmonics that stand above 4 standard errors) with its exact derivatives, so that the
+    harmonics that stand out of its noise, :func:`stroke_threshold`) with its exact
+    derivatives, so that the
     model is driven without the Savitzky-Golay derivative's attenuation (0.26 % on the
     rate of a 3 Hz stroke at 200 Hz) or the sample-to-sample interpolation.  The model is
     run over one steady cycle and its force taken at the phases of every sample of the
@@ -664,13 +667,40 @@ def _average(dec: Record, cond: Conditioning, cycles: int, meta: dict, t_orig):
     return out, cond
 
 
+def stroke_threshold(harmonics: int, alpha: float = ALPHA) -> float:
+    """Standard errors a stroke harmonic's amplitude must exceed to be kept [-].
+
+    Of noise alone, a harmonic's least-squares sine and cosine coefficients are normal with
+    the standard error se = sigma sqrt(2 / N), so its amplitude is Rayleigh: it exceeds t se
+    with probability exp(-t^2 / 2).  Of H harmonics tested, none of noise alone is kept with
+    probability at least 1 - ``alpha`` (Bonferroni) when t = sqrt(2 ln(H / alpha)), at least
+    4 (the threshold of a single test).  ``alpha`` is the significance level of the
+    project's drift test (:data:`~liquidamp.analysis.measured.drift.ALPHA`, 0.001): 4.0 for 3
+    harmonics, 4.58 for 36.  A noise harmonic kept drives the model with a stroke the rig
+    did not make, and a device that resonates near it amplifies it (the inerter design's
+    channel on its liquid, near 59 Hz: a 4.1-se harmonic 28 of a 2 Hz stroke, 0.14 um,
+    drew 10 N of model force no record held, 38 x the noise floor).
+
+    Examples
+    --------
+    >>> round(stroke_threshold(3), 2), round(stroke_threshold(36), 2)
+    (4.0, 4.58)
+    """
+    if harmonics < 1 or not 0.0 < alpha < 1.0:
+        raise ParameterError(f"stroke_threshold needs harmonics >= 1 and 0 < alpha < 1, got "
+                             f"harmonics {harmonics}, alpha {alpha:g}")
+    return max(4.0, math.sqrt(2.0 * math.log(harmonics / alpha)))
+
+
 def _stroke_series(rec: Record, max_harmonics: int = 64):
     """Periodic fit of the displacement: ([(k, a_k, b_k)], mean [m], rate error std [m/s]).
 
     Harmonics k f up to 0.45 x the sampling rate are fitted by least squares; those whose
-    amplitude exceeds 4 standard errors (sigma sqrt(2 / N), sigma the residual's standard
-    deviation) are kept, the fundamental always.  The rate error is the standard deviation
-    of the kept harmonics' noise, w sigma sqrt(2 / N sum k^2).
+    amplitude exceeds :func:`stroke_threshold` standard errors (sigma sqrt(2 / N), sigma the
+    residual's standard deviation; 4 for a few harmonics, more the more are tested, so that
+    none of noise alone is kept with probability 0.999) are kept, the fundamental always.
+    The rate error is the standard deviation of the kept harmonics' noise,
+    w sigma sqrt(2 / N sum k^2).
     """
     t = rec.time - rec.time[0]
     f, n = rec.frequency, rec.time.size
@@ -684,8 +714,9 @@ def _stroke_series(rec: Record, max_harmonics: int = 64):
     r = rec.displacement - A @ c
     sigma = float(np.sqrt(r @ r / max(n - int(rank), 1)))
     se = sigma * math.sqrt(2.0 / n)
+    t_min = stroke_threshold(max(H - 1, 1))  # the harmonics tested: all but the fundamental
     keep = [(k, float(c[2 * k - 1]), float(c[2 * k])) for k in range(1, H + 1)
-            if k == 1 or math.hypot(c[2 * k - 1], c[2 * k]) > 4.0 * se]
+            if k == 1 or math.hypot(c[2 * k - 1], c[2 * k]) > t_min * se]
     rate_std = 2 * math.pi * f * se * math.sqrt(sum(k * k for k, _, _ in keep))
     return keep, float(c[0]), rate_std
 
