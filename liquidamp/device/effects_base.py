@@ -123,6 +123,10 @@ class Effect:
     stationary: ClassVar[bool] = True
     #: Measured channels the effect reads (names of ``kernels.CHANNELS``; see above).
     input_channels: ClassVar[tuple] = ()
+    #: Value of a parameter at which the effect adds nothing to the bare model, where that
+    #: is not 0 (a symmetric rebound ratio 1, a rigid series spring ``math.inf``): the
+    #: point from which a diagnosis's score test measures the effect's strength.
+    bare: ClassVar[dict] = {}
 
     @classmethod
     def parameter_keys(cls) -> tuple[str, ...]:

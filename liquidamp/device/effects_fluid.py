@@ -355,6 +355,7 @@ class AsymmetricLoss(Effect):
     """
 
     rebound_ratio: float = 1.0
+    bare: ClassVar[dict] = {"rebound_ratio": 1.0}
     name: ClassVar[str] = "asymmetric_loss"
     units: ClassVar[dict] = {"rebound_ratio": "-"}
     fit_keys: ClassVar[tuple] = ("rebound_ratio",)

@@ -49,6 +49,7 @@ class SeriesCompliance(Effect):
     """
 
     stiffness_N_per_m: float = math.inf
+    bare: ClassVar[dict] = {"stiffness_N_per_m": math.inf}
     name: ClassVar[str] = "series_compliance"
     units: ClassVar[dict] = {"stiffness_N_per_m": "N/m"}
     fit_keys: ClassVar[tuple] = ("stiffness_N_per_m",)

@@ -100,8 +100,9 @@ class Change:
     lead : (str, str)
         The parameter the score test estimates.
     base, probe : float
-        Its value where the candidate is absent (0 for a catalogue effect's strength;
-        ``math.inf`` for a stiffness in series, absent when rigid) and in ``effects`` (SI).
+        Its value where the candidate is absent (0 for a catalogue effect's strength, 1 for
+        a rebound ratio, ``math.inf`` for a stiffness in series, absent when rigid:
+        :attr:`~liquidamp.device.effects.Effect.bare`) and in ``effects`` (SI).
     added : str or None
         The catalogue effect the candidate adds (its parameters are reported by bare key).
     report : tuple of str
@@ -685,8 +686,9 @@ def candidate_change(name: str, result: CalibrationResult) -> Change:
     """The model candidate ``name`` proposes for the calibrated ``result``, at its probe.
 
     A catalogue effect is added at :func:`probe_effect`'s strength (its fit keys freed, the
-    first estimated from where the effect is absent: 0, or rigid for a spring in series,
-    whose compliance is the strength, :meth:`Change.estimate`); a composite
+    first estimated from where the effect is absent, :attr:`Effect.bare`: 0, a symmetric
+    rebound ratio 1, or rigid for a spring in series, whose compliance is the strength,
+    :meth:`Change.estimate`); a composite
     (:data:`COMPOSITES`) states its own change.
     """
     if name in COMPOSITES:
@@ -702,9 +704,9 @@ def candidate_change(name: str, result: CalibrationResult) -> Change:
         # gas, held): the probe adds the rod, whose area is the preload's strength (the lead)
         # and whose gas volume sets the gas spring
         key, keys = "rod_area_m2", ("rod_area_m2", "gas_volume_m3")
-    # the lead where the effect is absent: 0 for a strength, infinity for the catalogue's
-    # stiffness in series (its default, k = inf, is the bare model)
-    base = math.inf if math.isinf(getattr(type(e)(), key)) else 0.0
+    # the lead where the effect is absent (Effect.bare): 0 for a strength, 1 for a rebound
+    # ratio, infinity for a stiffness in series (k = inf is the bare model)
+    base = float(type(e).bare.get(key, 0.0))
     return Change(tuple(result.effects) + (e,), free=tuple((name, k) for k in keys),
                   lead=(name, key), base=base, probe=float(getattr(e, key)), added=name,
                   params=_gas_device(result, result.params) if gas else None,

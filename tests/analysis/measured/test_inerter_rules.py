@@ -97,3 +97,22 @@ def test_averaged_stroke_keeps_only_harmonics_beyond_the_family_wise_level():
         kept[extra] = s.harmonics >= 17 and amps[16] > 0.0
     assert stroke_threshold(29) == pytest.approx(4.53, abs=0.01)
     assert kept == {4.3: False, 7.0: True}
+
+
+def test_rebound_ratio_estimate_is_measured_from_symmetric():
+    # closed form: a rebound ratio is absent at 1 (Effect.bare), so a score of 0 reads 1
+    # (measured from 0 it read 0: no damper), and the linear step is 1 + beta (probe - 1)
+    r = Change((), (), ("asymmetric_loss", "rebound_ratio"), 1.0, 1.5)
+    assert r.estimate(0.0) == 1.0
+    assert r.estimate(0.5) == pytest.approx(1.25)
+    # two routes: the score test on a record made with rebound 1.3 x compression against
+    # the ratio it was made with (measured from 0 the same score read about 1.5)
+    rec = synthetic_record(preset="paper_calibrated", frequency=3.0, amplitude=0.003,
+                           cycles=3, seed=55, effects={"asymmetric_loss": {"rebound_ratio": 1.3}})
+    from liquidamp.analysis.measured.fit_spec import FitSpec
+
+    base = calibrate([rec], params=preset("paper_calibrated"), spec=FitSpec.default(),
+                     start="spec", sizing="preset", warn=False)
+    cand, change = score("asymmetric_loss", base, None, 1)
+    assert change.base == 1.0
+    assert cand.estimate["rebound_ratio"] == pytest.approx(1.3, abs=0.06)
