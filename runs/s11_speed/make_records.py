@@ -10,8 +10,8 @@ library's own simulator (:func:`liquidamp.analysis.measured.synthetic.write_synt
 - ``bb2k``: reference preset, leakage 3e-12 m^3/(s Pa); cal 30 s at 2 kHz of a broadband
   random-phase multisine 0.1-20 Hz (RMS 2 mm / sqrt 2, repeats every 10 s); val 20 s of
   another draw.
-- ``short100``: device_b preset (light channel), null; cal 4 cycles of 100 Hz at
-  0.3 mm, 10 kHz; val 4 cycles of 80 Hz at 0.4 mm.
+- ``short100``: device_b preset (light channel), Coulomb friction 20 N; cal 4 cycles of
+  100 Hz at 1 mm, 10 kHz; val 4 cycles of 80 Hz at 1.2 mm.
 """
 import sys
 import time
@@ -33,10 +33,11 @@ CASES = {
               "sampling_rate": 2000.0, "seed": 21},
              {"frequency": 1.0, "cycles": 20, "band": (0.1, 20.0), "amplitude": 0.002,
               "sampling_rate": 2000.0, "seed": 22}),
-    "short100": ({"preset": "device_b"},
-                 {"frequency": 100.0, "amplitude": 0.0003, "cycles": 4,
+    "short100": ({"preset": "device_b",
+                  "effects": {"coulomb_friction": {"force_N": 20.0}}},
+                 {"frequency": 100.0, "amplitude": 0.001, "cycles": 4,
                   "sampling_rate": 10000.0, "seed": 31},
-                 {"frequency": 80.0, "amplitude": 0.0004, "cycles": 4,
+                 {"frequency": 80.0, "amplitude": 0.0012, "cycles": 4,
                   "sampling_rate": 10000.0, "seed": 32}),
 }
 

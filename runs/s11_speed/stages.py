@@ -1,6 +1,11 @@
 """Where the default diagnosis of one CAL/VAL pair spends its time (s11-speed).
 
     PYTHONPATH=. python runs/s11_speed/stages.py CAL.csv VAL.csv
+    PYTHONPATH=. python runs/s11_speed/stages.py sweep RECORD_ID    # runs/s10_unseen/sweep.py
+    S11_NO_SCREEN=1 PYTHONPATH=. python runs/s11_speed/stages.py ...  # main's behaviour
+
+With ``S11_NO_SCREEN=1`` the design starts' screen (class_revisit.screened) never stops a
+start: the diagnosis then runs as on main (5a8f4e4), for before/after counts on one tree.
 
 The library form of ``liquidamp diagnose CAL --validate VAL`` (``diagnose([cal], [val])``
 on the records as read), with wall time, model runs (simulate_record), least-squares fits,
@@ -9,6 +14,7 @@ per alternative start (time from the previous start's end to its verdict).
 """
 import collections
 import functools
+import os
 import sys
 import time
 
@@ -78,6 +84,21 @@ def _rev(run, alt_run, chosen, alt, sel, cls=""):
 
 
 CR.revisit = _rev
+_orig_screened = CR.screened
+
+
+def _screened(run, base2, first, sel):
+    if os.environ.get("S11_NO_SCREEN") == "1":
+        return ""
+    t = time.perf_counter()
+    n0 = N["runs_total"]
+    why = _orig_screened(run, base2, first, sel)
+    ALT.append(("screen of " + base2.start_params.name + (": stopped" if why else ": passed"),
+                time.perf_counter() - t, N["runs_total"] - n0, ""))
+    return why
+
+
+CR.screened = _screened
 _orig_sim = RM.simulate_record
 
 
@@ -119,7 +140,13 @@ def _phases(record, cond, t, rig_stroke, origin):
 RM._phases = _phases
 
 if __name__ == "__main__":
-    cal, val = read_record(sys.argv[1]), read_record(sys.argv[2])
+    if sys.argv[1] == "sweep":
+        sys.path.insert(0, "runs/s10_unseen")
+        from sweep import records
+
+        cal, val = records(sys.argv[2])
+    else:
+        cal, val = read_record(sys.argv[1]), read_record(sys.argv[2])
     print(f"cal {cal.time.size} samples at {cal.sampling_rate:.6g} Hz, f {cal.frequency:.6g};"
           f" val {val.time.size} at {val.sampling_rate:.6g} Hz, f {val.frequency:.6g}",
           flush=True)
@@ -137,6 +164,7 @@ if __name__ == "__main__":
     print("counts (innermost stage):")
     for k, v in sorted(N.items()):
         print(f"  {k:34s} {v}")
-    print("alternative starts (s since the previous one, model runs so far, added):")
+    print("alternative starts (s since the previous one, model runs so far, added; "
+          "screens: s, model runs of the screen):")
     for a in ALT:
         print(f"  {a[1]:7.1f}  {a[2]:6d}  {a[0]}  [{a[3]}]")

@@ -63,15 +63,15 @@ The fluid family's other starts (:func:`fluid_alternatives`)
       designs are starts too, with their channel and air ratios (:func:`airfree_designs`).
 
     Each is diagnosed one step first (its best first effect); a published design's start
-    runs that step's refits first, without their restarts: where neither its baseline nor
-    any of them predicts any held-out record within the rule's tolerance of the model held,
-    the rest of the round is not run (:func:`screened`).  Only where the one-step model passes
-    the selection rule against the model held (:func:`passes`) is its loop continued, and its
-    final model replaces the model held only where it passes the rule against it, in turn (so
-    every alternative must beat the best model so far).  An alternative whose baseline the
-    records cannot support (:func:`unsupported`: a fluid device sized far from the one given
-    with its fluid at a bound, as on a friction damper's records) is reported, not
-    diagnosed.
+    runs that step's refits and device refinement first, without restarts: where neither its
+    baseline nor any of them predicts any held-out record within the rule's tolerance of the
+    model held, the rest of the round is not run (:func:`screened`). Only where the one-step
+    model passes the selection rule against the model held (:func:`passes`) is its loop
+    continued, and its final model replaces the model held only where it passes the rule
+    against it, in turn (so every alternative must beat the best model so far). An
+    alternative whose baseline the records cannot support (:func:`unsupported`: a fluid
+    device sized far from the one given with its fluid at a bound, as on a friction damper's
+    records) is reported, not diagnosed.
 
 The friction start's fluid level (:func:`friction_alternatives`)
     The friction start holds its fluid at one of two levels, the calibration records' noise
@@ -381,14 +381,17 @@ def screened(run: dict, base2, first, sel) -> str:
     The step of a gated start (:func:`_alternative_loop`) is a whole round: the score test
     of every candidate, the refits of the best two or three, each restarted from the physics
     start where none reaches the noise, the device refinement and the profile (on d04's
-    2 kHz records 22-42 s a start, half of it the restarts).  Its refits alone (``first``)
+    2 kHz records 22-42 s a start, half of it the restarts).  Its refits and the device
+    refinement (the channel inertance freed, which can carry a start to another design's
+    channel: session 10's A_elastomer, from S_t x0.1 to x1.8), each fitted once (``first``),
     show whether the start can win: the selection rule (:func:`passes`) needs every
     held-out record within its ``validation_tolerance`` of the model held, and session 10's
     held-out sweep had each start that replaced the model held do so with one effect or
     none, far better held out (d04's losing channel and air-free starts reached 0.077-0.57
     against 0.0035).  So where neither the alternative's baseline nor any of those refits
-    predicts any held-out record within the tolerance of the model held, the restarts, the
-    device refinement and the profile are not run.  Anywhere else (one record within, no
+    predicts any held-out record within the tolerance of the model held, the restarts and
+    the profile, and the rounds after the device refinement, are not run.  Anywhere else
+    (one record within, no
     candidate to refit, every refit failed) the start is diagnosed as before.
 
     Parameters
@@ -398,8 +401,9 @@ def screened(run: dict, base2, first, sel) -> str:
     base2 : CalibrationResult
         The alternative start's baseline.
     first : callable
-        ``first(baseline) -> list of (effect name, CalibrationResult)``: the candidates a
-        round from ``baseline`` refits first, each refitted once (no restart).
+        ``first(baseline) -> list of (name, CalibrationResult)``: the candidates a round
+        from ``baseline`` refits first, each refitted once (no restart), and its device
+        refinement.
     sel : SelectionRule
         Its ``validation_tolerance`` [-].
 
@@ -429,7 +433,7 @@ def screened(run: dict, base2, first, sel) -> str:
         return ""
     held = ", ".join(f"{k} {v:.3g}" for k, v in now.items())
     refits = "; ".join(f"{name} {shown(res)}" for name, res in got)
-    return (f"neither its baseline (held-out {shown(base2)}) nor its first round's refits "
+    return (f"neither its baseline (held-out {shown(base2)}) nor its first round's fits "
             f"without restart (held-out {refits}) predict any held-out record within "
             f"{tol:.0%} of the model held ({held}): the rest of that round is not run")
 

@@ -1,11 +1,11 @@
 """The screen of the published designs' starts (class_revisit.screened, s11).
 
 Stand-in fits, no model run (well under a second): a design start whose baseline and whose
-first round's refits (without their restarts) all predict every held-out record worse than
-the model held by more than the selection rule's tolerance does not run the rest of that
-round (its loop is not called); one held-out record within the tolerance, no candidate to
-refit, or a screen that fails, and it is diagnosed as before; the start of the device as
-given (not sized) is never screened.
+first round's refits (without their restarts) and device refinement all predict every
+held-out record worse than the model held by more than the selection rule's tolerance does
+not run the rest of that round (its loop is not called); one held-out record within the
+tolerance, no candidate to refit, or a screen that fails, and it is diagnosed as before; the
+start of the device as given (not sized) is never screened.
 """
 
 import dataclasses
