@@ -594,7 +594,9 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
 
     run = revisit_starts(run, baseline, sel.noise_factor * noise_nrmse, check_params, config,
                          fit, lambda base, cfg: _loop(base, names, device_names, validation,
-                                                      options, cfg, spec, noise_nrmse))
+                                                      options, cfg, spec, noise_nrmse),
+                         lambda base: _first_refits(base, names, device_names, validation,
+                                                       options, bud, sel))
     baseline, steps, current = run["baseline"], run["steps"], run["current"]
     stop, last_round, device_steps = run["stop"], run["last_round"], run["device_steps"]
     device_evidence = run["device_evidence"]
@@ -710,6 +712,23 @@ def _loop(baseline, names, device_names, validation, options, config, spec,
     return {"baseline": baseline, "steps": steps, "current": current, "stop": stop,
             "last_round": last_round, "device_steps": device_steps,
             "device_evidence": device_evidence, "warnings": warnings}
+
+
+def _first_refits(base, names, device_names, validation, options, bud, sel) -> list:
+    """The fits a round from ``base`` makes first: the score test's queue and its second
+    wave, each refitted once without the restart from the physics start, and the device
+    refinement (the channel inertance freed, :func:`_device_round`): a list of (name, fit),
+    the ones whose model failed left out (the screen of an alternative start,
+    :func:`~.class_revisit.screened`)."""
+    _, probes, _, queue, extra, _ = _screen(names, base, options, bud, sel)
+    out = []
+    for c in queue + extra:
+        try:
+            out.append((c.effect, _refit(c, probes[c.effect], base, validation, options,
+                                         bud.preroll, bud.max_nfev, bud.tol, "auto")))
+        except LiquidampError:  # the candidate's model failed, not the screen
+            continue
+    return out + list(_device_round(base, validation, options, bud, device_names)[2].items())
 
 
 def _n_free(change) -> int:
