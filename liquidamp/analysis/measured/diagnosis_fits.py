@@ -18,7 +18,7 @@ from liquidamp.analysis.measured.diagnosis_result import heldout_per_record
 from liquidamp.analysis.measured.fit_spec import Parameter
 from liquidamp.analysis.measured.profile import profile_restart, undetermined_parameter
 from liquidamp.analysis.measured.selection import judge, sample_count
-from liquidamp.errors import ConvergenceError, PressureError
+from liquidamp.errors import LiquidampError
 
 __all__: list = []
 
@@ -122,7 +122,7 @@ def _restart(res, current, validation, options, preroll, max_nfev, tol, start0, 
                            sizing=sizing)
             if r2.status == "max_nfev":
                 r2 = _converge(r2, validation, options, preroll, max_nfev, tol, sizing)
-        except (ConvergenceError, PressureError):  # this start's fit failed: the others
+        except LiquidampError:  # this start's model or fit failed (as a refit's): the others
             continue
         tries.append(r2)
     if not tries:
