@@ -90,3 +90,22 @@ def test_a_refit_at_the_noise_leaves_richer_candidates_unfitted(monkeypatch, n_f
     skipped = [c for c in ranked if c.effect not in fitted]
     assert all(c.note.startswith(f"not refitted: {quiet} already leaves the residual at "
                                  "the noise") for c in skipped)
+
+
+@pytest.mark.parametrize("error", ["ParameterError", "PressureError", "ConvergenceError"])
+def test_a_restart_whose_model_fails_keeps_the_refit(monkeypatch, error):
+    """A restart whose model or fit fails (a parameter out of its model's range from the
+    physics start, a chamber at the pressure floor, no convergence) is that start's failure,
+    as a refit's is: the refit is kept and the round goes on (a ParameterError ended the
+    whole diagnosis before)."""
+    import liquidamp.analysis.measured.diagnosis_fits as F
+    import liquidamp.errors as E
+
+    def calibrate(*a, **k):
+        raise getattr(E, error)("stand-in: the restart's model failed")
+
+    monkeypatch.setattr(F, "calibrate", calibrate)
+    spec = types.SimpleNamespace(parameters=(), with_values=lambda values: spec)
+    res = types.SimpleNamespace(spec=spec, at_bounds=lambda: (), effects=(), cost=1.0)
+    current = types.SimpleNamespace(calibration=(), model="full", start_params=None)
+    assert F._restart(res, current, (), None, 0.0, 10, 1e-8, {}, "auto", 0.02) is res
