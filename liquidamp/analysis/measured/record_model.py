@@ -281,6 +281,12 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     stats: dict = {"stroke": "savitzky-golay", "velocity_gain": gain}
     note = (f"Savitzky-Golay velocity ({record.window} points, order {record.order}), gain "
             f"{gain:.4f} at {record.frequency:.4g} Hz")
+    tones = record._tones
+    if tones is not None:  # Record.stroke: a few sinusoids, exact derivatives
+        stats = {"stroke": f"line spectrum ({len(tones.frequencies)} lines)",
+                 "velocity_gain": 1.0}
+        note = (f"stroke: its {len(tones.frequencies)}-line spectrum fit (exact derivatives; "
+                f"residual {tones.residual_rms:.3g} m, white noise {tones.noise_std:.3g} m)")
     if t_start < t_first:
         stats["lead_in"] = t_first - t_start
         note += f"; lead-in {t_first - t_start:.3g} s before the first sample"
