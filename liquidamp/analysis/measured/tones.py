@@ -6,15 +6,15 @@ record, so it has no periodic orbit and no Fourier series of one period; the
 Savitzky-Golay derivative of its samples is then what drives a model, and that filter
 attenuates the rate (0.5 % RMS on a 4 Hz + 1.3 Hz stroke at 200 Hz), which a fluid device
 turns into a force error of the same share, several times its load-cell noise.  A stroke
-that IS a few sinusoids is known exactly from its samples: :func:`tone_fit` finds its lines
-one at a time (the largest peak of the residual's zero-padded, Hann-windowed periodogram),
-refines every frequency jointly by least squares with the amplitudes solved linearly
-(variable projection), and accepts the fit only where what it leaves is the displacement
-sensor's white noise: the residual's RMS at most :data:`ACCEPT` (1.5, the diagnosis's own
-factor between a residual and the noise floor) times its white part (robust scale of its
-4th differences, variance 70 sigma^2 for white noise).  A stroke the lines do not explain
-(broadband, tapered, a few harmonics too many) gets None and keeps the Savitzky-Golay
-derivatives.
+that IS a few sinusoids is known exactly from its samples: :func:`tone_fit` finds its
+lines one at a time (the largest peak of the residual's zero-padded, Hann-windowed
+periodogram), refines each frequency by a bounded search of the residual sum of squares
+with the amplitudes solved linearly (variable projection; then every line jointly), and
+accepts the fit only where what it leaves is the displacement sensor's white noise: the
+residual's RMS at most :data:`ACCEPT` (1.5, the diagnosis's own factor between a residual
+and the noise floor) times its white part (robust scale of its 4th differences, variance
+70 sigma^2 for white noise). A stroke the lines do not explain (broadband, tapered, a few
+harmonics too many) gets None and keeps the Savitzky-Golay derivatives.
 
 References
 ----------
@@ -36,6 +36,10 @@ __all__ = ["ToneFit", "tone_fit", "white_std", "ACCEPT", "MAX_TONES"]
 ACCEPT = 1.5
 #: Most lines tried [-].
 MAX_TONES = 8
+#: A stroke whose :data:`MAX_TONES` largest lines hold less than this share of its variance
+#: (their Hann lobes: all but 0.1 % of a line's energy) is not tried: the white noise it
+#: would have to leave is about 1e-6 of a stroke's variance (2 um on 2 mm) [-].
+LINE_SHARE = 0.9
 
 
 @dataclass(frozen=True)
@@ -98,6 +102,34 @@ def _residual(tt, y, freqs):
     return y - A @ coef, coef
 
 
+def _line_share(xw, nfft, grid, span, k) -> float:
+    """Share of the windowed signal's periodogram energy within +-2 bins (1 / span) of its
+    ``k`` largest peaks (a Hann-windowed line keeps all but 0.1 % of its energy there)."""
+    power = np.abs(np.fft.rfft(xw, nfft)) ** 2
+    total = float(power.sum())
+    left = power.copy()
+    for _ in range(k):
+        j = int(np.argmax(left))
+        left[np.abs(grid - grid[j]) <= 2.0 / span] = 0.0
+    return 1.0 - float(left.sum()) / total if total > 0 else 0.0
+
+
+def _refine(tt, y, freqs, i, half_width):
+    """Move ``freqs[i]`` to the least residual sum of squares within +-``half_width`` [Hz]
+    (bounded Brent search; the other lines and the amplitudes solved linearly)."""
+    from scipy.optimize import minimize_scalar
+
+    def cost(f):
+        trial = list(freqs)
+        trial[i] = f
+        r = _residual(tt, y, trial)[0]
+        return float(r @ r)
+
+    lo, hi = max(freqs[i] - half_width, 1e-9), freqs[i] + half_width
+    freqs[i] = float(minimize_scalar(cost, bounds=(lo, hi), method="bounded",
+                                     options={"xatol": 1e-6 * half_width}).x)
+
+
 def tone_fit(t, y, max_tones: int = MAX_TONES) -> ToneFit | None:
     """The line-spectrum fit of samples ``y`` [m] at uniform times ``t`` [s], or None
     where at most ``max_tones`` lines leave more than the white noise (module docstring).
@@ -133,15 +165,23 @@ def tone_fit(t, y, max_tones: int = MAX_TONES) -> ToneFit | None:
     window = np.hanning(n)
     freqs: list = []
     r = y - y.mean()
+    if _line_share(r * window, nfft, grid, span, max_tones) < LINE_SHARE:
+        return None  # broadband: the lines' lobes cannot hold the stroke
     for _ in range(max_tones):
         spec = np.abs(np.fft.rfft(r * window, nfft))
         spec[grid < 1.0 / span] = 0.0  # no line below one cycle per record
         freqs.append(float(grid[int(np.argmax(spec))]))
-        sol = least_squares(lambda f: _residual(tt, y, f)[0], np.array(freqs),
-                            x_scale=1.0 / span, method="lm")
-        freqs = [float(f) for f in sol.x]
+        _refine(tt, y, freqs, len(freqs) - 1, 1.0 / span)
         r, coef = _residual(tt, y, freqs)
         rms, white = float(np.sqrt(np.mean(r * r))), white_std(r)
+        if len(freqs) > 1 and rms > ACCEPT * white:
+            # the earlier lines' estimates carried the later ones' leakage: every line
+            # refined jointly (Levenberg-Marquardt, the amplitudes linear)
+            freqs = [float(f) for f in least_squares(
+                lambda f: _residual(tt, y, f)[0], np.array(freqs), x_scale=1.0 / span,
+                method="lm").x]
+            r, coef = _residual(tt, y, freqs)
+            rms, white = float(np.sqrt(np.mean(r * r))), white_std(r)
         if rms <= ACCEPT * white:
             return ToneFit(float(t[0]), float(coef[0]), tuple(freqs), tuple(coef[1::2]),
                            tuple(coef[2::2]), rms, white)
