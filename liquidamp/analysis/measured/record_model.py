@@ -25,8 +25,8 @@ march.  A record whose stroke is not periodic (tapered or broadband) has no stea
 to approach: it runs under the Savitzky-Golay stroke (:meth:`Record.stroke`) from rest at
 the start of a lead-in in which the rod moves as the record moves into the state most like
 its first sample's (:func:`_lead_in`: a tenth of the record or one period, at most 1 s; the
-method of analogues; a ramp at the first sample's velocity on a record too short to hold a
-return of its state), so that the model meets the first sample in the motion's own steady flow, its
+method of analogues, for a stroke of a few sinusoids; else a ramp at the first sample's
+velocity), so that the model meets the first sample in the motion's own steady flow, its
 yield, friction and pressure drops on the side the motion sets and its channel flow
 settled; from rest at the first sample instead, a device whose yield holds 180 N (the
 independent MR record d10 with its true parameters) left a 135 N RMS start-up error over
@@ -259,8 +259,10 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     # a lead-in before the first sample (the record's own motion into its nearest analogue,
     # _lead_in) so that the model meets the first sample in motion, not from rest
     t_first = t_start = float(stroke.time[0])
+    tones = record._tones  # a few sinusoids (Record.stroke), else None
     if x0 is None:
-        stroke = _lead_in(stroke, LEAD_IN_SHARE, LEAD_IN_MAX, record.period)
+        stroke = _lead_in(stroke, LEAD_IN_SHARE, LEAD_IN_MAX, record.period,
+                          analogue=tones is not None)
         t_start = float(stroke.time[0])
     y0 = float(stroke.displacement[0])
     if x0 is not None:
@@ -281,7 +283,6 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     stats: dict = {"stroke": "savitzky-golay", "velocity_gain": gain}
     note = (f"Savitzky-Golay velocity ({record.window} points, order {record.order}), gain "
             f"{gain:.4f} at {record.frequency:.4g} Hz")
-    tones = record._tones
     if tones is not None:  # Record.stroke: a few sinusoids, exact derivatives
         stats = {"stroke": f"line spectrum ({len(tones.frequencies)} lines)",
                  "velocity_gain": 1.0}
@@ -405,22 +406,24 @@ def _ramp_lead_in(stroke, duration: float):
                           np.concatenate([np.zeros(n), stroke.acceleration]), channels=ch)
 
 
-def _lead_in(stroke, share: float, longest: float, period: float):
+def _lead_in(stroke, share: float, longest: float, period: float, analogue: bool = True):
     """``stroke`` with a lead-in before its first sample, so that a model started from rest
     meets the first sample in motion (module docstring).
 
-    Where the record beyond a lead-in of ``share`` of its span (at least one ``period`` [s]
-    of its frequency, at most ``longest`` [s]) still holds a whole period, the lead-in is
-    the record's own motion into its state nearest the first sample's
-    (:func:`_analogue_lead_in`; the fade-in of the remaining mismatch then lasts a period or
-    more, slower than the motion itself, and the search spans every phase of it); on a
-    shorter record, which may hold no return of its state, a ramp at the first sample's
-    velocity over ``share`` of the span (:func:`_ramp_lead_in`)."""
+    A stroke of a few sinusoids (``analogue``: :func:`~.tones.tone_fit` explains it) was
+    moving before the record as it moves in it; where the record beyond a lead-in of
+    ``share`` of its span (at least one ``period`` [s] of its frequency, at most ``longest``
+    [s]) still holds a whole period, the lead-in is the record's own motion into its state
+    nearest the first sample's (:func:`_analogue_lead_in`; the remaining mismatch then fades
+    on the motion's own time scale and the search spans every phase of it).  Otherwise (a
+    tapered stroke, which started from rest; a broadband one; a record too short to hold a
+    return of its state) a ramp at the first sample's velocity over ``share`` of the span
+    (:func:`_ramp_lead_in`)."""
     span = float(stroke.time[-1] - stroke.time[0])
     lead = min(share * span, longest)
-    analogue = min(max(lead, period), longest)
-    if lead > 0.0 and span >= analogue + period:
-        return _analogue_lead_in(stroke, analogue, period)
+    longer = min(max(lead, period), longest)
+    if analogue and lead > 0.0 and span >= longer + period:
+        return _analogue_lead_in(stroke, longer, period)
     return _ramp_lead_in(stroke, lead) if lead > 0.0 else stroke
 
 

@@ -9,7 +9,7 @@ turns into a force error of the same share, several times its load-cell noise.  
 that IS a few sinusoids is known exactly from its samples: :func:`tone_fit` finds its
 lines one at a time (the largest peak of the residual's zero-padded, Hann-windowed
 periodogram), refines each frequency by a bounded search of the residual sum of squares
-with the amplitudes solved linearly (variable projection; then every line jointly), and
+with the amplitudes solved linearly (variable projection; near acceptance every line jointly), and
 accepts the fit only where what it leaves is the displacement sensor's white noise: the
 residual's RMS at most :data:`ACCEPT` (1.5, the diagnosis's own factor between a residual
 and the noise floor) times its white part (robust scale of its 4th differences, variance
@@ -36,6 +36,9 @@ __all__ = ["ToneFit", "tone_fit", "white_std", "ACCEPT", "MAX_TONES"]
 ACCEPT = 1.5
 #: Most lines tried [-].
 MAX_TONES = 8
+#: Where the residual is within this factor of acceptance every line is refined jointly (a
+#: computational shortcut: a tapered or broadband stroke never gets near) [-].
+POLISH = 10.0
 #: A stroke whose :data:`MAX_TONES` largest lines hold less than this share of its variance
 #: (their Hann lobes: all but 0.1 % of a line's energy) is not tried: the white noise it
 #: would have to leave is about 1e-6 of a stroke's variance (2 um on 2 mm) [-].
@@ -174,9 +177,9 @@ def tone_fit(t, y, max_tones: int = MAX_TONES) -> ToneFit | None:
         _refine(tt, y, freqs, len(freqs) - 1, 1.0 / span)
         r, coef = _residual(tt, y, freqs)
         rms, white = float(np.sqrt(np.mean(r * r))), white_std(r)
-        if len(freqs) > 1 and rms > ACCEPT * white:
-            # the earlier lines' estimates carried the later ones' leakage: every line
-            # refined jointly (Levenberg-Marquardt, the amplitudes linear)
+        if len(freqs) > 1 and ACCEPT * white < rms <= POLISH * ACCEPT * white:
+            # near the noise: the earlier lines' estimates carried the later ones' leakage;
+            # every line refined jointly (Levenberg-Marquardt, the amplitudes linear)
             freqs = [float(f) for f in least_squares(
                 lambda f: _residual(tt, y, f)[0], np.array(freqs), x_scale=1.0 / span,
                 method="lm").x]
