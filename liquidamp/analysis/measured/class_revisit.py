@@ -61,6 +61,15 @@ The fluid family's other starts (:func:`fluid_alternatives`)
       device's force is b_L a + losses; session 10: a 636 kg ``moving_mass`` added first on
       every record of an inerter-like device, the null record too).  So the air-free
       designs are starts too, with their channel and air ratios (:func:`airfree_designs`).
+    * its *stroke datum*: the record's mean stroke is taken as the mid-position where the
+      chambers hold V01 and V02; a record about a mean m off the mid-position its LVDT was
+      zeroed at has chambers of V01 - A_p m and V02 + A_p m, the force moved by up to
+      |m| / L (28 % at -10 mm of 25 mm on the reference design), and the effect the records
+      hold is invisible until the chambers are right (session 11: a leakage record about
+      -10 mm diagnosed as a groove and a digressive valve).  So the device with its
+      chambers about the record's zero is a start too, where |m| / L exceeds the loop's
+      calibration residual and the chambers can hold the stroke there
+      (:func:`~liquidamp.analysis.measured.stroke_datum.datum_start`).
 
     Each is diagnosed one step first (its best first effect); a published design's start
     runs that step's refits and device refinement first, without restarts: where neither its
@@ -111,6 +120,7 @@ from liquidamp.analysis.measured.device_class import (
 from liquidamp.analysis.measured.diagnosis_result import heldout_per_record
 from liquidamp.analysis.measured.selection import judge, sample_count
 from liquidamp.analysis.measured.start import stroke_factor
+from liquidamp.analysis.measured.stroke_datum import datum_start
 from liquidamp.errors import LiquidampError
 
 __all__ = ["runner_up", "design_channels", "airfree_designs", "fluid_alternatives",
@@ -248,6 +258,12 @@ def fluid_alternatives(baseline, run: dict, noise_level: float, params,
                                                       name=f"{params.name or 'device'} "
                                                       f"with S_t x{f:g} of the reference"),
                              "sizing": "preset", "device_class": "fluid"}))
+    # the record's zero as the chambers' mid-position (a record not centred on it:
+    # liquidamp.analysis.measured.stroke_datum)
+    moved = datum_start(params, baseline.calibration, run["current"].nrmse_calibration)
+    if moved is not None:
+        out.append((f"fluid ({moved.name})",
+                    {"params": moved, "sizing": "preset", "device_class": "fluid"}))
     airy = min(params.inv_gamma1, params.inv_gamma2) >= _AIR
     for name, S_t, g1, g2 in airfree_designs() if airy else ():
         out.append((f"fluid ({name} design: air-free, channel S_t {S_t:.3g})",

@@ -79,10 +79,12 @@ import csv
 import math
 import re
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
 
+from liquidamp.analysis.measured.tones import tone_fit
 from liquidamp.errors import DataFileError, ParameterError
 from liquidamp.structure.testmachine import RecordedStroke, savgol_derivatives
 
@@ -554,6 +556,12 @@ class Record:
             out["cycle_amplitudes [m]"] = list(sh.cycle_amplitudes)
         return out
 
+    @cached_property
+    def _tones(self):
+        """The line-spectrum fit of a stroke that is not periodic (None: periodic, or not
+        a few sinusoids); computed once per record."""
+        return None if self.periodic else tone_fit(self.time, self.displacement)
+
     def stroke(self) -> RecordedStroke:
         """The stroke that drives a model: consistent displacement and velocity about the mean.
 
@@ -565,10 +573,19 @@ class Record:
         displacement is therefore the running integral of the SG velocity,
         fitted to the smoothed displacement by a constant and a trend (the
         trend's slope is added to the velocity), so that dy/dt = v holds.
+
+        A stroke that is not periodic but is a few sinusoids (a two-frequency lag-damper
+        test) is its least-squares line-spectrum fit instead, with exact derivatives
+        (:func:`~liquidamp.analysis.measured.tones.tone_fit`: accepted where it leaves only
+        the sensor's white noise), free of the filter's attenuation.
         """
         from scipy.integrate import cumulative_trapezoid
 
         t = self.time
+        tones = self._tones
+        if tones is not None:
+            y, v, a = tones.arrays(t)
+            return RecordedStroke(t, y + tones.mean - self.offset, v, a)
         yc = cumulative_trapezoid(self.velocity, t, initial=0.0)
         A = np.column_stack((np.ones_like(t), t - t[0]))
         (c0, c1), *_ = np.linalg.lstsq(A, self.smoothed - self.offset - yc, rcond=None)
