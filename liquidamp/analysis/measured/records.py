@@ -84,6 +84,15 @@ from pathlib import Path
 
 import numpy as np
 
+from liquidamp.analysis.measured.record_format import (
+    CHANNEL_SI,
+    CHANNEL_UNITS,
+    COLUMN_UNITS,
+    decode_text,
+    delimiter_of,
+    number_of,
+    parse_header,
+)
 from liquidamp.analysis.measured.tones import tone_fit
 from liquidamp.errors import DataFileError, ParameterError
 from liquidamp.structure.testmachine import RecordedStroke, savgol_derivatives
@@ -91,29 +100,6 @@ from liquidamp.structure.testmachine import RecordedStroke, savgol_derivatives
 __all__ = ["Record", "StrokeShape", "stroke_shape", "read_record", "write_record", "COLUMN_UNITS",
            "CHANNEL_UNITS", "infer_excitation", "PERIODIC_SHARE", "AMPLITUDE_VARIATION",
            "TAPERED_SHARE"]
-
-
-COLUMN_UNITS: dict[str, dict[str, float]] = {
-    "time": {"s": 1.0, "ms": 1e-3},
-    "displacement": {"m": 1.0, "mm": 1e-3, "um": 1e-6, "in": 0.0254},
-    "force": {"N": 1.0, "kN": 1e3, "lbf": 4.4482216152605, "kip": 4448.2216152605},
-}
-"""Accepted columns and units: name -> {unit: factor to SI}."""
-
-CHANNEL_UNITS: dict[str, dict[str, tuple[float, float]]] = {
-    "temperature": {"K": (1.0, 0.0), "C": (1.0, 273.15)},
-    "voltage": {"V": (1.0, 0.0), "mV": (1e-3, 0.0)},
-    "current": {"A": (1.0, 0.0), "mA": (1e-3, 0.0)},
-    "pressure": {"Pa": (1.0, 0.0), "kPa": (1e3, 0.0), "MPa": (1e6, 0.0), "bar": (1e5, 0.0),
-                 "psi": (6894.757293168361, 0.0)},
-}
-"""Optional measured channels: name -> {unit: (factor, offset)}, SI value = factor x value +
-offset (temperature in K, voltage in V, current in A, pressure in Pa)."""
-
-#: SI unit of each measured channel.
-CHANNEL_SI = {"temperature": "K", "voltage": "V", "current": "A", "pressure": "Pa"}
-
-_HEADER = re.compile(r"^\s*([A-Za-z_ ]+?)\s*(?:\[\s*([^\]]*?)\s*\]|\(\s*([^)]*?)\s*\))\s*$")
 
 
 def _fit_sine(t, y, f):
@@ -603,83 +589,6 @@ class Record:
                                   channels={k: v[:n] for k, v in self.channels.items()})
 
 
-def _parse_header(row, where):
-    """name -> (column index, factor, offset) of the header row (SI = factor x value + offset)."""
-    cols = {}
-    valid = ", ".join((*COLUMN_UNITS, *CHANNEL_UNITS))
-    for j, cell in enumerate(row):
-        m = _HEADER.match(cell)
-        if not m:
-            raise DataFileError(
-                f"{where}, line 1, column {j + 1}: header {cell!r} must read 'name [unit]' "
-                f"(or 'name (unit)') with name one of {valid}")
-        name = m.group(1).strip().lower()
-        unit = (m.group(2) if m.group(2) is not None else m.group(3)).strip()
-        if name not in COLUMN_UNITS and name not in CHANNEL_UNITS:
-            raise DataFileError(
-                f"{where}, line 1, column {j + 1}: unknown column {name!r}; valid: {valid}")
-        units = ({u: (k, 0.0) for u, k in COLUMN_UNITS[name].items()} if name in COLUMN_UNITS
-                 else CHANNEL_UNITS[name])
-        if unit not in units:
-            raise DataFileError(
-                f"{where}, line 1, column {j + 1} ({name}): unknown unit [{unit}]; valid: "
-                + ", ".join(f"[{u}]" for u in units))
-        if name in cols:
-            raise DataFileError(f"{where}, line 1, column {j + 1}: column {name!r} given twice")
-        cols[name] = (j, *units[unit])
-    missing = [c for c in COLUMN_UNITS if c not in cols]
-    if missing:
-        raise DataFileError(f"{where}: missing column(s) {', '.join(missing)}; the header must "
-                            "name time [s], displacement [mm], [m] or [in], "
-                            "force [N], [kN], [lbf] or [kip]")
-    return cols
-
-
-_DECIMAL_COMMA = re.compile(r"^[+-]?(\d+,\d*|,\d+)([eE][+-]?\d+)?$")
-
-
-def _decode(raw: bytes, where: str) -> str:
-    """Text of a record file: UTF-8 (a byte-order mark is dropped), UTF-16 with its BOM, or
-    Latin-1 for a text file that is not UTF-8; a binary file raises naming the file."""
-    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
-        try:
-            return raw.decode("utf-16")
-        except UnicodeDecodeError:
-            pass
-    head = raw[:4096]
-    nul = head.find(b"\x00")
-    control = sum(1 for c in head if c < 32 and c not in (9, 10, 13))
-    if nul >= 0 or (head and control > 0.05 * len(head)):
-        at = f"NUL byte at offset {nul}" if nul >= 0 else f"{control} control bytes"
-        raise DataFileError(
-            f"{where} is not a text CSV file (binary content: {at} in its first "
-            f"{len(head)} bytes); a record is a CSV text file whose header row names "
-            "time [s], displacement [mm], [m] or [in], force [N], [kN], [lbf] or [kip]")
-    try:
-        return raw.decode("utf-8-sig")  # a UTF-8 byte-order mark (Excel) is dropped
-    except UnicodeDecodeError:
-        return raw.decode("latin-1")
-
-
-def _delimiter(header: str) -> str:
-    """Column separator: ',' unless the header is separated by ';' or tabs instead."""
-    outside = re.sub(r"\[[^\]]*\]", "", header)  # units may hold anything
-    counts = {d: outside.count(d) for d in (",", ";", "\t")}
-    if counts[","] == 0 and (counts[";"] or counts["\t"]):
-        return ";" if counts[";"] >= counts["\t"] else "\t"
-    return ","
-
-
-def _number(cell: str, decimal_comma: bool):
-    """float of ``cell`` (a decimal comma allowed when the columns are not comma-separated)."""
-    try:
-        return float(cell)
-    except ValueError:
-        if decimal_comma and _DECIMAL_COMMA.match(cell):
-            return float(cell.replace(",", "."))
-        raise
-
-
 def read_record(path, window: int = 21, order: int = 4) -> Record:
     """Read a record CSV (see module docstring) into a :class:`Record` (SI).
 
@@ -721,14 +630,14 @@ def read_record(path, window: int = 21, order: int = 4) -> Record:
         raw = path.read_bytes()
     except OSError as exc:
         raise DataFileError(f"cannot read record {where}: {exc.strerror or exc}") from None
-    text = _decode(raw, where)
+    text = decode_text(raw, where)
     lines = text.splitlines()
     if not lines or not any(line.strip() for line in lines):
         raise DataFileError(f"{where} is empty: expected a header row")
-    delim = _delimiter(lines[0])
+    delim = delimiter_of(lines[0])
     decimal_comma = delim != ","
     rows = list(csv.reader(lines, delimiter=delim))
-    cols = _parse_header([c.strip() for c in rows[0]], where)
+    cols = parse_header([c.strip() for c in rows[0]], where)
     ncol = len(rows[0])
     data = {name: [] for name in cols}
     line_of = []
@@ -748,7 +657,7 @@ def read_record(path, window: int = 21, order: int = 4) -> Record:
         for name, (j, factor, offset) in cols.items():
             cell = row[j].strip()
             try:
-                value = _number(cell, decimal_comma)
+                value = number_of(cell, decimal_comma)
             except ValueError:
                 why = "is not a number"
                 if "," in cell and "." in cell:
