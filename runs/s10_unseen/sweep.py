@@ -248,6 +248,21 @@ def table(out: Path, ids) -> str:
     return "\n".join(lines) + "\n"
 
 
+def run_each(script: Path, ids, out: Path) -> None:
+    """``script one ID OUT`` for each record in its own subprocess under ``timeout 300``,
+    one at a time: OUT/ID.{out,err,rc,time} (the time with the load at its start)."""
+    env = {**os.environ, "PYTHONPATH": str(script.parents[2])}
+    for rid in ids:
+        load = os.getloadavg()[0]
+        t0 = time.time()
+        with open(out / f"{rid}.out", "w") as fo, open(out / f"{rid}.err", "w") as fe:
+            rc = subprocess.call(["timeout", "300", sys.executable, str(script), "one",
+                                  rid, str(out)], stdout=fo, stderr=fe, env=env)
+        (out / f"{rid}.rc").write_text(f"{rc}\n")
+        (out / f"{rid}.time").write_text(f"{time.time() - t0:.1f} (load {load:.2f})\n")
+        print(rid, rc, f"{time.time() - t0:.0f} s", flush=True)
+
+
 def main(argv):
     mode = argv[1]
     if mode == "one":
@@ -257,17 +272,7 @@ def main(argv):
     out.mkdir(parents=True, exist_ok=True)
     ids = argv[3:] or RECORDS
     if mode == "all":
-        here = Path(__file__).resolve()
-        env = {**os.environ, "PYTHONPATH": str(here.parents[2])}
-        for rid in ids:
-            load = os.getloadavg()[0]
-            t0 = time.time()
-            with open(out / f"{rid}.out", "w") as fo, open(out / f"{rid}.err", "w") as fe:
-                rc = subprocess.call(["timeout", "300", sys.executable, str(here), "one",
-                                      rid, str(out)], stdout=fo, stderr=fe, env=env)
-            (out / f"{rid}.rc").write_text(f"{rc}\n")
-            (out / f"{rid}.time").write_text(f"{time.time() - t0:.1f} (load {load:.2f})\n")
-            print(rid, rc, f"{time.time() - t0:.0f} s", flush=True)
+        run_each(Path(__file__).resolve(), ids, out)
     ids = [i for i in ids if (out / f"{i}.rc").exists() or (out / f"{i}.json").exists()]
     text = (f"# Held-out sweep (runs/s10_unseen/sweep.py), {out}\n\nload average at the end: "
             f"{os.getloadavg()}\n\n" + table(out, ids))

@@ -38,7 +38,6 @@ same LVDT (2 um) and load-cell noise, through ``Record.from_arrays``.
 import json
 import math
 import os
-import subprocess
 import sys
 import time
 from dataclasses import dataclass
@@ -309,17 +308,7 @@ def main(argv):
     out.mkdir(parents=True, exist_ok=True)
     ids = argv[3:] or RECORDS
     if mode == "all":
-        here = Path(__file__).resolve()
-        env = {**os.environ, "PYTHONPATH": str(here.parents[2])}
-        for rid in ids:
-            load = os.getloadavg()[0]
-            t0 = time.time()
-            with open(out / f"{rid}.out", "w") as fo, open(out / f"{rid}.err", "w") as fe:
-                rc = subprocess.call(["timeout", "300", sys.executable, str(here), "one",
-                                      rid, str(out)], stdout=fo, stderr=fe, env=env)
-            (out / f"{rid}.rc").write_text(f"{rc}\n")
-            (out / f"{rid}.time").write_text(f"{time.time() - t0:.1f} (load {load:.2f})\n")
-            print(rid, rc, f"{time.time() - t0:.0f} s", flush=True)
+        S10.run_each(Path(__file__).resolve(), ids, out)
     ids = [i for i in ids if (out / f"{i}.rc").exists() or (out / f"{i}.json").exists()]
     text = (f"# Held-out sweep 2 (runs/s11_combo/sweep.py), {out}\n\nload average at the end: "
             f"{os.getloadavg()}\n\n" + table(out, ids))
