@@ -261,7 +261,7 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     # a lead-in before the first sample (the record's own motion into its nearest analogue,
     # _lead_in) so that the model meets the first sample in motion, not from rest
     t_first = t_start = float(stroke.time[0])
-    tones = record._tones  # a few sinusoids (Record.stroke), else None
+    tones = record.tones  # a few sinusoids (Record.stroke), else None
     if x0 is None:
         stroke = _lead_in(stroke, LEAD_IN_SHARE, LEAD_IN_MAX, record.period,
                           analogue=tones is not None)

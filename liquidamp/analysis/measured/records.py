@@ -543,9 +543,11 @@ class Record:
         return out
 
     @cached_property
-    def _tones(self):
-        """The line-spectrum fit of a stroke that is not periodic (None: periodic, or not
-        a few sinusoids); computed once per record."""
+    def tones(self):
+        """The line-spectrum fit of a stroke that is not periodic but is a few sinusoids
+        (:class:`~liquidamp.analysis.measured.tones.ToneFit`, exact derivatives), or None
+        (a periodic stroke, or one the lines do not explain: tapered, broadband); computed
+        once per record (:func:`~liquidamp.analysis.measured.tones.tone_fit`)."""
         return None if self.periodic else tone_fit(self.time, self.displacement)
 
     def stroke(self) -> RecordedStroke:
@@ -568,7 +570,7 @@ class Record:
         from scipy.integrate import cumulative_trapezoid
 
         t = self.time
-        tones = self._tones
+        tones = self.tones
         if tones is not None:
             y, v, a = tones.arrays(t)
             return RecordedStroke(t, y + tones.mean - self.offset, v, a)
