@@ -70,6 +70,12 @@ def test_a_two_frequency_stroke_is_reproduced_by_the_true_model():
     assert not rec.periodic
     fit = tone_fit(rec.time, rec.displacement)
     assert fit is not None and sorted(round(f, 3) for f in fit.frequencies) == [1.3, 4.0]
+    # made once per distinct stroke (a diagnosis re-makes its records for every model run):
+    # equal samples in other arrays give the fit made, one sample changed a new one
+    assert tone_fit(rec.time.copy(), rec.displacement.copy()) is fit
+    moved = rec.displacement.copy()
+    moved[5] += 1e-6
+    assert tone_fit(rec.time, moved) is not fit
     resp = simulate_record(MODEL, P, rec)
     assert resp.solver_stats["stroke"].startswith("line spectrum")
     err = nrmse(resp.force, true)
