@@ -407,8 +407,8 @@ def screened(run: dict, base2, first, sel) -> str:
     against 0.0035).  So where neither the alternative's baseline nor any of those refits
     predicts any held-out record within the tolerance of the model held, the restarts and
     the profile, and the rounds after the device refinement, are not run.  Anywhere else
-    (one record within, no
-    candidate to refit, every refit failed) the start is diagnosed as before.
+    (one record within, no candidate to refit, every refit failed) the start is diagnosed
+    as before.
 
     Parameters
     ----------
