@@ -56,6 +56,13 @@ def datum_start(params, records, residual: float):
     residual : float
         Calibration NRMSE the centred loop ended at [-].
 
+    Returns
+    -------
+    DeviceParams or None
+        ``params`` with V01 - A_p m and V02 + A_p m [m^3] (m the records' mean stroke [m]),
+        named for it; None for a device without chambers, a centred record (|m| / L at most
+        ``residual``) or a stroke the chambers cannot hold about the zero.
+
     Examples
     --------
     >>> from types import SimpleNamespace

@@ -86,8 +86,15 @@ class ToneFit:
 
 
 def white_std(x) -> float:
-    """Robust standard deviation of the white part of ``x``: 1.4826 MAD of its 4th
-    differences / sqrt(70) (a component at f is suppressed by (2 sin(pi f / fs))^4)."""
+    """Robust standard deviation of the white part of ``x`` [units of ``x``]: 1.4826 MAD of
+    its 4th differences / sqrt(70) (a component at f is suppressed by (2 sin(pi f / fs))^4).
+
+    Examples
+    --------
+    >>> x = np.random.default_rng(1).normal(0.0, 2e-6, 4000) + 1e-3 * np.sin(np.arange(4000) / 50)
+    >>> round(white_std(x) * 1e6, 1)  # the 2 um noise under a 1 mm slow sine
+    2.0
+    """
     d4 = np.diff(np.asarray(x, float), 4)
     return 1.4826 * float(np.median(np.abs(d4 - np.median(d4)))) / math.sqrt(70.0)
 
@@ -149,6 +156,21 @@ def tone_fit(t, y, max_tones: int = MAX_TONES) -> ToneFit | None:
 
     The fit is a pure function of ``t``, ``y`` and ``max_tones``; a fit already made for the
     same samples (equal content, any array object) is returned as made.
+
+    Parameters
+    ----------
+    t : array_like
+        Uniform sample times [s].
+    y : array_like
+        Stroke samples [m].
+    max_tones : int
+        Most lines tried [-].
+
+    Returns
+    -------
+    ToneFit or None
+        The lines (frequencies [Hz], amplitudes [m]), or None where they leave more than the
+        white noise.
 
     Examples
     --------
