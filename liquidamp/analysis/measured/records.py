@@ -2,20 +2,25 @@
 
 A record is a CSV file with one header row naming each column with its unit
 (the measured-data format of liquidamp; columns in any order, extra spaces
-allowed; ``;``- or tab-separated files may use a decimal comma, a UTF-8
-byte-order mark is ignored):
+allowed; ``;``-, tab- or space-separated files, the first two may use a decimal comma; a
+UTF-8 byte-order mark is ignored; lines starting with ``#`` are comments, and a test
+machine's preamble before the header (``Specimen: ...``) is passed over):
 
-=====================  =====================================
+=====================  ==================================================
 column                 units accepted
-=====================  =====================================
+=====================  ==================================================
 ``time``               ``[s]``, ``[ms]``
-``displacement``       ``[m]``, ``[mm]``, ``[um]``, ``[in]``
-``force``              ``[N]``, ``[kN]``, ``[lbf]``, ``[kip]``
-=====================  =====================================
+``displacement``       ``[m]``, ``[cm]``, ``[mm]``, ``[um]`` (``[µm]``), ``[in]``
+``force``              ``[N]``, ``[daN]``, ``[kN]``, ``[kgf]``, ``[lbf]``, ``[kip]``
+=====================  ==================================================
 
 (US test laboratories record inches and pounds-force or kips: 1 in = 25.4 mm exactly,
 1 lbf = 4.4482216152605 N exactly by definition; the unit may also be written in
-parentheses, ``force (kip)``.)
+parentheses, ``force (kip)``.)  A column may go by another name laboratories use
+(:data:`~liquidamp.analysis.measured.record_format.COLUMN_NAMES`: ``stroke``,
+``position``, ``disp``, ``load``, ...) or by a longer name ending in one (``load cell
+force``, ``piston stroke``); a column the format does not read (``velocity``, ``cycle``)
+is passed over with a warning that names it.
 
 and, optionally, measured channels carried beside them (:data:`CHANNEL_UNITS`; read with
 their units, kept in SI in :attr:`Record.channels`, filtered, decimated and averaged as
@@ -24,7 +29,7 @@ the force is by the conditioning, not used by the device models):
 =====================  ==============================================
 channel                units accepted (SI inside)
 =====================  ==============================================
-``temperature``        ``[K]``, ``[C]`` (kept in K)
+``temperature``        ``[K]``, ``[C]`` (``[°C]``, ``[degC]``), ``[F]`` (kept in K)
 ``voltage``            ``[V]``, ``[mV]``
 ``current``            ``[A]``, ``[mA]``
 ``pressure``           ``[Pa]``, ``[kPa]``, ``[MPa]``, ``[bar]``, ``[psi]``
@@ -78,6 +83,7 @@ from __future__ import annotations
 import csv
 import math
 import re
+import warnings
 from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
@@ -89,12 +95,12 @@ from liquidamp.analysis.measured.record_format import (
     CHANNEL_UNITS,
     COLUMN_UNITS,
     decode_text,
-    delimiter_of,
+    find_header,
     number_of,
     parse_header,
 )
 from liquidamp.analysis.measured.tones import tone_fit
-from liquidamp.errors import DataFileError, ParameterError
+from liquidamp.errors import DataFileError, LiquidampWarning, ParameterError
 from liquidamp.structure.testmachine import RecordedStroke, savgol_derivatives
 
 __all__ = ["Record", "StrokeShape", "stroke_shape", "read_record", "write_record", "COLUMN_UNITS",
@@ -597,7 +603,10 @@ def read_record(path, window: int = 21, order: int = 4) -> Record:
     Accepted beside plain comma-separated UTF-8: a UTF-8 byte-order mark (as
     Excel writes it) or UTF-16 with its mark; columns separated by ``;`` or
     tabs (detected from the header row), in which case numbers may use a
-    decimal comma (``0,005``).  A thousands separator is not accepted.
+    decimal comma (``0,005``), or by spaces; ``#`` comment lines and a preamble
+    before the header (:func:`~liquidamp.analysis.measured.record_format.find_header`).
+    A thousands separator is not accepted.  Columns the format does not read are passed
+    over with a :class:`~liquidamp.errors.LiquidampWarning` naming them.
 
     Parameters
     ----------
@@ -636,28 +645,37 @@ def read_record(path, window: int = 21, order: int = 4) -> Record:
     lines = text.splitlines()
     if not lines or not any(line.strip() for line in lines):
         raise DataFileError(f"{where} is empty: expected a header row")
-    delim = delimiter_of(lines[0])
-    decimal_comma = delim != ","
-    rows = list(csv.reader(lines, delimiter=delim))
-    cols = parse_header([c.strip() for c in rows[0]], where)
-    ncol = len(rows[0])
+    h, delim, header = find_header(lines, where)
+    cols = parse_header(header, where, h + 1)
+    unused = cols.pop("unused")
+    if unused:
+        warnings.warn(f"{where}: column(s) not read: "
+                      + ", ".join(f"{j + 1} {c!r}" for j, c in unused)
+                      + "; a record reads time, displacement, force and the channels "
+                      + ", ".join(CHANNEL_UNITS), LiquidampWarning, stacklevel=2)
+    decimal_comma = delim not in (",", None)
+    ncol = len(header)
     data = {name: [] for name in cols}
     line_of = []
-    sep = {",": "','", ";": "';'", "\t": "tab"}[delim]
-    for i, row in enumerate(rows[1:], start=2):
-        if not row or all(not c.strip() for c in row):
+    sep = {",": "','", ";": "';'", "\t": "tab", None: "spaces"}[delim]
+    body = lines[h + 1:]
+    rows = (csv.reader(body, delimiter=delim) if delim is not None
+            else (text.split() for text in body))
+    for i, row in enumerate(rows, start=h + 2):
+        row = [c.strip() for c in row]
+        if not any(row) or row[0].startswith("#"):
             continue
         line_of.append(i)
         if len(row) != ncol:
             hint = ""
             if delim == "," and len(row) == 2 * ncol and all(
-                    re.fullmatch(r"[+-]?\d*([eE][+-]?\d+)?", c.strip()) for c in row):
+                    re.fullmatch(r"[+-]?\d*([eE][+-]?\d+)?", c) for c in row):
                 hint = ("; the values seem to use a decimal comma, which needs the columns "
                         "separated by ';' (or tabs), as in the header")
             raise DataFileError(f"{where}, line {i}: {len(row)} fields separated by {sep}, "
                                 f"the header has {ncol}{hint}")
         for name, (j, factor, offset) in cols.items():
-            cell = row[j].strip()
+            cell = row[j]
             try:
                 value = number_of(cell, decimal_comma)
             except ValueError:

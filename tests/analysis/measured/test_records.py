@@ -54,14 +54,44 @@ def test_imperial_units_and_parenthesised_headers_read_as_si(tmp_path):
     assert us.amplitude == pytest.approx(0.003, rel=1e-4)
 
 
+def test_laboratory_layouts_read_as_the_plain_record(tmp_path):
+    """What test machines export reads as the plain record: another column name
+    (stroke, position, load cell force), a preamble and ``#`` comments before the header
+    (the file's own line numbers kept), columns separated by spaces, centimetres and
+    decanewtons (1 daN = 10 N, 1 cm = 10 mm: SI values to 1e-12), and a column the format
+    does not read (velocity) passed over with a warning naming it."""
+    t, y, F = _sine()
+    plain = read_record(_write(tmp_path / "p.csv", "time [s],displacement [m],force [N]",
+                               zip(t, y, F, strict=True)))
+    lab = tmp_path / "lab.txt"
+    lab.write_text("# MTS export\nSpecimen: lag damper 3\nDate: 2026-11-26\n\n"
+                   "Time (s)  Piston stroke (cm)  Stroke velocity (mm/s)  Load cell force (daN)\n"
+                   + "\n".join(f"{a:.17g}   {b * 100:.17g}  {c:.17g}  {d / 10:.17g}"
+                                for a, b, c, d in zip(t, y, np.gradient(y, t) * 1e3, F,
+                                                      strict=True)) + "\n")
+    with pytest.warns(UserWarning, match="not read: 3 'Stroke velocity \\(mm/s\\)'"):
+        r = read_record(lab)
+    assert np.allclose(r.displacement, plain.displacement, rtol=1e-12, atol=1e-15)
+    assert np.allclose(r.force, plain.force, rtol=1e-12, atol=1e-9)
+    assert r.line(0) == plain.line(0) + 4  # header on line 5 of the file, not 1
+    alt = read_record(_write(tmp_path / "a.csv", "time [s],position [mm],load [kN]",
+                             zip(t, y * 1e3, F / 1e3, strict=True)))
+    assert np.allclose(alt.force, plain.force, rtol=1e-12, atol=1e-9)
+
+
 @pytest.mark.parametrize("header,rows,match", [
     ("time [s],force [N]", [[0, 1]] * 50, "missing column"),
     ("time [s],displacement [ft],force [N]", [[0, 1, 1]] * 50, r"unknown unit \[ft\]"),
     ("time (s),displacement (mm,force (N)", [[0, 1, 1]] * 50, "column 2"),
-    ("time [s],stroke [mm],force [N]", [[0, 1, 1]] * 50, "unknown column 'stroke'"),
+    ("time [s],speed [mm/s],force [N]", [[0, 1, 1]] * 50,
+     r"missing column\(s\) displacement.*not read: 2 'speed \[mm/s\]'"),
+    ("time [s],stroke [mm],displacement [mm],force [N]", [[0, 1, 1, 1]] * 50,
+     "column 3: 'displacement \\[mm\\]' reads as column 'displacement', which column 2"),
     ("time,displacement [mm],force [N]", [[0, 1, 1]] * 50, "column 1"),
 ])
 def test_bad_header(tmp_path, header, rows, match):
+    """A required column missing (naming the columns not read), a known column's unit
+    unknown or its cell malformed, a quantity given by two columns."""
     with pytest.raises(DataFileError, match=match):
         read_record(_write(tmp_path / "b.csv", header, rows))
 
