@@ -57,6 +57,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from liquidamp.analysis.measured.conditioning import stroke_threshold
 from liquidamp.analysis.measured.lead_in import lead_in as _lead_in
 from liquidamp.analysis.measured.record_quality import velocity_gain
 from liquidamp.analysis.measured.records import Record
@@ -354,8 +355,10 @@ def record_stroke(record: Record):
 
     An averaged record (:func:`liquidamp.analysis.measured.conditioning.condition`)
     gives the fit its conditioning made; otherwise the displacement is fitted
-    (:meth:`FourierStroke.fit`, the harmonics above 4 standard errors, the
-    fundamental refined), once per record (kept in ``record.meta``).
+    (:meth:`FourierStroke.fit`, the harmonics above the family-wise level of
+    :func:`~liquidamp.analysis.measured.conditioning.stroke_threshold` for the harmonics
+    tested, as the averaged stroke keeps them; the fundamental refined), once per record
+    (kept in ``record.meta``).
 
     Raises
     ------
@@ -379,7 +382,9 @@ def record_stroke(record: Record):
         cached = record.meta.get("_fourier_stroke")
         if cached is not None and cached[0] == key:
             return cached[1]
+        tested = max(1, min(int(0.45 * record.sampling_rate / record.frequency), 64))
         s = FourierStroke.fit(record.time, record.displacement, record.frequency,
+                              max_harmonics=64, threshold=stroke_threshold(tested),
                               refine_frequency=True)
         s = FourierStroke(s.frequency, s.sine, s.cosine, 0.0, s.t0)
         record.meta["_fourier_stroke"] = (key, s)  # fitted once per record
