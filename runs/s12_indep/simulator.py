@@ -61,7 +61,8 @@ import numpy as np
 NSTATE = 11  # p1 rho1 p2 rho2 m fM yd yp vp Vc1 Vc2
 
 #: parameter array layout (index -> name); zero switches an effect off
-PNAMES = ("inv_gamma1", "inv_gamma2", "c1", "c2", "S_t", "V01", "V02", "A_p", "p0", "B_l", "n", "rho_l",
+PNAMES = ("inv_gamma1", "inv_gamma2", "c1", "c2", "S_t", "V01", "V02", "A_p", "p0", "B_l",
+          "n", "rho_l",
           "Y", "f", "h3", "phi3", "mean",
           "Fc", "v_eps", "k_leak", "pc_relief", "G_relief", "pc_comp", "G_comp",
           "pc_reb", "G_reb", "gap", "m_p", "k_gap", "c_gap", "k_series", "mass", "offset",
@@ -290,7 +291,8 @@ def _run(P, t_start, n_out, dt_out, h):
 BASE = {
     "reference": {"inv_gamma1": 0.1 * 0.75, "inv_gamma2": 0.1 * 0.75, "c1": 1.0485e9 * 3.56,
                   "c2": 1.3539e14 * 4.04, "S_t": 0.75 / 4e-6},
-    "device_b": {"inv_gamma1": 0.1 * 0.75 * 2.0, "inv_gamma2": 0.1 * 0.75 * 2.0, "c1": 1.0485e9 * 3.56 * 0.3,
+    "device_b": {"inv_gamma1": 0.1 * 0.75 * 2.0, "inv_gamma2": 0.1 * 0.75 * 2.0,
+                 "c1": 1.0485e9 * 3.56 * 0.3,
                  "c2": 1.3539e14 * 4.04 * 0.3, "S_t": 0.75 / 4e-6 * 0.1},
 }
 COMMON = {"V01": 1.7279e-05, "V02": 1.7279e-05, "A_p": 0.00069115, "p0": 101325.0,
@@ -340,5 +342,5 @@ def write_csv(path, t, y, F) -> None:
     """The toolkit's CSV: ``time [s],displacement [mm],force [N]``."""
     with open(path, "w") as f:
         f.write("time [s],displacement [mm],force [N]\n")
-        for a, b, c in zip(t, y, F):
+        for a, b, c in zip(t, y, F, strict=True):
             f.write(f"{a:.5f},{b * 1e3:.6f},{c:.4f}\n")
