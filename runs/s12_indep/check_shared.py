@@ -55,27 +55,5 @@ def main(names, relief_linear=False):
                   f"{rms:.2f} N = {rms / 1.5:.2f} x noise, mean {res.mean():+.2f} N", flush=True)
 
 
-def relief_memory():
-    """d02: RMS of (record - valve-free device) where the valve-free |p1 - p2| stays below a
-    fraction of the cracking pressure (the noise, 1.5 N, if the valve leaves no memory)."""
-    case = json.load(open(ROOT + "truth.json"))["d02_relief_valve"]
-    dev = case["device"]["values"]
-    pc = case["simulator_settings"]["p_relief"]
-    for part in ("cal", "val"):
-        r = case["records"][part]
-        d = np.loadtxt(ROOT + r["file"], delimiter=",", skiprows=1)
-        a = simulate(dev, r["frequency_Hz"], r["amplitude_m"], fs=r["sample_rate_Hz"],
-                     phi3=0.70)
-        dp = np.abs(a["states"][:, 0] - a["states"][:, 2])
-        res = d[:, 2] - a["F"]
-        print(f"d02 {part}: RMS(record - valve-free) [N] where valve-free |dp| < f p_c: " +
-              ", ".join(f"f={f}: {np.sqrt(np.mean(res[dp < f * pc] ** 2)):.2f}"
-                        for f in (0.5, 0.7, 0.9, 1.0, 10.0)))
-
-
 if __name__ == "__main__":
-    if sys.argv[1:] == ["relief_memory"]:
-        relief_memory()
-    else:
-        main(sys.argv[1:] or ["d12_null", "d01_asym_loss", "d02_relief_valve",
-                              "d03_elastomer"])
+    main(sys.argv[1:] or ["d12_null", "d01_asym_loss", "d02_relief_valve", "d03_elastomer"])

@@ -10,7 +10,8 @@ Device (paper eq. 10, written as explicit rates):
   volume is V_1 = V01 - A_p y_p, V_2 = V02 + A_p y_p (y_p the piston stroke, positive into
   the damper, i.e. chamber 1 shrinks);
 - dp_i/dt = B_i(p_i) / V_i (-dV_i/dt - q_out,i) with q_out the volume flow leaving the
-  chamber (channel mass flow over the chamber's density, plus any bypass), and
+  chamber (channel mass flow plus any bypass's mass flow rho_l q, over the chamber's
+  density: mass is conserved between the chambers), and
   drho_i/dt = rho_i (dp_i/dt) / B_i(p_i) (eq. 3/8), rho_i(0) = rho_l;
 - B(p) is the Gholizadeh liquid-air mixture modulus (eq. 2) with X0 = (1/gamma)/(1 + 1/gamma);
 - the channel carries mass flow m (1 -> 2): S_t dm/dt = p1 - p2 - (c1/rho_l) m -
@@ -175,8 +176,8 @@ def _rhs(t, x, P, dx):
         V2 = P[6] + Ap * ydev
         a1 = B1 / V1
         a2 = B2 / V2
-        u1 = m / r1 + qb
-        u2 = m / r2 + qb
+        u1 = (m + rl * qb) / r1
+        u2 = (m + rl * qb) / r2
         drift = (y - ydev) - Ap * dp / ks
         vdev = (ks * (v + 200.0 * drift) + Ap * (a1 * u1 + a2 * u2)) / (ks + Ap * Ap * (a1 + a2))
         dx[6] = vdev
@@ -186,8 +187,9 @@ def _rhs(t, x, P, dx):
     V1 = P[5] - Ap * ydev
     V2 = P[6] + Ap * ydev
     # free-volume rates (volume demand of the fluid in each chamber)
-    r1v = Ap * vdev - m / r1 - qb     # > 0 compresses chamber 1
-    r2v = -Ap * vdev + m / r2 + qb
+    # the bypass passes the mass rho_l q_b (mass conserved between the chambers)
+    r1v = Ap * vdev - (m + rl * qb) / r1     # > 0 compresses chamber 1
+    r2v = -Ap * vdev + (m + rl * qb) / r2
     pv = P[42]
     if pv > 0.0:
         # chamber 1
