@@ -68,7 +68,7 @@ PNAMES = ("inv_gamma1", "inv_gamma2", "c1", "c2", "S_t", "V01", "V02", "A_p", "p
           "Fc", "v_eps", "k_leak", "pc_relief", "G_relief", "pc_comp", "G_comp",
           "pc_reb", "G_reb", "gap", "m_p", "k_gap", "c_gap", "k_series", "mass", "offset",
           "asym_lin", "asym_quad", "k_e", "k_m", "c_m", "y_stop", "k_stop", "c_stop",
-          "e_stop", "p_vap", "valve_linear", "valve_on_loss")
+          "e_stop", "p_vap", "valve_linear", "valve_on_loss", "gap_held")
 IX = {k: i for i, k in enumerate(PNAMES)}
 
 
@@ -166,8 +166,13 @@ def _rhs(t, x, P, dx):
         elif rel < -gap:
             fc = P[28] * (rel + gap) + P[29] * (v - vp)
             fc = min(fc, 0.0)
-        dx[7] = vp
-        dx[8] = (fc - Ap * dp) / P[27]
+        if P[45] > 0.0:
+            # seal-held piston (play operator): it stays put in the band, follows in contact
+            dx[7] = v if (rel >= gap and v > 0.0) or (rel <= -gap and v < 0.0) else 0.0
+            vp = dx[7]
+        else:
+            dx[7] = vp
+            dx[8] = (fc - Ap * dp) / P[27]
         vdev = vp
         ydev = yp
     elif ks > 0.0:
