@@ -60,6 +60,12 @@ CASES = {
     "B_endstops": ("device_b", (1.5, 4e-3), (4.0, 3.6e-3), 500.0, "endstops", 8),
     "R_digressive": ("reference", (3.0, 3e-3), (5.0, 2e-3), 200.0, "digressive", 8),
     "B_cavitation": ("device_b", (8.0, 2e-3), (6.0, 2.5e-3), 1000.0, "cavitation", 0),
+    # the effects the base absorbed at 6-8 x noise, three times stronger (detection limit)
+    "R_leakage3": ("reference", (2.0, 3e-3), (4.0, 2e-3), 200.0, "leakage", 24),
+    "B_leakage3": ("device_b", (6.0, 1.5e-3), (3.0, 3e-3), 1000.0, "leakage", 24),
+    "R_relief3": ("reference", (4.0, 2.5e-3), (2.5, 4e-3), 200.0, "relief", 24),
+    "R_series3": ("reference", (5.0, 2e-3), (3.0, 3e-3), 200.0, "series", 18),
+    "B_series3": ("device_b", (8.0, 1e-3), (4.0, 2e-3), 1000.0, "series", 18),
 }
 
 #: effect kind -> (liquidamp effect names accepted first, key parameter, truth key)
@@ -103,7 +109,8 @@ WORDS = {
 
 def _device(cid: str) -> tuple[dict, dict, dict]:
     base = CASES[cid][0]
-    rng = np.random.default_rng(sum(ord(c) * (i + 1) for i, c in enumerate(cid)))
+    base_id = cid.rstrip("0123456789")  # a stronger variant keeps its base case's device
+    rng = np.random.default_rng(sum(ord(c) * (i + 1) for i, c in enumerate(base_id)))
     mult = {k: float(np.round(rng.uniform(0.85, 1.2), 3))
             for k in ("inv_gamma1", "inv_gamma2", "c1", "c2", "S_t")}
     over = {}
