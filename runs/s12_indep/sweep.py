@@ -305,7 +305,7 @@ def row(recdir: Path, out: Path, cid: str) -> str:
     before = max(j["baseline"]["heldout_records"].values())
     after = max(j["heldout"].values())
     first = j["summary"].splitlines()[0] if j.get("summary") else ""
-    if kind == "null" or (kind == "cavitation" and size < NOISE_F):
+    if kind == "null" or (kind == "cavitation" and size < 2 * NOISE_F):
         cls = "right" if not added else "spurious"
     elif not added:
         cls = "missed"
@@ -323,6 +323,13 @@ def row(recdir: Path, out: Path, cid: str) -> str:
 
 def table(recdir: Path, out: Path, ids) -> str:
     lines = [f"# Independent-simulator sweep: {recdir} -> {out}", "",
+             "Records from runs/s12_indep/simulator.py (not liquidamp's code); each pair run "
+             "with the DEFAULT `python -m liquidamp diagnose CAL --validate VAL --json OUT` "
+             "under `timeout 600`. Class: right = the true effect added first, key parameter "
+             "within 30 %, held-out NRMSE at least halved (nulls: nothing added; a cavitation "
+             "record whose effect is under 2 x the noise counts as a null); missed = nothing "
+             "added; spurious = something added to a null; timeout (rc 124) / refusal (rc 1-2) "
+             "/ crash. No library file was changed, so there is no 'after' table.", "",
              f"load average at the end: {os.getloadavg()}", "",
              "| record | effect rms / noise (cal) | added (order) | key parameter vs truth "
              "| held-out NRMSE before->after | stop reason / summary first line "
