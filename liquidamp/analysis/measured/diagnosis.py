@@ -338,7 +338,8 @@ def _prepare(calibration, validation, model, params, effects, spec, options, con
         kept = {k: v for k, v in (prior.start or {}).items()  # the class, the fit without
                 if k in ("without_input", "device_class", "device_class_rule", "classes")}
         baseline = dataclasses.replace(baseline, start={**(baseline.start or {}), **kept},
-                                       device_class=prior.device_class)
+                                       device_class=prior.device_class,
+                                       class_starts=prior.class_starts)
     return calibration, validation, conditioning, raw, baseline
 
 

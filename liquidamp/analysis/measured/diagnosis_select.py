@@ -97,7 +97,21 @@ def _reduce(chosen, tied, ranked, refits, probes, current, validation, options, 
             refits[simpler] = res
             ranked = _judge_round(ranked, {simpler: res}, probes, current, sel)
         cand = next(c for c in ranked if c.effect == simpler)
-        if cand.accepted and 1.0 - cand.relative_reduction <= (1 + sel.tie_tolerance) * best:
+        tie = (1 + sel.tie_tolerance) * best
+        warm = _at_the_limit(simpler, probes.get(simpler), refits.get(chosen.effect))
+        if warm is not None and not (cand.accepted and 1.0 - cand.relative_reduction <= tie):
+            # its own probe's refit stopped short of the limit the chosen one reached: the
+            # simpler model refitted once more from the chosen fit's values of its own
+            # effect (the limit, where the two models are one), kept where its calibration
+            # cost is lower
+            change, lead = warm
+            res, _ = _refit_link(_with(cand, estimate={**cand.estimate, **lead}), change,
+                                 current, validation, options, bud)
+            if res is not None and res.cost < refits[simpler].cost:
+                refits[simpler] = res
+                ranked = _judge_round(ranked, {simpler: res}, probes, current, sel)
+                cand = next(c for c in ranked if c.effect == simpler)
+        if cand.accepted and 1.0 - cand.relative_reduction <= tie:
             i = ranked.index(cand)
             ranked[i] = _with(cand, note=(cand.note + "; " if cand.note else "") + (
                 f"added instead of {chosen.effect}, which reduces to it and ties on held-out "
@@ -105,6 +119,28 @@ def _reduce(chosen, tied, ranked, refits, probes, current, validation, options, 
             tied = [ranked[i]] + [c for c in tied if c.effect != simpler]
             chosen = ranked[i]
     return ranked, chosen, tied
+
+
+def _at_the_limit(simpler: str, probe, richer):
+    """The simpler candidate's change with its effect at the richer refit's fitted values,
+    and its lead there (``(change, {label: value})``), or None where the richer model does
+    not hold an effect of that name (a relief valve's reduction, leakage, is another effect).
+
+    Backlash at a closed dead band is its friction alone: the friction the backlash refit
+    fitted is the simpler model's optimum at that limit, the start its own refit needs."""
+    if probe is None or richer is None or probe.added != simpler:
+        return None
+    fitted = next((e for e in richer.effects if e.name == simpler), None)
+    if fitted is None:
+        return None
+    mine = probe.effect(simpler)
+    keys = [k for k in type(mine).fit_keys if hasattr(fitted, k)]
+    if not keys:
+        return None
+    effects = tuple(e.replace(**{k: getattr(fitted, k) for k in keys}) if e.name == simpler
+                    else e for e in probe.effects)
+    name, key = probe.lead
+    return replace(probe, effects=effects), {key: getattr(fitted, key)}
 
 
 def _chain(effect: str):

@@ -80,3 +80,29 @@ def test_the_issue_offset_is_accepted_and_a_correlated_gain_is_not():
     assert n * 2 * math.log(0.98) + math.log(n) == pytest.approx(-233.7, abs=1)
     worse = judge([0.226 * base], [0.149 * base], 1, 0.2921, 1.03 * 0.2921)
     assert not worse.accepted and "worse than" in worse.reasons[0]
+
+
+def test_a_reduction_is_refitted_from_the_richer_fit_at_its_limit():
+    """Backlash whose dead band closes is its friction alone: the simpler candidate's change
+    takes the friction the backlash refit fitted (every fit key, the lead's estimate too),
+    the other effects as its probe had them; a reduction to another effect (a relief valve's,
+    leakage) has no such limit to start from."""
+    from types import SimpleNamespace
+
+    from liquidamp.analysis.measured.candidates import Change
+    from liquidamp.analysis.measured.diagnosis_select import _at_the_limit
+    from liquidamp.device.effects import ForceOffset, Freeplay, Leakage, SmoothFriction
+
+    probe = Change((ForceOffset(3.0), SmoothFriction(5.0)), (("smooth_friction", "force_N"),),
+                   ("smooth_friction", "force_N"), 0.0, 5.0, added="smooth_friction")
+    fitted = SmoothFriction(20.8, stiffness_N_per_m=3.1e5)
+    richer = SimpleNamespace(effects=(ForceOffset(2.0), Freeplay(3e-6), fitted))
+    change, lead = _at_the_limit("smooth_friction", probe, richer)
+    assert lead == {"force_N": 20.8}
+    f = change.effect("smooth_friction")
+    assert (f.force_N, f.stiffness_N_per_m) == (20.8, 3.1e5)
+    assert change.effect("force_offset").offset_N == 3.0  # the probe's, not the richer's
+    assert change.free == probe.free and change.lead == probe.lead
+    leak = Change((Leakage(1e-12),), (("leakage", "coefficient_m3_per_s_Pa"),),
+                  ("leakage", "coefficient_m3_per_s_Pa"), 0.0, 1e-12, added="leakage")
+    assert _at_the_limit("leakage", leak, richer) is None
