@@ -552,7 +552,9 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
                     else tuple(n for n in names if n in DEVICE_REFINEMENTS))
     names = tuple(n for n in names if n not in DEVICE_REFINEMENTS)
     options = march_options(options, calibration + validation)
-    if params is None:
+    if config.sizing != "preset":
+        check_params = None  # the start stretches the chambers to the records' stroke
+    elif params is None:
         from liquidamp.device import preset
 
         check_params = preset("paper_initial")
