@@ -161,7 +161,7 @@ def lag(t, y, v):
 
     def rhs(tt, x, yy, vv):
         out = []
-        for (k, c), fm in zip(br, x[:3]):
+        for (k, c), fm in zip(br, x[:3], strict=True):
             out.append(k * vv - k / c * fm)  # Maxwell: dF/dt = k v - F k/c
         fb = x[3]
         # Berg's smooth friction, in a rate form (Dahl-like, its own shape x2): it reaches
@@ -201,7 +201,7 @@ def write(path, t, y, f, *, f_noise_rel, f_q, y_q=2.5e-6, y_noise=5e-6, disp_uni
     fc = f / {"N": 1.0, "kN": 1e3}[force_unit]
     with open(path, "w") as fh:
         fh.write(f"time [s],displacement [{disp_unit}],force [{force_unit}]\n")
-        for row in zip(t, yc, fc):
+        for row in zip(t, yc, fc, strict=True):
             fh.write(f"{row[0]:.6f},{row[1]:.6g},{row[2]:.6g}\n")
     return dict(file=os.path.basename(path), fs_Hz=round(fs, 3), samples=int(t.size),
                 peak_force_N=float(peak))

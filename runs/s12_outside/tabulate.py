@@ -38,7 +38,8 @@ def row(path_json, tag, cmd):
         err = open(base + ".err").read().strip().splitlines() if os.path.exists(
             base + ".err") else []
         last = next((x for x in reversed(err) if "compiling" not in x), "")
-        return f"| {tag} | {cmd} | rc {rc} | - | - | - | - | {last[:200]} | - | {t[0]} ({t[1]}-{t[2]}) |"
+        return (f"| {tag} | {cmd} | rc {rc} | - | - | - | - | {last[:200]} | - | "
+                f"{t[0]} ({t[1]}-{t[2]}) |")
     d = json.load(open(path_json))
     refs = _refs(d)
     summ = d.get("summary", "")

@@ -37,3 +37,42 @@ def test_long_stroke_passes_the_checks_unless_the_chambers_are_held():
     with pytest.raises(DataFileError, match=r"fvd.csv, line \d+ \(t = .* s\): displacement "
                        r"[+-]50 mm from the mid-position, past the chamber end at 25 mm"):
         checked([rec], [], args, preset("paper_initial"), "calibrate")
+
+
+def _dahl_spring(fs=500.0, freq=1.0, cycles=3, fc=200.0, sigma=2e6, k=2e4, noise=2.0):
+    """A Dahl (1968) friction element beside a spring: dF_f/dy = sigma (1 - F_f/Fc sgn v),
+    integrated exactly per sample (F_f relaxes exponentially towards Fc sgn v in the
+    stroke), no fluid at all."""
+    t = np.arange(int(cycles * fs / freq)) / fs
+    y = 0.01 * np.sin(2 * np.pi * freq * t)
+    ff = np.zeros_like(y)
+    for i in range(1, y.size):
+        dy = y[i] - y[i - 1]
+        target = fc * np.sign(dy)
+        ff[i] = target + (ff[i - 1] - target) * np.exp(-sigma * abs(dy) / fc)
+    F = ff + k * y + np.random.default_rng(7).normal(0.0, noise, t.size)
+    return Record.from_arrays(t, y, F, source="dahl.csv", first_line=2)
+
+
+def test_a_converged_fit_far_above_the_noise_says_so():
+    """A fit the optimizer calls converged may still leave structure: the summary leads with
+    ABOVE THE NOISE where the calibration NRMSE is more than twice the records' noise floor
+    (the diagnosis's structure factor), and a model at the noise floor is not so labelled."""
+    from liquidamp.analysis.measured.calibration import FitSpec, calibrate
+    from liquidamp.analysis.measured.synthetic import synthetic_record
+
+    rec = _dahl_spring()
+    res = calibrate([rec], spec=FitSpec.default(vary=("c1",)), max_nfev=4, start="spec",
+                    warn=False)
+    # the floor is the load cell's 2 N over the force's RMS (two routes)
+    rms = float(np.std(rec.force))
+    assert res.noise_nrmse == pytest.approx(2.0 / rms, rel=0.25)
+    assert res.nrmse_calibration > 10 * res.noise_nrmse
+    assert res.summary().startswith("ABOVE THE NOISE: calibration NRMSE ")
+    assert res.as_dict()["above_noise"] and res.as_dict()["noise_floor_nrmse"] > 0
+    # the device's own record, fitted from its own parameters: at the noise floor
+    own = synthetic_record(frequency=3.0, amplitude=0.003, cycles=3, seed=21)
+    ok = calibrate([own], spec=FitSpec.default(vary=("c1",)), max_nfev=4, start="spec",
+                   params=preset("paper_calibrated"), warn=False)
+    assert ok.nrmse_calibration < 2 * ok.noise_nrmse
+    assert "ABOVE THE NOISE" not in ok.summary() and ok.as_dict()["above_noise"] == ""
