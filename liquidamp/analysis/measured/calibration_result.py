@@ -317,6 +317,14 @@ class CalibrationResult:
 
         return comparison(self.heldout_records(), self.references) if self.validation else ""
 
+    def versus_map(self) -> str:
+        """Where the physics model does not beat the dyno's two-slope force-velocity map
+        held out ('' where it does or nothing is held out)."""
+        from liquidamp.analysis.measured.reference_models import comparison
+
+        return (comparison(self.heldout_records(), self.references, name="two_slope")
+                if self.validation else "")
+
     @functools.cached_property
     def noise_nrmse(self) -> float:
         """The calibration records' pooled noise floor as an NRMSE [-]: the force error a
@@ -381,9 +389,11 @@ class CalibrationResult:
         """One line: status, NRMSE (held out per record, pooled beside), the start device and
         scale, the flagged parameters; led by ``PHYSICS MODEL LOSES TO THE LINE: ...`` where
         the line F = c v + k y + F0 fitted on the same split predicts a held-out record at
-        least as well, then by ``ABOVE THE NOISE: ...`` where the calibration NRMSE is more
-        than :data:`STRUCTURE_FACTOR` x the records' noise floor (:meth:`above_noise`: a
-        converged optimizer is not a model that explains the record).
+        least as well, ``PHYSICS MODEL LOSES TO THE TWO-SLOPE MAP: ...`` likewise for the
+        dyno's two-slope force-velocity map, then by ``ABOVE THE NOISE: ...`` where the
+        calibration NRMSE is more than :data:`STRUCTURE_FACTOR` x the records' noise floor
+        (:meth:`above_noise`: a converged optimizer is not a model that explains the
+        record).
 
         Examples of its content: ``converged (41 evaluations): NRMSE calibration
         0.0123, held out b 0.0231, c 0.0310 (pooled 0.0262); start physics from
@@ -408,7 +418,10 @@ class CalibrationResult:
                 f" ({'; '.join(others)})" if others else "")
         implausible = "".join(f"; IMPLAUSIBLE: {f.message}" for f in self.plausibility)
         above = self.above_noise()
+        lose_map = self.versus_map()
         return (("PHYSICS MODEL LOSES TO THE LINE: " + lose + "; " if lose else "")
+                + ("PHYSICS MODEL LOSES TO THE TWO-SLOPE MAP: " + lose_map + "; "
+                   if lose_map else "")
                 + ("ABOVE THE NOISE: " + above + "; " if above else "")
                 + f"{self.status} ({self.nfev} evaluations): NRMSE calibration "
                 f"{self.nrmse_calibration:.4g}{nv}; start {chosen + ' ' if chosen else ''}"
@@ -590,6 +603,7 @@ class CalibrationResult:
             "records": [dataclasses.asdict(e) for e in self.record_errors],
             "reference_models": {k: v.as_dict() for k, v in self.references.items()},
             "physics_loses_to_line": self.versus_line(),
+            "physics_loses_to_two_slope": self.versus_map(),
             "correlation": {"names": list(self.varying),
                             "matrix": np.round(self.correlation, 4).tolist()},
             "fit": {"converged": self.converged, "status": self.status,

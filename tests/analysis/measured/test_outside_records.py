@@ -76,3 +76,32 @@ def test_a_converged_fit_far_above_the_noise_says_so():
                    params=preset("paper_calibrated"), warn=False)
     assert ok.nrmse_calibration < 2 * ok.noise_nrmse
     assert "ABOVE THE NOISE" not in ok.summary() and ok.as_dict()["above_noise"] == ""
+
+
+def _bingham(freq, amp=0.01, fs=500.0, cycles=3, seed=1):
+    """A Bingham damper (an MR damper's yield plus its viscosity): F = 300 N tanh(v / 5 mm/s)
+    + 3 kN s/m v, with 1 N of load-cell noise."""
+    t = np.arange(int(cycles * fs / freq)) / fs
+    y = amp * np.sin(2 * np.pi * freq * t)
+    v = amp * 2 * np.pi * freq * np.cos(2 * np.pi * freq * t)
+    F = 300.0 * np.tanh(v / 0.005) + 3e3 * v + np.random.default_rng(seed).normal(0, 1, t.size)
+    return Record.from_arrays(t, y, F, source=f"bingham_{freq:g}Hz.csv", first_line=2)
+
+
+def test_a_physics_fit_beaten_by_the_dyno_map_says_so_first():
+    """The two-slope force-velocity map draws a Bingham damper's loop almost exactly; a
+    physics fit that predicts the held-out record worse says so at the head of its summary
+    and in the JSON, as it does for the line."""
+    from liquidamp.analysis.measured.calibration import FitSpec, calibrate
+
+    cal, val = _bingham(2.0), _bingham(1.0, seed=2)
+    res = calibrate([cal], validate=[val], spec=FitSpec.default(vary=("c1",)), max_nfev=4,
+                    start="spec", warn=False)
+    ref = res.references["two_slope"].validation_of(val.label)
+    physics = res.heldout_records()[val.label]
+    assert ref < 0.05 < physics
+    first = res.summary().split("; ABOVE THE NOISE")[0]
+    assert "PHYSICS MODEL LOSES TO THE TWO-SLOPE MAP: the physics model does not beat the " \
+           f"dyno's two-slope force-velocity map on held-out record {val.label} " \
+           f"({physics:.3g} vs {ref:.3g})" in first
+    assert res.as_dict()["physics_loses_to_two_slope"] == res.versus_map() != ""
