@@ -105,3 +105,44 @@ def test_a_physics_fit_beaten_by_the_dyno_map_says_so_first():
            f"dyno's two-slope force-velocity map on held-out record {val.label} " \
            f"({physics:.3g} vs {ref:.3g})" in first
     assert res.as_dict()["physics_loses_to_two_slope"] == res.versus_map() != ""
+
+
+def test_a_dyno_test_programme_is_not_taken_for_a_drift():
+    """A dyno's test programme (one stroke amplitude, four speeds in sequence, 5 cycles each)
+    of a digressive damper: the force's gain on a linear regression falls as the speed
+    rises, which is the valve, not a drift.  The excitation's own RMS rises monotonically
+    (Mann-Kendall), so the record is not tested; a stationary broadband stroke under a force
+    that fades 10 % is still found non-stationary, and without the fade stationary."""
+    from scipy.signal import butter, filtfilt
+
+    from liquidamp.analysis.measured.drift import record_drift
+
+    fs, Y, parts = 300.0, 0.018, []
+    t0 = 0.0
+    for vp in (0.05, 0.10, 0.26, 0.52):
+        f = vp / (2 * np.pi * Y)
+        t = t0 + np.arange(int(5 / f * fs)) / fs
+        parts.append((t, Y * np.sin(2 * np.pi * f * (t - t0))))
+        t0 = t[-1] + 1 / fs
+    t = np.concatenate([p[0] for p in parts])
+    y = np.concatenate([p[1] for p in parts])
+    v = np.gradient(y, t)
+    F = 150.0 * np.tanh(v / 0.03) + 400.0 * v  # bleed, then the blown-off valve's slope
+    rng = np.random.default_rng(5)
+    prog = Record.from_arrays(t, y, F + rng.normal(0, 1.0, t.size))
+    assert not prog.periodic
+    d = record_drift(prog)
+    assert not d.tested and not d.nonstationary
+    assert "the excitation itself changes" in d.reason and "Kendall" in d.reason
+    # a stationary broadband stroke: drift found where the force fades, not where it does not
+    t = np.arange(0.0, 20.0, 1e-3)
+    b, a = butter(4, [0.5 / 500, 20.0 / 500], "band")
+    y = filtfilt(b, a, rng.normal(0, 1, t.size))
+    y = 0.003 * y / np.std(y)
+    v = np.gradient(y, t)
+    fade = 1.0 - 0.1 * t / t[-1]
+    d = record_drift(Record.from_arrays(t, y, fade * (2e4 * y + 800 * v)
+                                        + rng.normal(0, 0.5, t.size)))
+    assert d.tested and d.nonstationary and d.amplitude_change == pytest.approx(-0.1, abs=0.02)
+    d = record_drift(Record.from_arrays(t, y, 2e4 * y + 800 * v + rng.normal(0, 0.5, t.size)))
+    assert d.tested and not d.nonstationary
