@@ -146,3 +146,29 @@ def test_a_dyno_test_programme_is_not_taken_for_a_drift():
     assert d.tested and d.nonstationary and d.amplitude_change == pytest.approx(-0.1, abs=0.02)
     d = record_drift(Record.from_arrays(t, y, 2e4 * y + 800 * v + rng.normal(0, 0.5, t.size)))
     assert d.tested and not d.nonstationary
+
+
+def test_the_viscous_start_takes_a_building_dampers_mean_force():
+    """A 400 kN building damper's record over a part cycle has a mean force of tens of kN,
+    beyond the catalogue's +-10 kN offset: the viscous start starts its offset there, bounded
+    by the records' force scale (+-2 F_s, as every fit scales it), instead of failing; for a
+    record inside the catalogue bounds the fit's parameters are the same as before."""
+    from liquidamp.analysis.measured.device_class import read_loop, viscous_start
+    from liquidamp.analysis.measured.fit_spec import FitSpec, scale_effect_bounds
+
+    full = _power_law_damper(alpha=0.6)
+    n = int(0.6 * full.time.size)  # 2.4 cycles: the mean is far from zero
+    rec = Record.from_arrays(full.time[:n], full.displacement[:n], full.force[:n])
+    L = read_loop([rec])
+    assert abs(L.mean_force) > 1e4
+    cs = viscous_start(preset("paper_initial"), (), [rec], L)
+    p = cs.spec["force_offset.offset_N"]
+    Fs = 0.5 * float(np.ptp(rec.force))
+    assert p.value == L.mean_force and p.min == pytest.approx(-2 * Fs)
+    assert p.max == pytest.approx(2 * Fs)
+    small = _power_law_damper(alpha=0.6)
+    small = Record.from_arrays(small.time, small.displacement, 1e-2 * small.force)
+    cs = viscous_start(preset("paper_initial"), (), [small], read_loop([small]))
+    old = FitSpec.default(vary=("c1",), effects=cs.effects)
+    assert scale_effect_bounds(cs.spec, [small]).parameters == \
+        scale_effect_bounds(old, [small]).parameters
