@@ -552,17 +552,19 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
                     else tuple(n for n in names if n in DEVICE_REFINEMENTS))
     names = tuple(n for n in names if n not in DEVICE_REFINEMENTS)
     options = march_options(options, calibration + validation)
-    if config.sizing != "preset":
-        check_params = None  # the start stretches the chambers to the records' stroke
-    elif params is None:
+    if params is None:
         from liquidamp.device import preset
 
         check_params = preset("paper_initial")
     else:
         check_params = params
     # stage "check", before any model run: noise-only records, spikes and a stroke past the
-    # chamber end are refused; the cycle drift of every record as read is measured
-    quality, _ = check_records(calibration + validation, check_params, what="diagnose",
+    # chamber end are refused (the chamber end only where the device keeps its chambers:
+    # otherwise the start stretches them to the records' stroke); the cycle drift of every
+    # record as read is measured
+    quality, _ = check_records(calibration + validation,
+                               check_params if config.sizing == "preset" else None,
+                               what="diagnose",
                                outliers=config.outliers)
     if config.outliers != "refuse" and baseline is None:  # before any conditioning
         nc = len(calibration)
