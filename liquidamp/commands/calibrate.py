@@ -168,7 +168,10 @@ def checked(cal, val, args, params, command: str):
     from liquidamp.analysis.measured.checks import check_records, drop_outliers, keep_outliers
 
     recs = tuple(cal) + tuple(val)
-    quality, _ = check_records(recs, params, outliers=args.outliers, what=command, cli=True)
+    # the chamber end bounds the stroke only where the device keeps its size (--sizing
+    # preset); otherwise the start stretches the chambers to the records (start.stroke_factor)
+    held = params if getattr(args, "sizing", "preset") == "preset" else None
+    quality, _ = check_records(recs, held, outliers=args.outliers, what=command, cli=True)
     if args.outliers != "refuse":
         how = drop_outliers if args.outliers == "drop" else keep_outliers
         recs = tuple(how(r, q) for r, q in zip(recs, quality, strict=True))

@@ -15,6 +15,7 @@ References
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -173,6 +174,11 @@ def parameter_flags(spec: FitSpec, varying, values: dict, stderr: dict, jacobian
     return ParameterFlags(at, und, unused)
 
 
+#: Above this times the noise floor a fit's residual is called structured [-] (the
+#: diagnosis's ``SelectionRule.structure_factor`` default: twice the error no model avoids).
+STRUCTURE_FACTOR = 2.0
+
+
 @dataclass(frozen=True, eq=False)
 class CalibrationResult:
     """Named, immutable result of :func:`calibrate`.
@@ -311,6 +317,47 @@ class CalibrationResult:
 
         return comparison(self.heldout_records(), self.references) if self.validation else ""
 
+    def versus_map(self) -> str:
+        """Where the physics model does not beat the dyno's two-slope force-velocity map
+        held out ('' where it does or nothing is held out)."""
+        from liquidamp.analysis.measured.reference_models import comparison
+
+        return (comparison(self.heldout_records(), self.references, name="two_slope")
+                if self.validation else "")
+
+    @functools.cached_property
+    def noise_nrmse(self) -> float:
+        """The calibration records' pooled noise floor as an NRMSE [-]: the force error a
+        model driven by the recorded stroke cannot avoid
+        (:func:`~liquidamp.analysis.measured.record_quality.noise_floor` of each record, or
+        its conditioning's floor where it was averaged or decimated; pooled in quadrature
+        over the samples, as the diagnosis pools it); nan without a record."""
+        from liquidamp.analysis.measured.record_quality import noise_floor
+
+        recs = tuple(self.calibration)
+        if not recs:
+            return math.nan
+        meas = np.concatenate([np.asarray(r.force, float) for r in recs])
+        den = float(np.sqrt(np.mean((meas - meas.mean()) ** 2)))
+        var = 0.0
+        for r in recs:
+            nf = getattr(r.meta.get("conditioning"), "noise", None) or noise_floor(r)
+            var += nf.std ** 2 * r.time.size
+        return float(np.sqrt(var / meas.size)) / den if den > 0 else math.nan
+
+    def above_noise(self, factor: float = STRUCTURE_FACTOR) -> str:
+        """Where the fit leaves more than ``factor`` x the records' noise floor
+        (:attr:`noise_nrmse`) on the calibration records: structure the model does not
+        explain, whatever the optimizer's status ('' otherwise) [-]."""
+        floor = self.noise_nrmse
+        if not (math.isfinite(floor) and floor > 0.0
+                and self.nrmse_calibration > factor * floor):
+            return ""
+        return (f"calibration NRMSE {self.nrmse_calibration:.3g} is "
+                f"{self.nrmse_calibration / floor:.3g} x the records' noise floor {floor:.3g} "
+                f"(more than {factor:g} x): the model leaves structure it cannot explain "
+                "(`liquidamp diagnose` screens the effect catalogue)")
+
     @property
     def device_model(self) -> DeviceModel:
         """The calibrated model with its effects."""
@@ -342,7 +389,11 @@ class CalibrationResult:
         """One line: status, NRMSE (held out per record, pooled beside), the start device and
         scale, the flagged parameters; led by ``PHYSICS MODEL LOSES TO THE LINE: ...`` where
         the line F = c v + k y + F0 fitted on the same split predicts a held-out record at
-        least as well.
+        least as well, ``PHYSICS MODEL LOSES TO THE TWO-SLOPE MAP: ...`` likewise for the
+        dyno's two-slope force-velocity map, then by ``ABOVE THE NOISE: ...`` where the
+        calibration NRMSE is more than :data:`STRUCTURE_FACTOR` x the records' noise floor
+        (:meth:`above_noise`: a converged optimizer is not a model that explains the
+        record).
 
         Examples of its content: ``converged (41 evaluations): NRMSE calibration
         0.0123, held out b 0.0231, c 0.0310 (pooled 0.0262); start physics from
@@ -366,7 +417,12 @@ class CalibrationResult:
             cls = f"; device class {self.device_class}" + (
                 f" ({'; '.join(others)})" if others else "")
         implausible = "".join(f"; IMPLAUSIBLE: {f.message}" for f in self.plausibility)
+        above = self.above_noise()
+        lose_map = self.versus_map()
         return (("PHYSICS MODEL LOSES TO THE LINE: " + lose + "; " if lose else "")
+                + ("PHYSICS MODEL LOSES TO THE TWO-SLOPE MAP: " + lose_map + "; "
+                   if lose_map else "")
+                + ("ABOVE THE NOISE: " + above + "; " if above else "")
                 + f"{self.status} ({self.nfev} evaluations): NRMSE calibration "
                 f"{self.nrmse_calibration:.4g}{nv}; start {chosen + ' ' if chosen else ''}"
                 f"from {dev}{cls}" + (f"; flags: {flags}" if flags else
@@ -538,6 +594,8 @@ class CalibrationResult:
             "device_class": {"chosen": self.device_class,
                              "starts": [o.as_dict() for o in self.class_starts]},
             "summary": self.summary(),
+            "noise_floor_nrmse": self.noise_nrmse,
+            "above_noise": self.above_noise(),
             "start": dict(self.start),
             "parameters": self.parameters_dict(),
             "nrmse": {"calibration": self.nrmse_calibration,
@@ -545,6 +603,7 @@ class CalibrationResult:
             "records": [dataclasses.asdict(e) for e in self.record_errors],
             "reference_models": {k: v.as_dict() for k, v in self.references.items()},
             "physics_loses_to_line": self.versus_line(),
+            "physics_loses_to_two_slope": self.versus_map(),
             "correlation": {"names": list(self.varying),
                             "matrix": np.round(self.correlation, 4).tolist()},
             "fit": {"converged": self.converged, "status": self.status,

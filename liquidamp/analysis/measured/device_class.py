@@ -117,7 +117,7 @@ from liquidamp.analysis.measured.class_choice import (
     StartOutcome,
     choose_start,
 )
-from liquidamp.analysis.measured.fit_spec import FitSpec
+from liquidamp.analysis.measured.fit_spec import FitSpec, effect_bounds, record_scales
 from liquidamp.analysis.measured.plausibility import plausibility_flags
 from liquidamp.analysis.measured.record_quality import noise_floor
 from liquidamp.analysis.measured.start import (
@@ -410,7 +410,24 @@ def viscous_start(base: DeviceParams, effects, records, reading: LoopReading) ->
     why = (f"linear loss c = K''/w ({', '.join(f'{x:.4g}' for x in c)} N s/m), "
            f"offset {reading.mean_force:.4g} N ({how})")
     # a viscous damper's two parameters, c and F0: the air and the quadratic loss held
-    return ClassStart("viscous", p, effs, FitSpec.default(vary=("c1",), effects=effs), why)
+    return ClassStart("viscous", p, effs, _offset_spec(effs, records), why)
+
+
+def _offset_spec(effs, records) -> FitSpec:
+    """c1 and the effects' fit keys, the force offset bounded by the records' force scale
+    (:func:`~liquidamp.analysis.measured.fit_spec.effect_bounds`: +-2 F_s, what the fit
+    gives it anyway), so that a record's mean force beyond the catalogue's +-10 kN (a
+    building damper's) is a start, not an error."""
+    name = "force_offset.offset_N"
+    cat_lo, cat_hi = EFFECTS["force_offset"].bounds["offset_N"]
+    F0 = next(e.offset_N for e in effs if e.name == "force_offset")
+    held = tuple(e.replace(offset_N=min(max(F0, cat_lo), cat_hi)) if e.name == "force_offset"
+                 else e for e in effs)
+    spec = FitSpec.default(vary=("c1",), effects=held)
+    lo, hi = effect_bounds("force_offset", "offset_N", record_scales(records))
+    return FitSpec(tuple(
+        p.replace(value=F0, min=min(lo, F0), max=max(hi, F0), scale=max(abs(F0), 1.0))
+        if p.name == name else p for p in spec.parameters))
 
 
 def field_input(records) -> str | None:

@@ -560,8 +560,12 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
     else:
         check_params = params
     # stage "check", before any model run: noise-only records, spikes and a stroke past the
-    # chamber end are refused; the cycle drift of every record as read is measured
-    quality, _ = check_records(calibration + validation, check_params, what="diagnose",
+    # chamber end are refused (the chamber end only where the device keeps its chambers:
+    # otherwise the start stretches them to the records' stroke); the cycle drift of every
+    # record as read is measured
+    quality, _ = check_records(calibration + validation,
+                               check_params if config.sizing == "preset" else None,
+                               what="diagnose",
                                outliers=config.outliers)
     if config.outliers != "refuse" and baseline is None:  # before any conditioning
         nc = len(calibration)

@@ -5,8 +5,9 @@ round, the reference models fitted on the same split
 (:mod:`~liquidamp.analysis.measured.reference_models`) and the cycle drift of every record
 (:mod:`~liquidamp.analysis.measured.stationarity`).  Its :meth:`Diagnosis.summary` leads
 with what a user must know first: a non-stationary record, a residual that no candidate
-explains, a physics model that does not beat the line F = c v + k y + F0 on held-out
-records; then the held-out NRMSE record by record, the pooled figure beside it.
+explains, a physics model that does not beat the line F = c v + k y + F0 (or the dyno's
+two-slope force-velocity map) on held-out records; then the held-out NRMSE record by
+record, the pooled figure beside it.
 
 References
 ----------
@@ -163,6 +164,12 @@ class Diagnosis:
         """Where the final physics model does not beat the line held out ('' otherwise)."""
         return comparison(self.heldout, self.references)
 
+    @property
+    def loses_to_map(self) -> str:
+        """Where the final physics model does not beat the dyno's two-slope force-velocity
+        map held out ('' otherwise)."""
+        return comparison(self.heldout, self.references, name="two_slope")
+
     def summary(self) -> str:
         """Lines: the verdict first (non-stationary, unexplained, loses to the line; then the
         effects added and the held-out NRMSE per record, pooled beside), then the
@@ -182,6 +189,9 @@ class Diagnosis:
         lose = self.loses_to_line
         if lose:
             first.append("LOSES TO THE LINE: " + lose)
+        lose_map = self.loses_to_map
+        if lose_map:
+            first.append("LOSES TO THE TWO-SLOPE MAP: " + lose_map)
         per = ", ".join(f"{k} {v:.3g}" for k, v in self.heldout.items())
         pooled = self.final.nrmse_validation
         base = heldout_per_record(self.baseline)
@@ -278,6 +288,7 @@ class Diagnosis:
                 "nrmse_raw": dict(self.nrmse_raw),
                 "reference_models": {k: v.as_dict() for k, v in self.references.items()},
                 "physics_loses_to_line": self.loses_to_line,
+                "physics_loses_to_two_slope": self.loses_to_map,
                 "without_input": self.without_input,
                 "bic_samples": self.bic_samples(),
                 "drift": [d.as_dict() for d in self.drifts],

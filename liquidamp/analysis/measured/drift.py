@@ -17,6 +17,11 @@ stationary device can follow it, and the cycle-to-cycle scatter that measures th
   (F ~ F0 + k y + c v + m a); in each window the gain of that fitted force (least squares of
   the window's force on it) stands for the amplitude and the window's mean residual for
   the mean.
+  Not tested where the excitation itself changes: where the RMS of the stroke or of its
+  rate over the same windows has a monotone trend (the Mann-Kendall test [3]_ at ``alpha``,
+  a change of at least :data:`MIN_CHANGE` as below) (a dyno's test programme of
+  several speeds in sequence, a sine sweep), the force's trend is the device's amplitude
+  and rate dependence as much as a drift, as for a tapered stroke.
 * **Tapered stroke**: not tested (the stroke amplitude changes by design, and a device's
   own amplitude dependence cannot be told from a drift without a model).
 
@@ -39,6 +44,8 @@ References
    (the t test of a regression slope).
 .. [2] J. S. Bendat, A. G. Piersol, Random Data, 4th ed., Wiley, 2010, Sec. 4.5
    (tests for stationarity of a record from its segment statistics).
+.. [3] H. B. Mann, Econometrica 13(3), 245-259, 1945; M. G. Kendall, Rank Correlation
+   Methods, 4th ed., Griffin, 1975 (the rank test of a monotone trend).
 """
 
 from __future__ import annotations
@@ -269,6 +276,33 @@ def _windows(record):
     return amp * np.array(gains), np.array(means)
 
 
+def _excitation_trend(record, n: int, alpha: float, min_change: float) -> str:
+    """Where the stroke's or its rate's RMS over the ``n`` windows of :func:`_windows` has a
+    monotone trend (Mann-Kendall: Kendall's tau of the RMS against the window index, two-sided
+    p < ``alpha``; a programme's speeds rise in steps, which a straight line fits badly) whose
+    change over the record on the least-squares line is at least ``min_change`` of its mean
+    (the rule the force is held to), the figures ('' otherwise)."""
+    from scipy.stats import kendalltau
+
+    if n < MIN_SEGMENTS:
+        return ""
+    out = []
+    for name, x in (("stroke", record.displacement - np.mean(record.displacement)),
+                    ("stroke rate", record.velocity)):
+        rms = np.array([math.sqrt(float(np.mean(x[i] ** 2)))
+                        for i in np.array_split(np.arange(x.size), n)])
+        m = float(np.mean(rms))
+        if not m > 0:
+            continue
+        b, _, _ = _trend(rms)
+        change = b * (n - 1) / m
+        tau, pp = kendalltau(np.arange(n), rms)
+        if pp < alpha and abs(change) >= min_change:
+            out.append(f"{name} RMS {100 * change:+.3g} % over {n} windows, Kendall tau "
+                       f"{tau:.2g}, p = {pp:.2g}")
+    return "; ".join(out)
+
+
 def record_drift(record, alpha: float = ALPHA, min_change: float = MIN_CHANGE) -> Drift:
     """Test a record for a force that drifts over the record (module docstring).
 
@@ -312,6 +346,13 @@ def record_drift(record, alpha: float = ALPHA, min_change: float = MIN_CHANGE) -
         amps, means = _windows(record)
         method, unit = "windows", "window"
         counts = record.time.size / amps.size if amps is not None and amps.size else 0.0
+        changed = _excitation_trend(record, amps.size if amps is not None else 0, alpha,
+                                    min_change)
+        if changed:
+            return Drift(False, False, "not tested", segments=amps.size, reason=(
+                f"not tested: the excitation itself changes over the record ({changed}: a "
+                "test programme or a sweep), so a drift of the device cannot be told from "
+                "its amplitude and rate dependence without a model"))
     if amps is None or amps.size < MIN_SEGMENTS:
         got = 0 if amps is None else amps.size
         return Drift(False, False, "not tested", segments=got, reason=(

@@ -237,8 +237,14 @@ def reference_models(calibration, validation=()) -> dict:
             "two_slope": fit_two_slope(calibration, validation)}
 
 
-def comparison(physics_validation: dict, refs: dict, tolerance: float = 0.0) -> str:
-    """Where the physics model does not beat the line on held-out records ('' when it does).
+_NAMES = {"line": "the line F = c v + k y + F0",
+          "two_slope": "the dyno's two-slope force-velocity map"}
+
+
+def comparison(physics_validation: dict, refs: dict, tolerance: float = 0.0,
+               name: str = "line") -> str:
+    """Where the physics model does not beat a reference model on held-out records ('' when
+    it does).
 
     Parameters
     ----------
@@ -248,21 +254,38 @@ def comparison(physics_validation: dict, refs: dict, tolerance: float = 0.0) -> 
         :func:`reference_models` output.
     tolerance : float
         Relative margin the physics model must win by [-].
+    name : {'line', 'two_slope'}
+        The reference model to compare with.
 
     Returns
     -------
     str
         E.g. ``"the physics model does not beat the line F = c v + k y + F0 on held-out
         record b.csv (0.63 vs 0.51)"``.
+
+    Examples
+    --------
+    >>> from liquidamp.analysis.measured.records import Record
+    >>> t = np.arange(0, 2, 0.005)
+    >>> y = 0.003 * np.sin(2 * np.pi * 2 * t)
+    >>> r = Record.from_arrays(t, y, 2000 * np.gradient(y, t) + 1e4 * y)  # a spring too
+    >>> refs = reference_models([r], [r])
+    >>> comparison({r.label: 0.99}, refs, name="two_slope")[:63]
+    "the physics model does not beat the dyno's two-slope force-velo"
+    >>> comparison({r.label: 0.01}, refs, name="two_slope")
+    ''
     """
-    line = refs.get("line")
-    if line is None or not physics_validation:
+    if name not in _NAMES:
+        raise ParameterError(f"comparison: reference model must be one of {sorted(_NAMES)}, "
+                             f"got {name!r}")
+    ref = refs.get(name)
+    if ref is None or not physics_validation:
         return ""
-    lost = [(lab, p, line.validation_of(lab)) for lab, p in physics_validation.items()
-            if line.validation_of(lab) is not None
-            and not p < (1.0 - tolerance) * line.validation_of(lab)]
+    lost = [(lab, p, ref.validation_of(lab)) for lab, p in physics_validation.items()
+            if ref.validation_of(lab) is not None
+            and not p < (1.0 - tolerance) * ref.validation_of(lab)]
     if not lost:
         return ""
-    return ("the physics model does not beat the line F = c v + k y + F0 on held-out "
+    return (f"the physics model does not beat {_NAMES[name]} on held-out "
             + ("record " if len(lost) == 1 else "records ")
             + ", ".join(f"{lab} ({p:.3g} vs {q:.3g})" for lab, p, q in lost))

@@ -93,11 +93,18 @@ def test_displacement_spike_refused_before_any_integration(clean):
     spiky = _with(cal, displacement=y)
     assert spiky.line(60) == 72
     t0 = time.perf_counter()
+    # the device keeps its chambers (sizing 'preset'): past the chamber end
     with pytest.raises(DataFileError, match=r"diagnose: spiky.csv, line 72 \(t = .* s\):"
                        r" displacement \+3.* mm from the mid-position, past the chamber end at 25 "
                        r"mm \(V0/A_p; allowed \|y\| < 25 mm\)"):
-        diagnose([spiky], [val])
+        diagnose([spiky], [val], sizing="preset")
     assert time.perf_counter() - t0 < 1.0  # was > 120 s
+    # by default the chambers are sized to the records: the same sample is refused as a spike
+    t0 = time.perf_counter()
+    with pytest.raises(DataFileError, match=r"diagnose: spiky.csv: 1 displacement spike\(s\) on "
+                       r"line 72 .*displacement \+?3.* mm where its neighbours give"):
+        diagnose([spiky], [val])
+    assert time.perf_counter() - t0 < 1.0
     # a smaller spike inside the chamber is still a spike
     y = cal.displacement.copy()
     y[70] += 0.005
