@@ -1,5 +1,6 @@
 """Shared fixtures: the real measured records of ../shared/ (skipped where absent)."""
 
+import os
 from pathlib import Path
 
 import pytest
@@ -41,3 +42,17 @@ def independent_records() -> Path:
         pytest.skip(f"independent records not found at {INDEPENDENT_DIR} (the ../shared/ "
                     "folder beside the repository is not on this machine)")
     return INDEPENDENT_DIR
+
+
+def pytest_configure(config):
+    """Under pytest-xdist (the suite's default, ``-n auto``) each worker's fits take their
+    share of the cores for their Jacobian columns (``LIQUIDAMP_THREADS``), so that two
+    workers on two cores do not each start two threads; a value already set is kept.  The
+    answers do not depend on the thread count (``fit_objective``)."""
+    workers = os.environ.get("PYTEST_XDIST_WORKER_COUNT")
+    if workers and not os.environ.get("LIQUIDAMP_THREADS"):
+        try:
+            cores = len(os.sched_getaffinity(0))
+        except AttributeError:  # not on Linux
+            cores = os.cpu_count() or 1
+        os.environ["LIQUIDAMP_THREADS"] = str(max(1, cores // max(1, int(workers))))

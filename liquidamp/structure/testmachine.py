@@ -263,6 +263,40 @@ class TwoFrequencyStroke:
 #: (:func:`_harmonic_normal_fit`) instead of the SVD: a long record (a 3 kHz, 20 s record is
 #: 60 000 samples, its SVD seconds).  Below it the SVD as before: the diagnosis's answers
 #: on short records move with the stroke's last digits (runs/s8_speed/README.md).
+#: Highest harmonic frequency a record's Fourier fit tests, as a fraction of its sampling
+#: rate [-]: below the Nyquist frequency 0.5 fs by the anti-alias filter's roll-off.
+HARMONIC_RATE_FRACTION = 0.45
+
+
+def harmonics_tested(sampling_rate: float, frequency: float, max_harmonics: int = 64) -> int:
+    """How many harmonics of ``frequency`` a record's Fourier fit tests [-].
+
+    Harmonics k f up to :data:`HARMONIC_RATE_FRACTION` x the sampling rate, at most
+    ``max_harmonics``; 0 where even the fundamental lies above that (the one rule of
+    :meth:`FourierStroke.fit`, the records' stroke series and their noise floors).
+
+    Parameters
+    ----------
+    sampling_rate : float
+        Samples per second [Hz].
+    frequency : float
+        Fundamental [Hz].
+    max_harmonics : int
+        Cap [-].
+
+    Returns
+    -------
+    int
+        ``min(floor(0.45 fs / f), max_harmonics)`` [-].
+
+    Examples
+    --------
+    >>> harmonics_tested(200.0, 3.5), harmonics_tested(2000.0, 3.5), harmonics_tested(5.0, 3.0)
+    (25, 64, 0)
+    """
+    return min(int(HARMONIC_RATE_FRACTION * sampling_rate / frequency), int(max_harmonics))
+
+
 _NORMAL_FIT_SAMPLES = 20000
 
 
@@ -439,7 +473,7 @@ class FourierStroke:
                                  f"samples, got {t.shape} and {y.shape}")
         origin = float(t[0]) if t0 is None else float(t0)
         rate = (n - 1) / (t[-1] - t[0])
-        H = max(1, min(int(0.45 * rate / f), int(max_harmonics)))
+        H = max(1, harmonics_tested(rate, f, max_harmonics))
 
         def lsq(fk, ks):
             w = 2 * math.pi * fk * (t - origin)

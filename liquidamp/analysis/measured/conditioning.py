@@ -83,6 +83,7 @@ from liquidamp.analysis.measured.drift import ALPHA
 from liquidamp.analysis.measured.record_quality import NoiseFloor, noise_floor
 from liquidamp.analysis.measured.records import Record
 from liquidamp.errors import ParameterError, check_choice, check_finite
+from liquidamp.structure.testmachine import harmonics_tested
 
 __all__ = ["Conditioning", "condition", "recondition", "decimation_factor", "lowpass",
            "stroke_threshold",
@@ -704,7 +705,7 @@ def _stroke_series(rec: Record, max_harmonics: int = 64):
     """
     t = rec.time - rec.time[0]
     f, n = rec.frequency, rec.time.size
-    H = max(1, min(int(0.45 * rec.sampling_rate / f), max_harmonics))
+    H = max(1, harmonics_tested(rec.sampling_rate, f, max_harmonics))
     w = 2 * math.pi * f * t
     A = np.empty((n, 2 * H + 1))
     A[:, 0] = 1.0

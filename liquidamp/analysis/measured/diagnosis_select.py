@@ -139,7 +139,7 @@ def _at_the_limit(simpler: str, probe, richer):
         return None
     effects = tuple(e.replace(**{k: getattr(fitted, k) for k in keys}) if e.name == simpler
                     else e for e in probe.effects)
-    name, key = probe.lead
+    _, key = probe.lead  # (effect, key)
     return replace(probe, effects=effects), {key: getattr(fitted, key)}
 
 

@@ -76,10 +76,12 @@ def fit_threads() -> int:
     Examples
     --------
     >>> import os
+    >>> before = os.environ.pop("LIQUIDAMP_THREADS", None)
     >>> os.environ["LIQUIDAMP_THREADS"] = "1"; fit_threads()
     1
     >>> del os.environ["LIQUIDAMP_THREADS"]; 1 <= fit_threads() <= MAX_THREADS
     True
+    >>> if before is not None: os.environ["LIQUIDAMP_THREADS"] = before
     """
     env = os.environ.get("LIQUIDAMP_THREADS")
     if env is not None and env.strip():

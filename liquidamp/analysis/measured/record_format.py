@@ -11,6 +11,7 @@ References
 from __future__ import annotations
 
 import csv
+import math
 import re
 
 from liquidamp.errors import DataFileError
@@ -226,6 +227,83 @@ def split_row(text: str, delimiter, header: bool = False):
             return [c.strip() for c in _CELL.findall(text)] or text.split()
         return text.split()
     return [c.strip() for c in next(csv.reader([text], delimiter=delimiter))]
+
+
+def read_rows(body, first_line: int, delimiter, columns: dict, ncol: int, where: str):
+    """The values of a record's columns, row after row, in SI.
+
+    Parameters
+    ----------
+    body : list of str
+        The lines after the header.
+    first_line : int
+        The file's line number of ``body[0]`` (1 = the file's first line).
+    delimiter : str or None
+        From :func:`delimiter_of` (None: runs of spaces); with ``;`` or tabs a decimal
+        comma is read.
+    columns : dict
+        ``{name: (column index, factor, offset)}`` from :func:`parse_header` (the value in
+        SI is ``cell x factor + offset``).
+    ncol : int
+        The header's cell count; every row must have as many.
+    where : str
+        The file, for messages.
+
+    Returns
+    -------
+    data : dict
+        ``{name: list of float}`` [SI].
+    lines : list of int
+        The file's line number of each row read (blank and ``#`` lines skipped).
+
+    Raises
+    ------
+    DataFileError
+        Naming the line and column at fault (a wrong cell count, a cell that is not a
+        finite number, a decimal comma in a comma-separated file, a thousands separator).
+
+    Examples
+    --------
+    >>> data, lines = read_rows(["0;1,5", "# note", "0,01;2"], 2, ";",
+    ...                         {"time": (0, 1.0, 0.0), "force": (1, 1e3, 0.0)}, 2, "x.csv")
+    >>> data["force"], lines
+    ([1500.0, 2000.0], [2, 4])
+    """
+    decimal_comma = delimiter not in (",", None)
+    data = {name: [] for name in columns}
+    line_of = []
+    sep = {",": "','", ";": "';'", "\t": "tab", None: "spaces"}[delimiter]
+    rows = (csv.reader(body, delimiter=delimiter) if delimiter is not None
+            else (text.split() for text in body))
+    for i, row in enumerate(rows, start=first_line):
+        row = [c.strip() for c in row]
+        if not any(row) or row[0].startswith("#"):
+            continue
+        line_of.append(i)
+        if len(row) != ncol:
+            hint = ""
+            if delimiter == "," and len(row) == 2 * ncol and all(
+                    re.fullmatch(r"[+-]?\d*([eE][+-]?\d+)?", c) for c in row):
+                hint = ("; the values seem to use a decimal comma, which needs the columns "
+                        "separated by ';' (or tabs), as in the header")
+            raise DataFileError(f"{where}, line {i}: {len(row)} fields separated by {sep}, "
+                                f"the header has {ncol}{hint}")
+        for name, (j, factor, offset) in columns.items():
+            cell = row[j]
+            try:
+                value = number_of(cell, decimal_comma)
+            except ValueError:
+                why = "is not a number"
+                if "," in cell and "." in cell:
+                    why = ("is not a number (it holds both '.' and ','; write numbers without "
+                           "a thousands separator)")
+                raise DataFileError(
+                    f"{where}, line {i}, column {j + 1} ({name}): {cell!r} {why}") from None
+            if not math.isfinite(value):
+                raise DataFileError(
+                    f"{where}, line {i}, column {j + 1} ({name}): {cell!r} is not finite")
+            data[name].append(value * factor + offset)
+    return data, line_of
 
 
 _DECIMAL_COMMA = re.compile(r"^[+-]?(\d+,\d*|,\d+)([eE][+-]?\d+)?$")

@@ -71,7 +71,7 @@ from liquidamp.device.models import DeviceModel, get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, ParameterError, PressureError, check_choice
 from liquidamp.options import SolverOptions, resolve_options
-from liquidamp.structure.testmachine import FourierStroke, RecordedStroke
+from liquidamp.structure.testmachine import FourierStroke, RecordedStroke, harmonics_tested
 
 __all__ = ["simulate_record", "record_stroke", "integrate", "nrmse", "stationary",
            "NOT_PERIODIC"]
@@ -382,7 +382,7 @@ def record_stroke(record: Record):
         cached = record.meta.get("_fourier_stroke")
         if cached is not None and cached[0] == key:
             return cached[1]
-        tested = max(1, min(int(0.45 * record.sampling_rate / record.frequency), 64))
+        tested = max(1, harmonics_tested(record.sampling_rate, record.frequency))
         s = FourierStroke.fit(record.time, record.displacement, record.frequency,
                               max_harmonics=64, threshold=stroke_threshold(tested),
                               refine_frequency=True)

@@ -43,6 +43,7 @@ from liquidamp.analysis.measured.spikes import (
 )
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ParameterError
+from liquidamp.structure.testmachine import harmonics_tested
 
 __all__ = ["NoiseFloor", "noise_floor", "Outlier", "DataQuality", "check_record",
            "check_record_stroke", "velocity_gain", "loop_power", "find_spikes", "as_read",
@@ -126,7 +127,7 @@ def _periodic_scatter(record: Record, max_harmonics: int = 64, drift: Drift | No
     drift std [N]) or None (noise_floor)."""
     t = record.time - record.time[0]
     f, n = record.frequency, record.time.size
-    H = min(int(0.45 * record.sampling_rate / f), max_harmonics)
+    H = harmonics_tested(record.sampling_rate, f, max_harmonics)
     if record.cycles < 2.0 or H < 1:
         return None
     w = 2 * math.pi * f * t

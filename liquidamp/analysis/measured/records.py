@@ -82,7 +82,6 @@ from __future__ import annotations
 
 import csv
 import math
-import re
 import warnings
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -96,8 +95,8 @@ from liquidamp.analysis.measured.record_format import (
     COLUMN_UNITS,
     decode_text,
     find_header,
-    number_of,
     parse_header,
+    read_rows,
 )
 from liquidamp.analysis.measured.tones import tone_fit
 from liquidamp.errors import DataFileError, LiquidampWarning, ParameterError
@@ -653,42 +652,7 @@ def read_record(path, window: int = 21, order: int = 4) -> Record:
                       + ", ".join(f"{j + 1} {c!r}" for j, c in unused)
                       + "; a record reads time, displacement, force and the channels "
                       + ", ".join(CHANNEL_UNITS), LiquidampWarning, stacklevel=2)
-    decimal_comma = delim not in (",", None)
-    ncol = len(header)
-    data = {name: [] for name in cols}
-    line_of = []
-    sep = {",": "','", ";": "';'", "\t": "tab", None: "spaces"}[delim]
-    body = lines[h + 1:]
-    rows = (csv.reader(body, delimiter=delim) if delim is not None
-            else (text.split() for text in body))
-    for i, row in enumerate(rows, start=h + 2):
-        row = [c.strip() for c in row]
-        if not any(row) or row[0].startswith("#"):
-            continue
-        line_of.append(i)
-        if len(row) != ncol:
-            hint = ""
-            if delim == "," and len(row) == 2 * ncol and all(
-                    re.fullmatch(r"[+-]?\d*([eE][+-]?\d+)?", c) for c in row):
-                hint = ("; the values seem to use a decimal comma, which needs the columns "
-                        "separated by ';' (or tabs), as in the header")
-            raise DataFileError(f"{where}, line {i}: {len(row)} fields separated by {sep}, "
-                                f"the header has {ncol}{hint}")
-        for name, (j, factor, offset) in cols.items():
-            cell = row[j]
-            try:
-                value = number_of(cell, decimal_comma)
-            except ValueError:
-                why = "is not a number"
-                if "," in cell and "." in cell:
-                    why = ("is not a number (it holds both '.' and ','; write numbers without "
-                           "a thousands separator)")
-                raise DataFileError(
-                    f"{where}, line {i}, column {j + 1} ({name}): {cell!r} {why}") from None
-            if not math.isfinite(value):
-                raise DataFileError(
-                    f"{where}, line {i}, column {j + 1} ({name}): {cell!r} is not finite")
-            data[name].append(value * factor + offset)
+    data, line_of = read_rows(lines[h + 1:], h + 2, delim, cols, len(header), where)
     return Record.from_arrays(data["time"], data["displacement"], data["force"], window=window,
                               order=order, source=where, lines=line_of,
                               channels={k: data[k] for k in cols if k in CHANNEL_UNITS})
