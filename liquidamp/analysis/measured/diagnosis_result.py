@@ -31,7 +31,9 @@ def heldout_per_record(result: CalibrationResult) -> dict:
 
 @dataclass(frozen=True)
 class Step:
-    """One accepted addition."""
+    """One accepted addition (an effect, or a device step: a device parameter freed, or a
+    refit's device kept without an effect whose force the noise hides, ``note`` saying
+    why: :mod:`~liquidamp.analysis.measured.diagnosis_credit`)."""
 
     effect: str
     parameters: dict
@@ -42,6 +44,7 @@ class Step:
     result: CalibrationResult | None = field(default=None, repr=False)
     confounded: dict = field(default_factory=dict)
     profile: dict = field(default_factory=dict)
+    note: str = ""
 
     def fitted_parameters(self) -> dict:
         """The step's parameters its refit varied (all of them where the refit is not
@@ -70,7 +73,7 @@ class Step:
                           "validation": self.nrmse_validation},
                 "heldout_records": per,
                 "fit": fit, "tie": list(self.tie), "confounded": self.confounded,
-                "profile": self.profile,
+                "profile": self.profile, "note": self.note,
                 "evidence": [c.as_dict() for c in self.candidates]}
 
 
@@ -203,9 +206,13 @@ class Diagnosis:
             # the field class starts with the yield on the input: it is found first
             first.append(f"field_yield on the {fy.input} first (the field-controlled class: "
                          f"{_short(fy.parameters)})")
-        if self.device_steps:
+        freed = [s for s in self.device_steps if not s.note]
+        if freed:
             added += "; device parameters freed: " + ", ".join(
-                f"{s.effect} ({_short(s.parameters)})" for s in self.device_steps)
+                f"{s.effect} ({_short(s.parameters)})" for s in freed)
+        for s in self.device_steps:
+            if s.note:  # a refit's device kept without its negligible effect
+                added += f"; device refined: {s.note}"
         first.append(f"added {added}: held-out NRMSE per record {per}"
                      + (f" (pooled {pooled:.3g})" if pooled is not None else "")
                      + "; before: " + ", ".join(f"{k} {v:.3g}" for k, v in base.items()))
