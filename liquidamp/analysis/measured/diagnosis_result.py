@@ -173,6 +173,14 @@ class Diagnosis:
         map held out ('' otherwise)."""
         return comparison(self.heldout, self.references, name="two_slope")
 
+    @property
+    def device_at_bound(self) -> str:
+        """The final model's device multipliers held at a bound of the fit, with their
+        values ('' when none) [-]."""
+        at = self.final.at_bounds()
+        return ", ".join(f"{n} x{self.final.values[n]:.3g} ({side})" for n, side in at.items()
+                         if self.final.spec[n].kind == "multiplier")
+
     def summary(self) -> str:
         """Lines: the verdict first (non-stationary, unexplained, loses to the line; then the
         effects added and the held-out NRMSE per record, pooled beside), then the
@@ -216,6 +224,11 @@ class Diagnosis:
         first.append(f"added {added}: held-out NRMSE per record {per}"
                      + (f" (pooled {pooled:.3g})" if pooled is not None else "")
                      + "; before: " + ", ".join(f"{k} {v:.3g}" for k, v in base.items()))
+        held = self.device_at_bound
+        if held:
+            first.append("device parameters at a bound: " + held + " (their values are the "
+                         "bounds', not the records'; an effect added beside them may stand in "
+                         "for what the bound holds back)")
         loose = [s.profile["description"] for s in self.steps
                  if s.profile and (s.profile["open_low"] or s.profile["open_high"])]
         if loose:
