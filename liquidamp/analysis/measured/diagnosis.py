@@ -90,6 +90,10 @@ velocity):
 
    Among the refits kept the best held out (lowest geometric mean ratio) is added; the
    others within ``tie_tolerance`` (10 %) of it are reported as tied with their evidence.
+   An effect whose own force at its fitted value the noise hides (chi2 of that force below
+   the rule's 10 + k ln N) did not earn its refit's fall, the base's escape from a local
+   minimum did: it is not kept, and the refit's device without it, continued, becomes the
+   current model as a device step (``restart``, :mod:`~.diagnosis_credit`).
    Without validation records the last of several calibration records is held out, or the
    second half of the whole cycles of one periodic record (``Diagnosis.holdout``).
    A parameter the added effect frees with a standard error above its value (a flat valley:

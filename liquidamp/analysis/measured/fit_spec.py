@@ -10,7 +10,9 @@ Positive quantities are fitted in log space.  The fit itself is
 Bounds scale with the records.  A multiplier's bounds ([0.05, 20] by
 default) are relative to the device the fit starts from, which is sized to
 the records when they are far from the given device
-(:mod:`liquidamp.analysis.measured.start`).  An effect parameter's catalogue
+(:mod:`liquidamp.analysis.measured.start`); a fit that ends with an air ratio at its
+lower bound is continued with that bound at the air ratio's physical floor
+(:func:`air_floor`: a degassed chamber).  An effect parameter's catalogue
 bounds (``Effect.bounds``, written for the paper's 1 kN, 3 mm device) are
 replaced by bounds relative to the records' scales
 (:func:`scale_effect_bounds`): with F_s and Y_s the largest half peak-to-peak
