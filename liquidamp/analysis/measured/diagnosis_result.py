@@ -178,8 +178,23 @@ class Diagnosis:
         """The final model's device multipliers held at a bound of the fit, with their
         values ('' when none) [-]."""
         at = self.final.at_bounds()
+        floor = set(self.air_free)
         return ", ".join(f"{n} x{self.final.values[n]:.3g} ({side})" for n, side in at.items()
-                         if self.final.spec[n].kind == "multiplier")
+                         if self.final.spec[n].kind == "multiplier" and n not in floor)
+
+    @property
+    def air_free(self) -> tuple[str, ...]:
+        """The final model's air ratios at their physical floor
+        (:func:`~liquidamp.analysis.measured.fit_spec.air_floor`): chambers without air, to
+        within its share of their compliance."""
+        from liquidamp.analysis.measured.fit_spec import AIR_RATIOS, air_floor
+
+        fin = self.final
+        floor = air_floor(fin.start_params)
+        return tuple(n for n, side in fin.at_bounds().items()
+                     if n in AIR_RATIOS and side == "lower"
+                     and fin.spec[n].min * getattr(fin.start_params, n)
+                     <= floor * (1.0 + 1e-6))
 
     def summary(self) -> str:
         """Lines: the verdict first (non-stationary, unexplained, loses to the line; then the
@@ -224,6 +239,12 @@ class Diagnosis:
         first.append(f"added {added}: held-out NRMSE per record {per}"
                      + (f" (pooled {pooled:.3g})" if pooled is not None else "")
                      + "; before: " + ", ".join(f"{k} {v:.3g}" for k, v in base.items()))
+        if self.air_free:
+            from liquidamp.analysis.measured.fit_spec import AIR_COMPLIANCE_SHARE
+
+            first.append("no air: " + ", ".join(self.air_free) + " at the physical floor "
+                         f"(air under {AIR_COMPLIANCE_SHARE:.0%} of the chamber's compliance "
+                         "at p0: a degassed chamber)")
         held = self.device_at_bound
         if held:
             first.append("device parameters at a bound: " + held + " (their values are the "

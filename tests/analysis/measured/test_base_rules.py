@@ -120,3 +120,18 @@ def test_a_degassed_device_is_fitted_below_the_air_bound():
     before, after = (float(x) for x in note.rsplit("NRMSE ", 1)[1].split(" -> "))
     assert before > 10 * after and after == pytest.approx(r.nrmse_calibration, rel=1e-3)
     assert not r.at_bounds()
+    # the summary: an air ratio at the floor is a degassed chamber, a loss coefficient at
+    # its bound 0.05 is the bound's value
+    from liquidamp.analysis.measured.diagnosis_result import Diagnosis
+    from liquidamp.analysis.measured.fit_spec import air_floor
+
+    floor = air_floor(r.start_params) / r.start_params.inv_gamma1
+    assert r.spec["inv_gamma1"].min == pytest.approx(floor, rel=1e-9)
+    held = dataclasses.replace(r, values={**r.values, "inv_gamma1": floor, "c1": 0.05})
+    d = Diagnosis(baseline=r, steps=(), final=held, noise_nrmse=r.noise_nrmse, signatures={},
+                  stop_reason="", unexplained="", warnings=(), last_candidates=())
+    assert d.air_free == ("inv_gamma1",)
+    assert d.device_at_bound == "c1 x0.05 (lower)"
+    first = d.summary().splitlines()[0]
+    assert "no air: inv_gamma1 at the physical floor" in first
+    assert "device parameters at a bound: c1 x0.05 (lower)" in first
