@@ -70,6 +70,16 @@ class EffectForce:
         ``bic_threshold`` + k ln N_eff [-]: what the selection rule asks of the addition.
     noise : float
         sigma, the pooled noise floor of the calibration records [N].
+
+    Examples
+    --------
+    A friction of 1e-4 N over 61 values (an averaged cycle of 30 harmonics) at 0.5 N of
+    noise could explain 61 (1e-4 / 0.5)^2 = 2.4e-6 noise variances, against the 10 + ln 61
+    a one-parameter addition must earn:
+
+    >>> ef = EffectForce(1e-4, 61 * (1e-4 / 0.5) ** 2, 10 + math.log(61), 0.5)
+    >>> ef.negligible, f"{ef.chi2:.2g}", f"{ef.needed:.3g}"
+    (True, '2.4e-06', '14.1')
     """
 
     rms: float
@@ -127,8 +137,25 @@ def effect_force(result, change, current, noise_nrmse, sel, options, preroll):
     (:class:`EffectForce`), or None where its effect cannot be removed
     (:func:`absent_model`) or the model without it fails.
 
-    ``noise_nrmse`` is the calibration records' pooled noise floor as an NRMSE (the
-    diagnosis' own); sigma = noise_nrmse x RMS of the pooled measured force about its mean.
+    Parameters
+    ----------
+    result : CalibrationResult
+        The candidate's refit.
+    change : Change
+        The candidate's change (:func:`~.candidates.candidate_change`).
+    current : CalibrationResult
+        The model the refit is judged against (k = the parameters the refit adds).
+    noise_nrmse : float
+        The calibration records' pooled noise floor as an NRMSE (the diagnosis' own) [-];
+        sigma = noise_nrmse x RMS of the pooled measured force about its mean [N].
+    sel : SelectionRule
+        ``bic_threshold`` and ``sample_count`` of the rule.
+    options, preroll
+        As for :func:`~liquidamp.analysis.measured.record_model.simulate_record`.
+
+    Returns
+    -------
+    EffectForce or None
     """
     absent = absent_model(change, result, current)
     if absent is None:
