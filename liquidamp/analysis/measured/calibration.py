@@ -109,9 +109,12 @@ from liquidamp.analysis.measured.checks import (
 from liquidamp.analysis.measured.device_class import DEVICE_CLASSES, calibrate_by_class
 from liquidamp.analysis.measured.fit_objective import FitObjective, build, predict
 from liquidamp.analysis.measured.fit_spec import (
+    AIR_COMPLIANCE_SHARE,
+    AIR_RATIOS,
     PAPER_FOUR,
     FitSpec,
     Parameter,
+    air_floor_spec,
     check_spec_uses,
     scale_effect_bounds,
 )
@@ -142,6 +145,7 @@ from liquidamp.device.params import DeviceParams
 from liquidamp.errors import (
     ConvergenceError,
     DataFileError,
+    LiquidampError,
     LiquidampWarning,
     ParameterError,
     PressureError,
@@ -671,11 +675,9 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
     if sz.sized:
         warns.append(f"started from a device sized to the records: {sz.params.name} "
                      f"({sz.reason})")
-    for w in warns if warn else ():
-        warnings.warn(f"calibrate: {w}", LiquidampWarning, stacklevel=2)
     aic = n * math.log(rss / n) + 2 * k
     bic = n * math.log(rss / n) + k * math.log(n)
-    return CalibrationResult(
+    res = CalibrationResult(
         model=get_model(model).name, params=params_fit, start_params=obj.base,
         effects=effects_fit, spec=spec_fit, values={p.name: values[p.name] for p in obj.var},
         stderr=stderr, correlation=corr, varying=tuple(p.name for p in obj.var),
@@ -690,3 +692,42 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
         warnings=tuple(warns), start={**sz.as_dict(), "chosen": best.label},
         start_trials=tuple(dataclasses.replace(t, forces=None) for t in trials), flags=flags,
         plausibility=plaus)
+    # an air ratio held at its multiplier bound is continued to its physical floor
+    res = _air_continued(res, lambda spec2: calibrate(
+        records, model=model, params=res.start_params, effects=res.effects, spec=spec2,
+        validate=validate, options=options, start="spec", max_nfev=max_nfev,
+        preroll=preroll, tol=tol, strict=strict, outliers=outliers, warn=False,
+        sizing="preset"))
+    for w in res.warnings if warn else ():
+        warnings.warn(f"calibrate: {w}", LiquidampWarning, stacklevel=2)
+    return res
+
+
+def _air_continued(res: CalibrationResult, refit) -> CalibrationResult:
+    """The fit continued where it ended with an air ratio at a multiplier bound above the
+    physical floor (:func:`~liquidamp.analysis.measured.fit_spec.air_floor`): ``refit(spec)``
+    from the fitted values with that bound lowered to the floor; kept where its cost is
+    lower, the start and the evaluations counted from the first fit, with a warning.
+
+    An air ratio's physical range reaches 0; the multiplier bound 0.05 is the fit's, not the
+    device's (a degassed device held at 0.05 x the start's air leaves its liquid stiffness
+    to effects that compensate, and the losses and inertance follow it to their bounds)."""
+    low = [n for n, side in res.at_bounds().items() if n in AIR_RATIOS and side == "lower"]
+    spec2 = air_floor_spec(res.spec, res.start_params, names=tuple(low)) if low else None
+    if spec2 is None:
+        return res
+    try:
+        res2 = refit(spec2)
+    except LiquidampError:  # the device with less air cannot be run: the bound's fit stands
+        return res
+    if not res2.cost < res.cost:
+        return res
+    said = ", ".join(f"{n} x{res.values[n]:.3g} -> x{res2.values[n]:.3g} ({n} "
+                     f"{getattr(res2.params, n):.3g})" for n in low)
+    note = (f"air ratio below its multiplier bound {min(res.spec[n].min for n in low):g}: "
+            f"{said}; the fit continued to the physical floor (air carrying "
+            f"{AIR_COMPLIANCE_SHARE:.0%} of the chamber compliance at p0), calibration NRMSE "
+            f"{res.nrmse_calibration:.4g} -> {res2.nrmse_calibration:.4g}")
+    return dataclasses.replace(res2, start=res.start, starts=res.starts,
+                               start_trials=res.start_trials, nfev=res.nfev + res2.nfev,
+                               warnings=res2.warnings + (note,))

@@ -90,6 +90,10 @@ velocity):
 
    Among the refits kept the best held out (lowest geometric mean ratio) is added; the
    others within ``tie_tolerance`` (10 %) of it are reported as tied with their evidence.
+   An effect whose own force at its fitted value the noise hides (chi2 of that force below
+   the rule's 10 + k ln N) did not earn its refit's fall, the base's escape from a local
+   minimum did: it is not kept, and the refit's device without it, continued, becomes the
+   current model as a device step (``restart``, :mod:`~.diagnosis_credit`).
    Without validation records the last of several calibration records is held out, or the
    second half of the whole cycles of one periodic record (``Diagnosis.holdout``).
    A parameter the added effect frees with a standard error above its value (a flat valley:
@@ -167,6 +171,7 @@ from liquidamp.analysis.measured.calibration import (
 from liquidamp.analysis.measured.checks import check_records, drop_outliers, keep_outliers
 from liquidamp.analysis.measured.class_revisit import revisit_starts
 from liquidamp.analysis.measured.conditioning import condition
+from liquidamp.analysis.measured.diagnosis_credit import RESTART, credit
 from liquidamp.analysis.measured.diagnosis_evidence import (
     COMPOSITES,
     CONFOUNDED,
@@ -654,7 +659,7 @@ def _loop(baseline, names, device_names, validation, options, config, spec,
     current, steps, last_round = baseline, [], ()
     stop = f"max_steps = {bud.max_steps} reached"
     level = sel.structure_factor * noise_nrmse
-    device_steps, device_evidence = [], ()
+    device_steps, device_evidence, restarts = [], (), 0
     while len(steps) < bud.max_steps:
         if current.nrmse_calibration <= sel.noise_factor * noise_nrmse:
             stop = (f"residual is noise: calibration NRMSE {current.nrmse_calibration:.4g} <= "
@@ -678,8 +683,21 @@ def _loop(baseline, names, device_names, validation, options, config, spec,
         chosen, tied = _select(ranked, sel)
         ranked, chosen, tied = _reduce(chosen, tied, ranked, refits, probes, current,
                                        validation, options, bud, sel)
+        # an effect whose own force the noise hides did not earn the fall: the device did
+        chosen, tied, ranked, restart = credit(
+            chosen, tied, ranked, refits, probes, current, validation, options, bud, sel,
+            noise_nrmse, _select)
         last_round = tuple(ranked)
         device_evidence = tuple(c for c in ranked if c.effect in DEVICE_REFINEMENTS)
+        if restart is not None and restarts < bud.max_steps:
+            res, cand = restart
+            restarts += 1
+            device_steps.append(Step(RESTART, cand.parameters, res.nrmse_calibration,
+                                     res.nrmse_validation, tuple(ranked) + (cand,), (), res,
+                                     {}, {}, cand.note))
+            warnings.append(f"device refined: {cand.note}")
+            current, last_round = res, ()
+            continue
         if chosen is None:
             stop = _no_pass(ranked, scored, probes, n_now, sel)
             break

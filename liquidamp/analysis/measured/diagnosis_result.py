@@ -31,7 +31,9 @@ def heldout_per_record(result: CalibrationResult) -> dict:
 
 @dataclass(frozen=True)
 class Step:
-    """One accepted addition."""
+    """One accepted addition (an effect, or a device step: a device parameter freed, or a
+    refit's device kept without an effect whose force the noise hides, ``note`` saying
+    why: :mod:`~liquidamp.analysis.measured.diagnosis_credit`)."""
 
     effect: str
     parameters: dict
@@ -42,6 +44,7 @@ class Step:
     result: CalibrationResult | None = field(default=None, repr=False)
     confounded: dict = field(default_factory=dict)
     profile: dict = field(default_factory=dict)
+    note: str = ""
 
     def fitted_parameters(self) -> dict:
         """The step's parameters its refit varied (all of them where the refit is not
@@ -70,7 +73,7 @@ class Step:
                           "validation": self.nrmse_validation},
                 "heldout_records": per,
                 "fit": fit, "tie": list(self.tie), "confounded": self.confounded,
-                "profile": self.profile,
+                "profile": self.profile, "note": self.note,
                 "evidence": [c.as_dict() for c in self.candidates]}
 
 
@@ -170,6 +173,29 @@ class Diagnosis:
         map held out ('' otherwise)."""
         return comparison(self.heldout, self.references, name="two_slope")
 
+    @property
+    def device_at_bound(self) -> str:
+        """The final model's device multipliers held at a bound of the fit, with their
+        values ('' when none) [-]."""
+        at = self.final.at_bounds()
+        floor = set(self.air_free)
+        return ", ".join(f"{n} x{self.final.values[n]:.3g} ({side})" for n, side in at.items()
+                         if self.final.spec[n].kind == "multiplier" and n not in floor)
+
+    @property
+    def air_free(self) -> tuple[str, ...]:
+        """The final model's air ratios at their physical floor
+        (:func:`~liquidamp.analysis.measured.fit_spec.air_floor`): chambers without air, to
+        within its share of their compliance."""
+        from liquidamp.analysis.measured.fit_spec import AIR_RATIOS, air_floor
+
+        fin = self.final
+        floor = air_floor(fin.start_params)
+        return tuple(n for n, side in fin.at_bounds().items()
+                     if n in AIR_RATIOS and side == "lower"
+                     and fin.spec[n].min * getattr(fin.start_params, n)
+                     <= floor * (1.0 + 1e-6))
+
     def summary(self) -> str:
         """Lines: the verdict first (non-stationary, unexplained, loses to the line; then the
         effects added and the held-out NRMSE per record, pooled beside), then the
@@ -203,12 +229,27 @@ class Diagnosis:
             # the field class starts with the yield on the input: it is found first
             first.append(f"field_yield on the {fy.input} first (the field-controlled class: "
                          f"{_short(fy.parameters)})")
-        if self.device_steps:
+        freed = [s for s in self.device_steps if not s.note]
+        if freed:
             added += "; device parameters freed: " + ", ".join(
-                f"{s.effect} ({_short(s.parameters)})" for s in self.device_steps)
+                f"{s.effect} ({_short(s.parameters)})" for s in freed)
+        for s in self.device_steps:
+            if s.note:  # a refit's device kept without its negligible effect
+                added += f"; device refined: {s.note}"
         first.append(f"added {added}: held-out NRMSE per record {per}"
                      + (f" (pooled {pooled:.3g})" if pooled is not None else "")
                      + "; before: " + ", ".join(f"{k} {v:.3g}" for k, v in base.items()))
+        if self.air_free:
+            from liquidamp.analysis.measured.fit_spec import AIR_COMPLIANCE_SHARE
+
+            first.append("no air: " + ", ".join(self.air_free) + " at the physical floor "
+                         f"(air under {AIR_COMPLIANCE_SHARE:.0%} of the chamber's compliance "
+                         "at p0: a degassed chamber)")
+        held = self.device_at_bound
+        if held:
+            first.append("device parameters at a bound: " + held + " (their values are the "
+                         "bounds', not the records'; an effect added beside them may stand in "
+                         "for what the bound holds back)")
         loose = [s.profile["description"] for s in self.steps
                  if s.profile and (s.profile["open_low"] or s.profile["open_high"])]
         if loose:

@@ -10,7 +10,9 @@ Positive quantities are fitted in log space.  The fit itself is
 Bounds scale with the records.  A multiplier's bounds ([0.05, 20] by
 default) are relative to the device the fit starts from, which is sized to
 the records when they are far from the given device
-(:mod:`liquidamp.analysis.measured.start`).  An effect parameter's catalogue
+(:mod:`liquidamp.analysis.measured.start`); a fit that ends with an air ratio at its
+lower bound is continued with that bound at the air ratio's physical floor
+(:func:`air_floor`: a degassed chamber).  An effect parameter's catalogue
 bounds (``Effect.bounds``, written for the paper's 1 kN, 3 mm device) are
 replaced by bounds relative to the records' scales
 (:func:`scale_effect_bounds`): with F_s and Y_s the largest half peak-to-peak
@@ -53,7 +55,14 @@ from liquidamp.errors import (
 )
 
 __all__ = ["Parameter", "FitSpec", "PAPER_FOUR", "check_spec_uses", "record_scales",
-           "effect_bounds", "scale_effect_bounds"]
+           "effect_bounds", "scale_effect_bounds", "AIR_RATIOS", "AIR_COMPLIANCE_SHARE",
+           "air_floor", "air_floor_spec"]
+
+#: The air ratios 1/gamma of the two chambers (DeviceParams fields).
+AIR_RATIOS = ("inv_gamma1", "inv_gamma2")
+#: Share of a chamber's compliance at the filling pressure the air carries at the air
+#: ratio's physical floor (:func:`air_floor`) [-].
+AIR_COMPLIANCE_SHARE = 0.01
 
 
 PAPER_FOUR = ("inv_gamma1", "inv_gamma2", "c1", "c2")
@@ -303,6 +312,52 @@ def record_scales(records) -> dict:
     w = 2 * math.pi * min(r.frequency for r in records)
     K_s = F_s / Y_s
     return {"N": F_s, "m": Y_s, "N/m": K_s, "kg": K_s / (w * w)}
+
+
+def air_floor(params: DeviceParams) -> float:
+    """The least air ratio 1/gamma a fit needs to reach: the air a liquid-only chamber holds
+    to within :data:`AIR_COMPLIANCE_SHARE` of its compliance [-].
+
+    An air ratio's physical range reaches 0 (a degassed chamber; the paper's inerter
+    design holds 1/gamma ~ 1e-5).  In the Gholizadeh mixture (eq. 2) at the filling
+    pressure p0 the air's compliance X0 / (n p0) and the liquid's (1 - X0) / B_l are equal
+    at X0 = n p0 / B_l; at the share ``s`` of the chamber's compliance the air ratio is
+    1/gamma = s n p0 / B_l (X0 << 1).  Below it the air changes the chamber stiffness at p0
+    by less than ``s``: the multiplier bound [0.05, 20] of a fit (relative to the start's
+    air, 0.1 on ``paper_initial``: 0.005 absolute, air carrying 98 % of the compliance) is
+    then no physical limit, and a fit held there leaves a liquid-only device to effects
+    that compensate (:func:`air_floor_spec`; calibrate continues such a fit to the floor).
+
+    Examples
+    --------
+    >>> from liquidamp.device import preset
+    >>> f"{air_floor(preset('paper_initial')):.3g}"  # 0.01 x 1.35 x 101325 Pa / 1.5513 GPa
+    '8.82e-07'
+    """
+    return AIR_COMPLIANCE_SHARE * params.n * params.p0 / params.B_l
+
+
+def air_floor_spec(spec, params: DeviceParams, names=AIR_RATIOS):
+    """``spec`` with the lower bound of each air-ratio multiplier in ``names`` lowered to
+    the physical floor (:func:`air_floor`) relative to ``params`` (the device the
+    multipliers apply to); None where no bound is above the floor [-].
+
+    Examples
+    --------
+    >>> from liquidamp.device import preset
+    >>> s = air_floor_spec(FitSpec.default(), preset("paper_initial"))
+    >>> f"{s['inv_gamma1'].min:.3g}", s['c1'].min
+    ('8.82e-06', 0.05)
+    """
+    floor = air_floor(params)
+    out, changed = [], False
+    for p in spec.parameters:
+        start = getattr(params, p.name, 0.0) if p.name in names else 0.0
+        if p.log and start > 0.0 and p.min * start > floor * (1.0 + 1e-9):
+            p = p.replace(min=floor / start)
+            changed = True
+        out.append(p)
+    return FitSpec(tuple(out)) if changed else None
 
 
 _BOUND_RULES = {"N/m": (1e-3, 1e5), "kg": (1e-5, 10.0), "m": (1e-5, 1.0)}
