@@ -417,9 +417,10 @@ def screened(run: dict, base2, first, sel) -> str:
     base2 : CalibrationResult
         The alternative start's baseline.
     first : callable
-        ``first(baseline) -> list of (name, CalibrationResult)``: the candidates a round
+        ``first(baseline) -> iterable of (name, CalibrationResult)``: the candidates a round
         from ``baseline`` refits first, each refitted once (no restart), and its device
-        refinement.
+        refinement; taken one at a time, and no further once one does not miss (the
+        start is diagnosed whatever the fits after it give).
     sel : SelectionRule
         Its ``validation_tolerance`` [-].
 
@@ -441,11 +442,17 @@ def screened(run: dict, base2, first, sel) -> str:
 
     if not misses(base2):
         return ""
+    got = []
     try:
-        got = first(base2)
+        # one fit after the other (``first`` may yield them): the first that does not miss
+        # decides, and the fits after it are not made (the start is diagnosed either way)
+        for name, res in first(base2):
+            if not misses(res):
+                return ""
+            got.append((name, res))
     except LiquidampError:
         return ""  # the screen could not be run: the start is diagnosed
-    if not got or not all(misses(res) for _, res in got):
+    if not got:
         return ""
     held = ", ".join(f"{k} {v:.3g}" for k, v in now.items())
     refits = "; ".join(f"{name} {shown(res)}" for name, res in got)

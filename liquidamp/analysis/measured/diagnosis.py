@@ -719,21 +719,22 @@ def _loop(baseline, names, device_names, validation, options, config, spec,
             "device_evidence": device_evidence, "warnings": warnings}
 
 
-def _first_refits(base, names, device_names, validation, options, bud, sel) -> list:
+def _first_refits(base, names, device_names, validation, options, bud, sel):
     """The fits a round from ``base`` makes first: the score test's queue and its second
     wave, each refitted once without the restart from the physics start, and the device
-    refinement (the channel inertance freed, :func:`_device_round`): a list of (name, fit),
-    the ones whose model failed left out (the screen of an alternative start,
+    refinement (the channel inertance freed, :func:`_device_round`): (name, fit) pairs,
+    yielded one at a time (the screen stops at the first that does not miss), the ones
+    whose model failed left out (the screen of an alternative start,
     :func:`~.class_revisit.screened`)."""
     _, probes, _, queue, extra, _ = _screen(names, base, options, bud, sel)
-    out = []
     for c in queue + extra:
         try:
-            out.append((c.effect, _refit(c, probes[c.effect], base, validation, options,
-                                         bud.preroll, bud.max_nfev, bud.tol, "auto")))
+            fit = _refit(c, probes[c.effect], base, validation, options, bud.preroll,
+                         bud.max_nfev, bud.tol, "auto")
         except LiquidampError:  # the candidate's model failed, not the screen
             continue
-    return out + list(_device_round(base, validation, options, bud, device_names)[2].items())
+        yield c.effect, fit
+    yield from _device_round(base, validation, options, bud, device_names)[2].items()
 
 
 def _n_free(change) -> int:
