@@ -78,9 +78,9 @@ The fluid family's other starts (:func:`fluid_alternatives`)
     none after the first within the tolerance, and the score tests that rank them without
     the Newton shooting: a probe the march does not bring to its orbit is not scored).
     Only where the one-step model passes the selection rule against the model held
-    (:func:`passes`) is its loop continued, and its final model replaces the model held only where it passes the rule
-    against it, in turn (so every alternative must beat the best model so far). An
-    alternative whose baseline the records cannot support (:func:`unsupported`: a fluid
+    (:func:`passes`) is its loop continued, and its final model replaces the model held
+    only where it passes the rule against it, in turn (so every alternative must beat the
+    best model so far). An alternative whose baseline the records cannot support (:func:`unsupported`: a fluid
     device sized far from the one given with its fluid at a bound, as on a friction damper's
     records) is reported, not diagnosed.
 
