@@ -80,9 +80,9 @@ The fluid family's other starts (:func:`fluid_alternatives`)
     Only where the one-step model passes the selection rule against the model held
     (:func:`passes`) is its loop continued, and its final model replaces the model held
     only where it passes the rule against it, in turn (so every alternative must beat the
-    best model so far). An alternative whose baseline the records cannot support (:func:`unsupported`: a fluid
-    device sized far from the one given with its fluid at a bound, as on a friction damper's
-    records) is reported, not diagnosed.
+    best model so far). An alternative whose baseline the records cannot support
+    (:func:`unsupported`: a fluid device sized far from the one given with its fluid at a
+    bound, as on a friction damper's records) is reported, not diagnosed.
 
 The friction start's fluid level (:func:`friction_alternatives`)
     The friction start holds its fluid at one of two levels, the calibration records' noise
