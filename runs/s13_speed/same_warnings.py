@@ -1,5 +1,5 @@
 """Whether two runs' diagnoses said the same: ``python runs/s13_speed/same_warnings.py REFDIR
-NEWDIR TAG...`` compares each TAG.json's warnings and final held-out NRMSE (printed per tag)."""
+NEWDIR TAG...`` compares each TAG.json's summary, held-out NRMSE and warnings (per tag)."""
 
 import json
 import sys
@@ -15,6 +15,8 @@ if __name__ == "__main__":
             print(f"{tag}: not compared ({exc})")
             continue
         wa, wb = a.get("warnings", []), b.get("warnings", [])
+        print(f"{tag}: summary identical {a.get('summary') == b.get('summary')}, held-out "
+              f"identical {a.get('heldout') == b.get('heldout')}")
         same = sum(x == y for x, y in zip(wa, wb, strict=False))
         print(f"{tag}: warnings identical {same} of {len(wa)} (new {len(wb)})")
         for x, y in zip(wa, wb, strict=False):
