@@ -68,8 +68,10 @@ __all__ = ["periodic_state", "PeriodicState", "ShootingOptions", "ROUTES", "stat
            "FD_STEP", "STEP_LENGTHS", "STALL_RATIO", "MIN_RTOL", "RHO_STALL", "FIRST_CHUNK",
            "FINE_GRID_FACTOR", "RUN_STEPS"]
 
-#: Routes of :func:`periodic_state`: march then shoot, march alone, shoot alone.
-ROUTES = ("auto", "march", "shooting")
+#: Routes of :func:`periodic_state`: march then shoot, march alone, shoot alone, and the
+#: auto route's march without its shooting (``"no_shooting"``: where the march stalls or
+#: is too slow, the ConvergenceError of a failed shooting, with the last marched period).
+ROUTES = ("auto", "march", "shooting", "no_shooting")
 
 #: Half-step of the central differences of the monodromy matrix, as a fraction
 #: of each state's swing over one period [-].
@@ -419,10 +421,14 @@ def periodic_state(rig, engine, x0, options, *, route: str = "auto",
     options : SolverOptions
         Tolerances, ``steady_tol``, ``min_cycles``, ``max_cycles`` (the march's
         budget) and ``samples_per_period``.
-    route : {"auto", "march", "shooting"}
+    route : {"auto", "march", "shooting", "no_shooting"}
         ``"auto"``: march, then shoot where the march stalls or is too slow;
         ``"march"``: the march alone (raises after ``max_cycles``);
-        ``"shooting"``: one marched period, then Newton.
+        ``"shooting"``: one marched period, then Newton;
+        ``"no_shooting"``: the auto route's march, and where it stalls or is too slow the
+        error a failed shooting raises (with ``marched``), without shooting: for a caller
+        that treats a state not reached by the march as not periodic anyway (a ranking
+        screen), the Newton iterations it would spend.
     shooting : ShootingOptions, optional
         Tolerance and iterations of the Newton shooting.
     invariants_of : array, optional
@@ -441,8 +447,8 @@ def periodic_state(rig, engine, x0, options, *, route: str = "auto",
     ------
     ConvergenceError
         Neither route arrived (both routes' figures in the message; with route
-        ``"auto"`` its attribute ``marched`` holds (last marched period on ``grid``,
-        cycles, last change per cycle)).
+        ``"auto"`` or ``"no_shooting"`` its attribute ``marched`` holds (last marched
+        period on ``grid``, cycles, last change per cycle)).
     PressureError
         A chamber pressure at the floor during the march.
 
@@ -503,7 +509,7 @@ def periodic_state(rig, engine, x0, options, *, route: str = "auto",
                f"change {residual:.2e} of peak force ({engine.name} engine)")
         return PeriodicState(X, "march", cycles, 0, 0, residual, msg, stats)
     cycles, change, why, x = 0, math.nan, "", x0
-    if route == "auto":
+    if route in ("auto", "no_shooting"):
         X, cycles, residual, change, ok, rho, why = _march(rig, engine, x0, options, stats,
                                                            grid)
         if ok:
@@ -514,6 +520,13 @@ def periodic_state(rig, engine, x0, options, *, route: str = "auto",
             return PeriodicState(on_grid(X)[:, :-1], "march", cycles, 0, 0, residual, msg,
                                  stats)
         x = X[:, -1]
+        if route == "no_shooting":
+            err = ConvergenceError(
+                f"{name}: no periodic steady state at {where}: the march {why} after {cycles} "
+                f"cycles, last relative change per cycle {change:.2e} (allowed "
+                f"{options.steady_tol:g} remaining); not shot (route 'no_shooting')")
+            err.marched = (on_grid(X)[:, :-1], cycles, change)
+            raise err
     try:
         X, runs, iters, newton, marched, res, rtol = _shoot(rig, engine, x, target, options,
                                                             shooting,

@@ -191,3 +191,28 @@ def test_a_run_past_its_step_limit_is_refused_naming_the_limit():
     Y = eng.march(rig, x0, 0.0, s.period, te, COMPILED, 0.02 * s.period, {}, max_steps=n + 1)
     np.testing.assert_array_equal(X, Y)
     assert periodic.RUN_STEPS >= 10  # far above the spread of ordinary runs (about 2x)
+
+
+def test_no_shooting_route_is_the_auto_march_without_the_newton_runs():
+    # s13: the class screen's probes; where the march does not arrive, the auto route's
+    # error and last marched period, with no shooting run; where it arrives, the same orbit
+    m = get_model("full")
+    opts = COMPILED.replace(max_cycles=3, min_cycles=3)
+    rig = TestRig(m, preset("inerter"), HarmonicStroke(1e-3, 3.0))
+    eng = engine_for(rig, opts)
+    x0 = m.initial_state(rig.params, float(rig.stroke(0.0)[0]))
+    with pytest.raises(ConvergenceError) as cut:
+        periodic.periodic_state(rig, eng, x0, opts, route="no_shooting")
+    with pytest.raises(ConvergenceError) as auto:
+        periodic.periodic_state(rig, eng, x0, opts, shooting=periodic.ShootingOptions(max_iter=1))
+    assert "not shot (route 'no_shooting')" in str(cut.value)
+    assert "shooting did not converge" in str(auto.value)
+    assert cut.value.marched[1:] == auto.value.marched[1:] == (3, auto.value.marched[2])
+    np.testing.assert_array_equal(cut.value.marched[0], auto.value.marched[0])
+    rig = TestRig(m, preset("reference"), HarmonicStroke(3e-3, 3.0))
+    eng = engine_for(rig, COMPILED)
+    x0 = m.initial_state(rig.params, float(rig.stroke(0.0)[0]))
+    a = periodic.periodic_state(rig, eng, x0, COMPILED)
+    b = periodic.periodic_state(rig, eng, x0, COMPILED, route="no_shooting")
+    assert a.route == b.route == "march"
+    np.testing.assert_array_equal(a.states, b.states)

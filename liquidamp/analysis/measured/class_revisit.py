@@ -74,13 +74,15 @@ The fluid family's other starts (:func:`fluid_alternatives`)
     Each is diagnosed one step first (its best first effect); a published design's start
     runs that step's refits and device refinement first, without restarts: where neither its
     baseline nor any of them predicts any held-out record within the rule's tolerance of the
-    model held, the rest of the round is not run (:func:`screened`). Only where the one-step
-    model passes the selection rule against the model held (:func:`passes`) is its loop
-    continued, and its final model replaces the model held only where it passes the rule
-    against it, in turn (so every alternative must beat the best model so far). An
-    alternative whose baseline the records cannot support (:func:`unsupported`: a fluid
-    device sized far from the one given with its fluid at a bound, as on a friction damper's
-    records) is reported, not diagnosed.
+    model held, the rest of the round is not run (:func:`screened`; the fits one at a time,
+    none after the first within the tolerance, and the score tests that rank them without
+    the Newton shooting: a probe the march does not bring to its orbit is not scored).
+    Only where the one-step model passes the selection rule against the model held
+    (:func:`passes`) is its loop continued, and its final model replaces the model held
+    only where it passes the rule against it, in turn (so every alternative must beat the
+    best model so far). An alternative whose baseline the records cannot support
+    (:func:`unsupported`: a fluid device sized far from the one given with its fluid at a
+    bound, as on a friction damper's records) is reported, not diagnosed.
 
 The friction start's fluid level (:func:`friction_alternatives`)
     The friction start holds its fluid at one of two levels, the calibration records' noise
@@ -417,9 +419,10 @@ def screened(run: dict, base2, first, sel) -> str:
     base2 : CalibrationResult
         The alternative start's baseline.
     first : callable
-        ``first(baseline) -> list of (name, CalibrationResult)``: the candidates a round
+        ``first(baseline) -> iterable of (name, CalibrationResult)``: the candidates a round
         from ``baseline`` refits first, each refitted once (no restart), and its device
-        refinement.
+        refinement; taken one at a time, and no further once one does not miss (the
+        start is diagnosed whatever the fits after it give).
     sel : SelectionRule
         Its ``validation_tolerance`` [-].
 
@@ -441,11 +444,17 @@ def screened(run: dict, base2, first, sel) -> str:
 
     if not misses(base2):
         return ""
+    got = []
     try:
-        got = first(base2)
+        # one fit after the other (``first`` may yield them): the first that does not miss
+        # decides, and the fits after it are not made (the start is diagnosed either way)
+        for name, res in first(base2):
+            if not misses(res):
+                return ""
+            got.append((name, res))
     except LiquidampError:
         return ""  # the screen could not be run: the start is diagnosed
-    if not got or not all(misses(res) for _, res in got):
+    if not got:
         return ""
     held = ", ".join(f"{k} {v:.3g}" for k, v in now.items())
     refits = "; ".join(f"{name} {shown(res)}" for name, res in got)

@@ -167,7 +167,8 @@ def signatures(result: CalibrationResult) -> dict:
     return out
 
 
-def score(name: str, result: CalibrationResult, options, preroll: int):
+def score(name: str, result: CalibrationResult, options, preroll: int, *,
+          route: str = "auto"):
     """Score test of one candidate against a calibrated model.
 
     Parameters
@@ -180,6 +181,11 @@ def score(name: str, result: CalibrationResult, options, preroll: int):
         Solver options of the probe run.
     preroll : int
         Pre-roll passes of the probe run.
+    route : str
+        Route of the probe run to each record's periodic orbit
+        (:func:`~liquidamp.analysis.measured.record_model.simulate_record`;
+        ``"no_shooting"``: a probe the march does not bring to its orbit is not scored,
+        as one whose shooting fails, without the Newton shooting's runs).
 
     Returns
     -------
@@ -195,7 +201,8 @@ def score(name: str, result: CalibrationResult, options, preroll: int):
     resp = []
     try:
         Fp = predict(result.model, change.params or result.params, change.effects,
-                     result.calibration, options=options, preroll=preroll, responses=resp)
+                     result.calibration, options=options, preroll=preroll, responses=resp,
+                     route=route)
     except LiquidampError as exc:
         return Candidate(name, 0.0, 0.0, {}, note=f"probe run failed: {exc}"), change
     off = [w for r in resp if r.solver_stats.get("route") == NOT_PERIODIC for w in r.warnings]

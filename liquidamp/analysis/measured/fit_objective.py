@@ -129,7 +129,7 @@ def build(base_params: DeviceParams, effects: tuple[Effect, ...], spec: FitSpec,
 
 def predict(model, params: DeviceParams, effects, records, *, options=None,
             preroll: int | None = None, warm: dict | None = None,
-            responses: list | None = None) -> list[np.ndarray]:
+            responses: list | None = None, route: str = "auto") -> list[np.ndarray]:
     """Model force [N] for each record (driven by its stroke).
 
     ``warm`` (optional dict, updated in place): the orbit state at each periodic record's
@@ -137,6 +137,8 @@ def predict(model, params: DeviceParams, effects, records, *, options=None,
     periodic orbit (:func:`~liquidamp.analysis.measured.record_model.simulate_record`,
     ``x0``); ``preroll`` is ignored (kept for existing calls).  ``responses`` (optional
     list): receives each record's :class:`~liquidamp.coupled.testrig.DeviceResponse`.
+    ``route``: the route to each periodic orbit (:func:`~liquidamp.analysis.measured.
+    record_model.simulate_record`).
     """
     m = with_effects(get_model(model), *effects)
     opts = resolve_options(options, "fit")
@@ -145,7 +147,7 @@ def predict(model, params: DeviceParams, effects, records, *, options=None,
         x0 = None if warm is None else warm.get(i)
         if x0 is not None and x0.shape != (m.n_states,):
             x0 = None
-        resp = simulate_record(m, params, r, options=opts, x0=x0)
+        resp = simulate_record(m, params, r, options=opts, x0=x0, route=route)
         if warm is not None and r.periodic and m.n_states:
             warm[i] = np.array(resp.states[:, 0])
         if responses is not None:

@@ -186,8 +186,10 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
         sample (e.g. ``previous.states[:, 0]`` of a response for nearby parameters;
         it is first moved onto the invariants of the device at rest, which select
         the orbit).  Otherwise: the initial state (default rest at p0).
-    route : {"auto", "march", "shooting"}
-        Route to the periodic orbit (:func:`liquidamp.coupled.periodic.periodic_state`).
+    route : {"auto", "march", "shooting", "no_shooting"}
+        Route to the periodic orbit (:func:`liquidamp.coupled.periodic.periodic_state`;
+        ``"no_shooting"``: where the march does not arrive, the last marched cycle,
+        flagged as not periodic, as where the shooting fails).
 
     Returns
     -------

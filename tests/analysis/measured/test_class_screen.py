@@ -110,3 +110,20 @@ def test_revisit_starts_screens_a_design_start_only(monkeypatch):
     # the device as given (not sized) is never screened: its loop runs
     out, loops, _ = _revisit(monkeypatch, {"params": _GIVEN, "sizing": "preset"}, first)
     assert out is None and len(loops) == 1
+
+
+def test_screen_stops_at_the_first_fit_within_the_tolerance():
+    # the fits are taken one at a time: once one predicts a held-out record within the
+    # tolerance the start is diagnosed, and the fits after it are not made (s13)
+    made = []
+
+    def first(base):
+        made.append("smooth_friction")
+        yield "smooth_friction", _Fit({"a": 0.59, "b": 0.6})
+        made.append("end_stops")
+        yield "end_stops", _Fit({"a": 0.00357, "b": 0.0041})  # a within 2 %
+        made.append("inertance")
+        raise AssertionError("a fit after the first within the tolerance was made")
+
+    assert CR.screened(_held(), _BASE2, first, SelectionRule()) == ""
+    assert made == ["smooth_friction", "end_stops"]
