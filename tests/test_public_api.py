@@ -55,6 +55,7 @@ def test_bode_plot_of_a_damper_draws_plus_90_deg():
     f = np.array([0.5, 2.0, 10.0])
     curve = StiffnessCurve("damper", f, liquidamp.device_lti(liquidamp.viscous(1e3)).stiffness(f))
     frd = curve.to_frd()
+    plt.close("all")  # a figure left open by another test in this process would be drawn on
     frd.plot()
     phase = plt.gcf().axes[1].get_lines()[0].get_ydata()
     plt.close("all")

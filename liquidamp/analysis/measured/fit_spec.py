@@ -26,8 +26,18 @@ N (> 0)        [1e-6 F_s, 2 F_s]           friction up to 24 kN (not 10 kN)
 N (signed)     [-2 F_s, 2 F_s]             a load-cell offset
 N/m            [1e-3 K_s, 1e5 K_s]         pre-sliding or series stiffness
 kg             [1e-5 M_s, 10 M_s]          moving mass
-m              [1e-5 Y_s, Y_s]             a dead band no wider than the stroke
+m              [1e-3 Y_s, Y_s]             a dead band no wider than the stroke
 =============  ==========================  ===================================
+
+A length (a dead band, an end stop's clearance, a groove's half-width, a slip distance) of
+less than 1e-3 Y_s is below what a record resolves: after a reversal the stroke moves
+Y_s (w t)^2 / 2, which within one sample of a record of 100 samples a cycle
+(w dt = 2 pi / 100) is 2e-3 Y_s, a dead band of half-width 1e-3 Y_s crossed in a sample
+(the conditioning keeps tens of samples a cycle).  Its force is then that of the band
+closed (backlash's is its friction alone, a reduction the selection rule tries), while a
+fit driven toward a band of nanometres crosses it in microseconds and costs every
+simulation thousands of steps (a backlash refit on a 3 kHz record: over 15 minutes with
+the floor at 1e-5 Y_s, 30 s at 1e-3 Y_s).
 
 Other units (velocities, ratios, leakage coefficients, pressures) keep the
 catalogue's bounds.  A signed length (a groove's centre) keeps its bounds and is fitted in
@@ -360,7 +370,7 @@ def air_floor_spec(spec, params: DeviceParams, names=AIR_RATIOS):
     return FitSpec(tuple(out)) if changed else None
 
 
-_BOUND_RULES = {"N/m": (1e-3, 1e5), "kg": (1e-5, 10.0), "m": (1e-5, 1.0)}
+_BOUND_RULES = {"N/m": (1e-3, 1e5), "kg": (1e-5, 10.0), "m": (1e-3, 1.0)}
 
 
 def effect_bounds(effect: str, key: str, scales: dict) -> tuple[float, float]:
