@@ -141,7 +141,7 @@ __all__ = ["DEVICE_CLASSES", "FLUID_FLOOR", "VISCOUS_FLOOR", "QUADRATIC_SHARE", 
 
 #: The structurally different starts, in the order they are tried (``field`` only where
 #: every record carries a control input, :func:`field_input`).
-DEVICE_CLASSES = ("fluid", "friction", "viscous", "field")
+DEVICE_CLASSES = ("fluid", "friction", "viscous", "valved", "field")
 #: Control inputs a field-controlled (MR/ER) device follows, in the order they are read.
 FIELD_CHANNELS = ("voltage", "current")
 #: Field lag rates eta tried by the field start [1/s] (MR field time constants of a few to
@@ -643,7 +643,9 @@ def calibrate_by_class(fit, records, validate, *, params: DeviceParams, effects,
                 fits[name], reasons[name] = _friction_fit(fit, params, effects, records,
                                                           reading, cheap, common)
                 continue
-            make = {"viscous": viscous_start, "field": field_start}[name]
+            from liquidamp.analysis.measured.start_valved import valved_start  # it uses ours
+
+            make = {"viscous": viscous_start, "valved": valved_start, "field": field_start}[name]
             st = make(params, effects, records, reading)
             reasons[name] = st.reason
             fits[name] = fit(records, params=st.params, effects=st.effects, spec=st.spec,
