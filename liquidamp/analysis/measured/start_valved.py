@@ -227,7 +227,12 @@ def valved_start(base: DeviceParams, effects, records, reading: LoopReading) -> 
         targets.append(complex(VISCOUS_FLOOR * c_lo * w, c_lo * w))
     p, how = fluid_matched(_reference(base, records), records, targets,
                            quadratic_share=QUADRATIC_SHARE)
+    # the bleed is the map's low slope: c1 A_p^2 = c_lo+ (the linear match above shares the
+    # first harmonic's damping with the quadratic loss and the inertance)
+    f_c = c_lo / (p.c1 * p.A_p ** 2)
+    p = p.scaled(c1=f_c)
     p, stiff = _stiff(p, max(rates))
+    stiff = f", c1 x{f_c:.3g} (bleed {c_lo:.4g} N s/m)" + stiff
     p = p.replace(name=f"{base.name or 'device'} valved start ({how}{stiff})")
     c = p.c1 * p.A_p ** 2  # the device's laminar bleed [N s/m]
     lo_r, hi_r = EFFECTS["asymmetric_loss"].bounds["rebound_ratio"]
