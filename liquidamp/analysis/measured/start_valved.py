@@ -238,10 +238,10 @@ def valved_start(base: DeviceParams, effects, records, reading: LoopReading) -> 
     lo_r, hi_r = EFFECTS["asymmetric_loss"].bounds["rebound_ratio"]
     ratio = min(max(m.low_rebound / c_lo, lo_r), hi_r)
     scale = c / c_lo  # the map's slopes on the device's bleed
+    c_r = c * ratio  # the rebound bleed; a progressive side's valve starts shut (G = 0)
     valve = DigressiveValve.from_knees(
-        c, m.knee_compression, min(m.high_compression, m.low_compression) * scale,
-        c * ratio, m.knee_rebound, min(m.high_rebound, m.low_rebound) * scale,
-        area_m2=p.A_p)
+        c, m.knee_compression, min(m.high_compression * scale, c),
+        c_r, m.knee_rebound, min(m.high_rebound * scale, c_r), area_m2=p.A_p)
     present = {e.name: e for e in effects}
     made = {"force_offset": (present.get("force_offset") or EFFECTS["force_offset"]()).replace(
                 offset_N=m.offset),
