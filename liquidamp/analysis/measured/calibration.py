@@ -437,7 +437,9 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
     device_class : {'auto', 'fluid', 'friction', 'viscous', 'valved', 'field'}
         The start's device class (:mod:`~liquidamp.analysis.measured.device_class`):
         'auto' (default) calibrates the sized fluid device, a friction damper, a
-        viscous damper with a force offset and, where every record carries a voltage or
+        viscous damper with a force offset, a valved viscous damper (the two-slope map,
+        :mod:`~liquidamp.analysis.measured.start_valved`) and, where every record carries a
+        voltage or
         current channel, a field-controlled (MR/ER) device cheaply and continues the one
         chosen on the
         data, where the caller left the structure to the start (``spec`` None,

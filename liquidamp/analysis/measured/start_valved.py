@@ -58,11 +58,11 @@ from liquidamp.analysis.measured.device_class import (
     QUADRATIC_SHARE,
     VISCOUS_FLOOR,
     ClassStart,
-    LoopReading,
     _offset_spec,
     _reference,
     fluid_matched,
 )
+from liquidamp.analysis.measured.loop_reading import LoopReading
 from liquidamp.analysis.measured.reference_models import fit_two_slope
 from liquidamp.device.effects import EFFECTS
 from liquidamp.device.effects_damper import DigressiveValve
