@@ -1,4 +1,7 @@
-"""Print each case's class-choice outcomes: ``PYTHONPATH=. python runs/s13_valved/classes.py DIR``."""
+"""Print each case's class-choice outcomes.
+
+Usage: ``PYTHONPATH=. python runs/s13_valved/classes.py DIR``.
+"""
 import glob
 import json
 import sys
