@@ -147,8 +147,8 @@ def read_map(records) -> MapReading:
     Raises
     ------
     ParameterError
-        Where a low-speed slope is not positive or a knee not finite (no bleed a valve could
-        sit beside; the start cannot be built).
+        Where a slope is not positive (no bleed a valve could sit beside, or a force that
+        falls with the speed) or a knee is not finite; the start cannot be built.
 
     Examples
     --------
@@ -174,6 +174,11 @@ def read_map(records) -> MapReading:
             raise ParameterError(f"valved start: the map's {side} low-speed slope is "
                                  f"{c:.4g} N s/m, not positive (no bleed to set a valve "
                                  "beside)")
+        c_hi = getattr(m, f"high_{side}")
+        if not (math.isfinite(c_hi) and c_hi > 0):
+            raise ParameterError(f"valved start: the map's {side} high-speed slope is "
+                                 f"{c_hi:.4g} N s/m, not positive (a force that falls with "
+                                 "the speed: no valve opens so)")
         if not (math.isfinite(v_k) and v_k >= 0):
             raise ParameterError(f"valved start: the map's {side} knee is {v_k!r} m/s "
                                  "(too few samples that way to place one)")
