@@ -438,10 +438,12 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
         similar device sized to the records; 'preset' always ``params`` (a
         stroke past its chamber end is refused); 'data' always the sized
         device.
-    device_class : {'auto', 'fluid', 'friction', 'viscous', 'field'}
+    device_class : {'auto', 'fluid', 'friction', 'viscous', 'valved', 'field'}
         The start's device class (:mod:`~liquidamp.analysis.measured.device_class`):
         'auto' (default) calibrates the sized fluid device, a friction damper, a
-        viscous damper with a force offset and, where every record carries a voltage or
+        viscous damper with a force offset, a valved viscous damper (the two-slope map,
+        :mod:`~liquidamp.analysis.measured.start_valved`) and, where every record carries a
+        voltage or
         current channel, a field-controlled (MR/ER) device cheaply and continues the one
         chosen on the
         data, where the caller left the structure to the start (``spec`` None,
@@ -517,7 +519,7 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
     check_choice("start", start, ("physics", "spec"))
     check_choice("sizing", sizing, SIZING_CHOICES)
     check_choice("device_class", device_class, ("auto",) + DEVICE_CLASSES)
-    if structure_open and (device_class in ("friction", "viscous", "field") or (
+    if structure_open and (device_class in ("friction", "viscous", "valved", "field") or (
             device_class == "auto" and start == "physics" and sizing != "preset")):
         res = calibrate_by_class(
             calibrate, records, validate, params=base, effects=effects, sizing=sizing,

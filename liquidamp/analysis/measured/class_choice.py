@@ -3,7 +3,8 @@
 :func:`choose_start` judges the starts of
 :func:`~liquidamp.analysis.measured.device_class.calibrate_by_class` on the data: the
 held-out records first (a start that another beats on the pooled held-out records by
-more than :data:`HELD_OUT_TOLERANCE`, while not worse on any record, is out), then the
+more than :data:`HELD_OUT_TOLERANCE`, while not worse on any record and not paying for it
+with parameters the calibration records do not support, is out), then the
 Bayesian information criterion on the calibration records with an honest sample count
 (:func:`~liquidamp.analysis.measured.selection.effective_samples`), graded by Kass and
 Raftery's evidence scale (:data:`BIC_POSITIVE`, :data:`BIC_STRONG`).  Each start's outcome
@@ -122,11 +123,13 @@ def choose_start(fits: dict, tolerance: float = HELD_OUT_TOLERANCE,
     """The start to continue among calibrations of the same records (module docstring).
 
     Among the eligible fits that no other dominates (better on the pooled held-out
-    records by more than ``tolerance`` and not worse by more than ``tolerance`` on any
-    record, calibration or held-out), the lowest effective-sample BIC on the calibration
-    records leads.  A fit better held-out than the leader by more than ``tolerance``
-    wins instead where the leader's BIC is lower by less than :data:`BIC_STRONG` (the
-    calibration records hold no strong evidence; the best held-out of those wins);
+    records by more than ``tolerance``, not worse by more than ``tolerance`` on any
+    record, calibration or held-out, and an effective-sample BIC not higher by
+    :data:`BIC_POSITIVE` or more: its parameters paid for), the lowest effective-sample
+    BIC on the calibration records leads.  A fit better held-out than the leader by more
+    than ``tolerance`` wins instead where the leader's BIC is lower by less than
+    :data:`BIC_STRONG` (the calibration records hold no strong evidence; the best held-out
+    of those wins);
     where it is lower by more, the records disagree, the leader stays and the returned
     note says so.  A choice of another class than :data:`DEFAULT_CLASS` (the fluid start,
     when it is eligible and not dominated) gives way to the fluid start where it predicts
@@ -176,7 +179,12 @@ def choose_start(fits: dict, tolerance: float = HELD_OUT_TOLERANCE,
     n_eff = min(effective_samples(v)[0] for v in res.values())
     bic = {n: n_eff * math.log(max(sum(float(np.sum(x * x)) for x in v), 1e-300))
            + len(ok[n].varying) * math.log(n_eff) for n, v in res.items()}
-    dominated = {n: any(_dominates(ok[m], ok[n], tolerance) for m in can if m != n)
+    # b dominates a only where it is at least as good on the calibration records as the
+    # choice measures them, its parameters paid for (BIC not higher by BIC_POSITIVE or
+    # more): a start with more parameters that matches another there only within the
+    # tolerance has not earned the exclusion of the simpler one
+    dominated = {n: any(_dominates(ok[m], ok[n], tolerance)
+                        and bic[m] - bic[n] < BIC_POSITIVE for m in can if m != n)
                  for n in ok}
     free = [n for n in can if not dominated[n]]
     leader = min(free, key=lambda n: bic[n])

@@ -1,13 +1,13 @@
-"""Starts that find the device class: fluid, friction or viscous, chosen on the data.
+"""Starts that find the device class: fluid, friction, viscous or valved, chosen on the data.
 
 A calibration that starts from the fluid device alone can only explain a loop
 by the fluid: a friction damper's 13 kN rectangle is then drawn by a sized
 fluid device of a 338 mm piston, air ratios and losses at their bounds, and
 nothing afterwards finds the friction.  :func:`calibrate_by_class` therefore
-calibrates three structurally different starts cheaply, chooses one on the
+calibrates four structurally different starts cheaply, chooses one on the
 data (:func:`choose_start`) and continues only that one.
 
-The three starts (every number read off the records, :func:`read_loop`)
+The starts (every number read off the records, :func:`read_loop`)
     ``fluid``
         The device sized to the records and its air ratios and losses matched
         to the first-harmonic K', K'' (:mod:`~liquidamp.analysis.measured.start`;
@@ -50,6 +50,17 @@ The three starts (every number read off the records, :func:`read_loop`)
         (the c1 multiplier) and F0 are fitted: the start is the two-parameter
         line F = c v + F0 in the family's terms, not a fluid device in disguise.
 
+    ``valved``
+        A valved viscous damper (:mod:`~liquidamp.analysis.measured.start_valved`): the
+        dyno's two-slope force-velocity map per direction, read off the records by least
+        squares (:func:`~liquidamp.analysis.measured.reference_models.fit_two_slope`), drawn
+        by the viscous start's device carrying the map's low-speed slope as its bleed, with
+        ``digressive_valve`` from the knees and high-speed slopes, ``asymmetric_loss`` for the
+        rebound bleed and ``force_offset`` at the map's F0; its air stiff and its channel
+        inertance small at the bleed's reversal rate.  Seven parameters vary (the map's
+        count): a power-law building damper, a vehicle damper's bleed and blow-off, and a
+        Bingham damper at constant field (a steep bleed, then a viscous slope) are its.
+
 Each start is calibrated with ``max_nfev`` :data:`START_NFEV` (its multipliers
 start at 1 on its own device, its effect parameters at the values read off);
 the chosen one is continued with the caller's budget (see below: only
@@ -60,11 +71,12 @@ The choice (:func:`choose_start`)
     N_eff ln RSS + k ln N_eff, with N_eff from the residuals' correlation
     times (:func:`~liquidamp.analysis.measured.selection.effective_samples`,
     the smallest over the starts) and k the varied parameters (4 for the
-    fluid start, 2 for the friction and the viscous starts), so that the
+    fluid start, 2 for the friction and the viscous starts, 7 for the valved), so that the
     parameters are paid for.  With validation records,
     a start whose fit another start dominates -- predicts the pooled held-out
     records better by more than :data:`HELD_OUT_TOLERANCE` (5 %) without being
-    worse by more than 5 % on any record, calibration or held-out -- cannot
+    worse by more than 5 % on any record, calibration or held-out, and without a
+    BIC higher by :data:`BIC_POSITIVE` or more (its parameters paid for) -- cannot
     win: no start wins that is worse held-out than one at least as good on
     the calibration data.  A start better held-out by more than 5 % also wins
     where the BIC leader's advantage on the calibration records is not
@@ -118,10 +130,10 @@ from liquidamp.analysis.measured.class_choice import (
     choose_start,
 )
 from liquidamp.analysis.measured.fit_spec import FitSpec, effect_bounds, record_scales
+from liquidamp.analysis.measured.loop_reading import LoopReading, _bristle, read_loop
 from liquidamp.analysis.measured.plausibility import plausibility_flags
 from liquidamp.analysis.measured.record_quality import noise_floor
 from liquidamp.analysis.measured.start import (
-    first_harmonic_stiffness,
     linear_stiffness,
     physics_factors,
     similar_device,
@@ -141,7 +153,7 @@ __all__ = ["DEVICE_CLASSES", "FLUID_FLOOR", "VISCOUS_FLOOR", "QUADRATIC_SHARE", 
 
 #: The structurally different starts, in the order they are tried (``field`` only where
 #: every record carries a control input, :func:`field_input`).
-DEVICE_CLASSES = ("fluid", "friction", "viscous", "field")
+DEVICE_CLASSES = ("fluid", "friction", "viscous", "valved", "field")
 #: Control inputs a field-controlled (MR/ER) device follows, in the order they are read.
 FIELD_CHANNELS = ("voltage", "current")
 #: Field lag rates eta tried by the field start [1/s] (MR field time constants of a few to
@@ -159,111 +171,6 @@ QUADRATIC_SHARE = 0.05
 #: Evaluation budget of each start's cheap calibration.
 START_NFEV = 20
 _FRICTION = ("smooth_friction", "coulomb_friction")
-
-
-# ---------------------------------------------------------------------------
-# what the loop shows
-
-
-@dataclass(frozen=True)
-class LoopReading:
-    """What the calibration records' loops show (:func:`read_loop`), in SI.
-
-    Attributes
-    ----------
-    offset : float
-        F0, the centre line's force at the mean stroke [N].
-    stiffness : float
-        k, the centre line's slope [N/m].
-    friction : float
-        F_c, the friction level (module docstring) [N].
-    friction_source : str
-        ``"least squares on F0 + k y + F_c z"`` or ``"loss part (pi K'' Y / 4)"``.
-    presliding : float
-        dy0, the pre-sliding stroke F_c / sigma0 of the best description [m].
-    mean_force : float
-        Pooled mean force [N].
-    stiffnesses : tuple of complex
-        Each record's first-harmonic K* [N/m].
-    """
-
-    offset: float
-    stiffness: float
-    friction: float
-    friction_source: str
-    presliding: float
-    mean_force: float
-    stiffnesses: tuple
-
-    def as_dict(self) -> dict:
-        """JSON-ready (SI)."""
-        return {"offset [N]": self.offset, "stiffness [N/m]": self.stiffness,
-                "friction [N]": self.friction, "friction_source": self.friction_source,
-                "presliding_stroke [m]": None if math.isnan(self.presliding)
-                else self.presliding, "mean_force [N]": self.mean_force,
-                "K* [N/m]": [[K.real, K.imag] for K in self.stiffnesses]}
-
-
-def _bristle(record, deltas, passes: int = 2) -> np.ndarray:
-    """z(t) of Dahl/LuGre friction (n = 1, no Stribeck) of pre-sliding strokes ``deltas``
-    [m] driven by the record's velocity, one row per delta [-]: dz/dy = (sign v - z) / delta,
-    exact for a velocity held over each sample; the last of ``passes`` passes (the first
-    from z = 0)."""
-    v = record.velocity
-    dy = np.abs(v) * np.gradient(record.time)
-    sv = np.sign(v)
-    decay = np.exp(-dy[None, :] / np.asarray(deltas, float)[:, None])
-    z = np.zeros(len(deltas))
-    out = np.empty((len(deltas), v.size))
-    for _ in range(passes):
-        for i in range(v.size):
-            z = sv[i] + (z - sv[i]) * decay[:, i]
-            out[:, i] = z
-    return out
-
-
-def read_loop(records) -> LoopReading:
-    """Friction level, pre-sliding stroke, centre line and K* of ``records`` (module doc).
-
-    The loop is described by least squares as F ~ F0 + k (y - mean y) + F_c z(t), z the
-    state of Dahl/LuGre friction (n = 1) of pre-sliding stroke dy0 driven by the recorded
-    stroke (:func:`_bristle`), for dy0 on a log grid from 1e-3 to 1 times the stroke
-    amplitude; the dy0 of the least residual wins (a friction damper's slanted reversal is
-    its pre-sliding, a parallel spring is k).  Where F_c is not positive, F_c is the Coulomb
-    level pi K'' Y / 4 of the loop's loss part.
-
-    Examples
-    --------
-    >>> from liquidamp.analysis.measured.records import Record
-    >>> t = np.arange(0, 4.0, 0.002)
-    >>> y = 0.01 * np.sin(2 * np.pi * t)
-    >>> F = 200.0 + 1e4 * y + 500.0 * np.tanh(np.gradient(y, t) / 1e-3)
-    >>> L = read_loop([Record.from_arrays(t, y, F)])
-    >>> round(L.friction, -1), round(L.stiffness, -3), round(L.offset)   # tanh, not Dahl
-    (500.0, 8000.0, 200)
-    """
-    records = tuple(records)
-    Y = max(r.stroke_scale for r in records)
-    deltas = np.geomspace(1e-3 * Y, Y, 31)
-    zs = [_bristle(r, deltas) for r in records]
-    ys = np.concatenate([r.displacement - r.offset for r in records])
-    F = np.concatenate([r.force for r in records])
-    best = None
-    for j, d in enumerate(deltas):
-        X = np.column_stack((np.ones_like(ys), ys, np.concatenate([z[j] for z in zs])))
-        coef, *_ = np.linalg.lstsq(X, F, rcond=None)
-        rss = float(np.sum((X @ coef - F) ** 2))
-        if best is None or rss < best[0]:
-            best = (rss, d, coef)
-    _, dy0, (F0, k, Fc) = best
-    Ks = tuple(first_harmonic_stiffness(r) for r in records)
-    source = "least squares on F0 + k y + F_c z"
-    if not Fc > 0:
-        Fc = float(np.mean([math.pi * K.imag * r.stroke_scale / 4.0
-                            for K, r in zip(Ks, records, strict=True)]))
-        source = "loss part (pi K'' Y / 4)"
-    return LoopReading(float(F0), float(k), float(max(Fc, 0.0)), source, float(dy0),
-                       float(np.mean(F)), Ks)
 
 
 # ---------------------------------------------------------------------------
@@ -643,7 +550,9 @@ def calibrate_by_class(fit, records, validate, *, params: DeviceParams, effects,
                 fits[name], reasons[name] = _friction_fit(fit, params, effects, records,
                                                           reading, cheap, common)
                 continue
-            make = {"viscous": viscous_start, "field": field_start}[name]
+            from liquidamp.analysis.measured.start_valved import valved_start  # it uses ours
+
+            make = {"viscous": viscous_start, "valved": valved_start, "field": field_start}[name]
             st = make(params, effects, records, reading)
             reasons[name] = st.reason
             fits[name] = fit(records, params=st.params, effects=st.effects, spec=st.spec,

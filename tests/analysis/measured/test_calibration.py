@@ -47,8 +47,8 @@ def test_fluid_record_keeps_the_fluid_start(fitted):
     the fluid device (Table 2 recovered above from the same fit)."""
     assert fitted.device_class == "fluid"
     by = {o.name: o for o in fitted.class_starts}
-    assert set(by) == {"fluid", "friction", "viscous"} and by["fluid"].chosen
-    assert by["fluid"].bic < min(by["friction"].bic, by["viscous"].bic)
+    assert set(by) == {"fluid", "friction", "viscous", "valved"} and by["fluid"].chosen
+    assert by["fluid"].bic < min(by["friction"].bic, by["viscous"].bic, by["valved"].bic)
     assert fitted.plausibility == ()
 
 

@@ -50,7 +50,7 @@ def test_friction_element_with_a_spring_gets_the_friction_start(friction_spring)
     res = calibrate([cal], validate=[val], warn=False)
     assert res.device_class == "friction"
     by = {o.name: o for o in res.class_starts}
-    assert set(by) == {"fluid", "friction", "viscous"} and by["friction"].chosen
+    assert set(by) == {"fluid", "friction", "viscous", "valved"} and by["friction"].chosen
     # the fluid start, continued, predicts the held-out record with twice the error (0.64
     # against 0.30; on the calibration record it draws the spring, 0.39 against 0.42)
     assert by["fluid"].continued
@@ -61,7 +61,7 @@ def test_friction_element_with_a_spring_gets_the_friction_start(friction_spring)
     assert set(res.varying) == {"smooth_friction.force_N", "smooth_friction.stiffness_N_per_m"}
     assert res.plausibility == ()
     d = res.as_dict()
-    assert d["device_class"]["chosen"] == "friction" and len(d["device_class"]["starts"]) == 3
+    assert d["device_class"]["chosen"] == "friction" and len(d["device_class"]["starts"]) == 4
     assert "device class friction (fluid: calibration" in res.summary()
     assert "device class       = friction" in res.fit_report()
 
@@ -84,10 +84,19 @@ def test_choose_start_bic_then_held_out_dominance():
     # ... extra parameters are paid for: a 1 % lower residual does not buy two parameters
     name, *_ = choose_start({"fluid": _fake(0.200, 0.3, 4), "friction": _fake(0.198, 0.3, 6)})
     assert name == "fluid"
-    # a start better held-out and no worse on any record dominates the BIC leader
-    fits = {"viscous": _fake(0.200, 0.60, 4), "friction": _fake(0.205, 0.30, 6)}
+    # a start better held-out and no worse on any record dominates the BIC leader where its
+    # BIC is higher by less than BIC_POSITIVE (2: 1.6 here) ...
+    fits = {"viscous": _fake(0.200, 0.60, 4), "friction": _fake(0.2004, 0.30, 4)}
     name, out, note = choose_start(fits)
     assert name == "friction" and not {o.name: o for o in out}["viscous"].admissible
+    # ... not where it pays for its match with parameters the calibration records do not
+    # support (two more, a 2.5 % larger residual: BIC higher by 32): the leader is not
+    # dominated, and the strong evidence keeps it (the rule before session 13 let the
+    # 5 % NRMSE tolerance alone exclude it)
+    fits = {"viscous": _fake(0.200, 0.60, 4), "friction": _fake(0.205, 0.30, 6)}
+    name, out, note = choose_start(fits)
+    assert name == "viscous" and {o.name: o for o in out}["viscous"].admissible
+    assert note.startswith("the records disagree: the friction start")
     # the fluid start gives way only to a start at least as good held-out
     fits = {"fluid": _fake(0.30, 0.40, 4), "friction": _fake(0.20, 0.41, 2, 0.35)}
     name, out, note = choose_start(fits)
