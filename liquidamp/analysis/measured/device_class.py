@@ -117,7 +117,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -129,16 +128,19 @@ from liquidamp.analysis.measured.class_choice import (
     StartOutcome,
     choose_start,
 )
-from liquidamp.analysis.measured.fit_spec import FitSpec, effect_bounds, record_scales
+from liquidamp.analysis.measured.class_start import (  # re-exported
+    QUADRATIC_SHARE,
+    VISCOUS_FLOOR,
+    ClassStart,
+    _offset_spec,
+    _reference,
+    fluid_matched,
+)
+from liquidamp.analysis.measured.fit_spec import FitSpec
 from liquidamp.analysis.measured.loop_reading import LoopReading, _bristle, read_loop
 from liquidamp.analysis.measured.plausibility import plausibility_flags
 from liquidamp.analysis.measured.record_quality import noise_floor
-from liquidamp.analysis.measured.start import (
-    linear_stiffness,
-    physics_factors,
-    similar_device,
-    stroke_factor,
-)
+from liquidamp.analysis.measured.start_valved import valved_start
 from liquidamp.device.effects import EFFECTS
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ConvergenceError, ParameterError, PressureError
@@ -163,11 +165,6 @@ FIELD_SMOOTHING = 0.02
 #: Least share of |K*| the fluid keeps in the friction start (each of K', K''), where the
 #: record's noise floor (as an NRMSE) is lower [-].
 FLUID_FLOOR = 1e-3
-#: Share of |K*| in K' of the viscous start's target (a dashpot, but its air cannot be
-#: rigid), and least share in K'' [-].
-VISCOUS_FLOOR = 0.05
-#: Share of the quadratic loss in the viscous start's describing-function damping [-].
-QUADRATIC_SHARE = 0.05
 #: Evaluation budget of each start's cheap calibration.
 START_NFEV = 20
 _FRICTION = ("smooth_friction", "coulomb_friction")
@@ -175,63 +172,6 @@ _FRICTION = ("smooth_friction", "coulomb_friction")
 
 # ---------------------------------------------------------------------------
 # the starts
-
-
-@dataclass(frozen=True)
-class ClassStart:
-    """A structurally different start: device, effects, what varies, what was read."""
-
-    name: str
-    params: DeviceParams
-    effects: tuple
-    spec: FitSpec | None
-    reason: str
-
-
-def fluid_matched(reference: DeviceParams, records, targets,
-                  quadratic_share: float | None = None) -> tuple[DeviceParams, str]:
-    """A device similar to ``reference`` whose linear model carries ``targets`` (one
-    complex K [N/m] per record): the force factor rho matches |K| (geometric mean over
-    the records, eq. 16 with inertia), then the air ratios and losses match K', K''
-    (:func:`~liquidamp.analysis.measured.start.physics_factors`).  ``quadratic_share``
-    sets c2 so that the quadratic loss is that share of the damping c_eq first; an
-    inertance b_L beyond what the target allows (w^2 b_L > 1 / (2 |Im 1/K|), where the
-    series spring-dashpot-inertance has no solution) is brought to half that bound."""
-    Ys = [r.stroke_scale for r in records]
-    ref = [linear_stiffness(reference, r.frequency, Y) for r, Y in zip(records, Ys,
-                                                                      strict=True)]
-    rho = float(np.exp(np.mean([math.log(abs(K) / abs(R))
-                                for K, R in zip(targets, ref, strict=True)])))
-    p, _ = similar_device(reference, force=rho)
-    how = [f"force x{rho:.3g}"]
-    if quadratic_share is not None:
-        Q = float(np.mean([p.A_p * 2 * math.pi * r.frequency * Y
-                           for r, Y in zip(records, Ys, strict=True)]))
-        quad = 8.0 / (3.0 * math.pi) * p.c2 * Q
-        if quad > 0:
-            f2 = quadratic_share / (1 - quadratic_share) * p.c1 / quad
-            p = p.scaled(c2=f2)
-            how.append(f"c2 x{f2:.3g} (quadratic loss {quadratic_share:.0%} of c_eq)")
-    # the channel's inertance in series makes K' negative beyond w^2 b_L = 1 / (2 |Im 1/K|)
-    # (linear_fit has no solution there): a larger one is brought to half that bound
-    f_in = min(1.0 / (2.0 * abs((1.0 / K).imag)) / ((2 * math.pi * r.frequency) ** 2 * p.b_L)
-               for K, r in zip(targets, records, strict=True)) if p.b_L > 0 else math.inf
-    if f_in < 1.0:
-        p = p.scaled(S_t=0.5 * f_in)
-        how.append(f"S_t x{0.5 * f_in:.3g} (inertance within K*)")
-    f_air, f_loss = physics_factors(records, p, targets=targets)
-    mult = {**(dict.fromkeys(("inv_gamma1", "inv_gamma2"), f_air) if f_air else {}),
-            **(dict.fromkeys(("c1", "c2"), f_loss) if f_loss else {})}
-    if mult:
-        p = p.scaled(**mult)
-    how += ([f"air x{f_air:.3g}"] if f_air else []) + ([f"losses x{f_loss:.3g}"]
-                                                        if f_loss else [])
-    return p, ", ".join(how)
-
-
-def _reference(base: DeviceParams, records) -> DeviceParams:
-    """The starting device with its chambers stretched so the stroke uses at most half."""
-    return similar_device(base, stroke=stroke_factor(records, base))[0]
 
 
 def friction_start(base: DeviceParams, effects, records, reading: LoopReading,
@@ -318,23 +258,6 @@ def viscous_start(base: DeviceParams, effects, records, reading: LoopReading) ->
            f"offset {reading.mean_force:.4g} N ({how})")
     # a viscous damper's two parameters, c and F0: the air and the quadratic loss held
     return ClassStart("viscous", p, effs, _offset_spec(effs, records), why)
-
-
-def _offset_spec(effs, records) -> FitSpec:
-    """c1 and the effects' fit keys, the force offset bounded by the records' force scale
-    (:func:`~liquidamp.analysis.measured.fit_spec.effect_bounds`: +-2 F_s, what the fit
-    gives it anyway), so that a record's mean force beyond the catalogue's +-10 kN (a
-    building damper's) is a start, not an error."""
-    name = "force_offset.offset_N"
-    cat_lo, cat_hi = EFFECTS["force_offset"].bounds["offset_N"]
-    F0 = next(e.offset_N for e in effs if e.name == "force_offset")
-    held = tuple(e.replace(offset_N=min(max(F0, cat_lo), cat_hi)) if e.name == "force_offset"
-                 else e for e in effs)
-    spec = FitSpec.default(vary=("c1",), effects=held)
-    lo, hi = effect_bounds("force_offset", "offset_N", record_scales(records))
-    return FitSpec(tuple(
-        p.replace(value=F0, min=min(lo, F0), max=max(hi, F0), scale=max(abs(F0), 1.0))
-        if p.name == name else p for p in spec.parameters))
 
 
 def field_input(records) -> str | None:
@@ -550,8 +473,6 @@ def calibrate_by_class(fit, records, validate, *, params: DeviceParams, effects,
                 fits[name], reasons[name] = _friction_fit(fit, params, effects, records,
                                                           reading, cheap, common)
                 continue
-            from liquidamp.analysis.measured.start_valved import valved_start  # it uses ours
-
             make = {"viscous": viscous_start, "valved": valved_start, "field": field_start}[name]
             st = make(params, effects, records, reading)
             reasons[name] = st.reason

@@ -54,7 +54,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from liquidamp.analysis.measured.device_class import (
+from liquidamp.analysis.measured.class_start import (
     QUADRATIC_SHARE,
     VISCOUS_FLOOR,
     ClassStart,
