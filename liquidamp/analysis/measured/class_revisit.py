@@ -119,8 +119,7 @@ from liquidamp.analysis.measured.device_class import (
     friction_start,
     read_loop,
 )
-from liquidamp.analysis.measured.diagnosis_result import heldout_per_record
-from liquidamp.analysis.measured.selection import judge, sample_count
+from liquidamp.analysis.measured.diagnosis_result import heldout_per_record, judge_fits
 from liquidamp.analysis.measured.start import stroke_factor
 from liquidamp.analysis.measured.stroke_datum import datum_start
 from liquidamp.errors import LiquidampError
@@ -350,11 +349,7 @@ def alternative_outcome(label: str, result, cls: str = "fluid") -> StartOutcome:
 def _verdict(run: dict, alt_run: dict, sel):
     a, b = run["current"], alt_run["current"]
     now, new = heldout_per_record(a), heldout_per_record(b)
-    v = judge(a.residuals("calibration"), b.residuals("calibration"),
-              len(b.varying) - len(a.varying), [now[k] for k in now], [new[k] for k in now],
-              bic_threshold=sel.bic_threshold, validation_tolerance=sel.validation_tolerance,
-              n_eff=sample_count(b.calibration, b.residuals("calibration"),
-                                 sel.sample_count))
+    v = judge_fits(a, b, sel)
     return v, now, new
 
 

@@ -42,9 +42,9 @@ import numpy as np
 
 from liquidamp.analysis.measured.calibration import FitSpec, calibrate
 from liquidamp.analysis.measured.diagnosis_fits import _converge
-from liquidamp.analysis.measured.diagnosis_result import heldout_per_record
+from liquidamp.analysis.measured.diagnosis_result import heldout_per_record, judge_fits
 from liquidamp.analysis.measured.record_model import simulate_record
-from liquidamp.analysis.measured.selection import judge, sample_count
+from liquidamp.analysis.measured.selection import sample_count
 from liquidamp.device.effects import with_effects
 from liquidamp.device.models import get_model
 from liquidamp.errors import LiquidampError
@@ -226,13 +226,7 @@ def credit(chosen, tied, ranked, refits, probes, current, validation, options, b
         if restart is None:
             dev = device_without(res, change, current, validation, options, bud)
             if dev is not None:
-                now, new = heldout_per_record(current), heldout_per_record(dev)
-                v = judge(current.residuals("calibration"), dev.residuals("calibration"),
-                          len(dev.varying) - len(current.varying), [now[k] for k in now],
-                          [new[k] for k in now], bic_threshold=sel.bic_threshold,
-                          validation_tolerance=sel.validation_tolerance,
-                          n_eff=sample_count(dev.calibration, dev.residuals("calibration"),
-                                             sel.sample_count))
+                v, new = judge_fits(current, dev, sel), heldout_per_record(dev)
                 if v.accepted:
                     cand = dataclasses.replace(
                         ranked[i], effect=RESTART, accepted=True, refitted=True,

@@ -14,10 +14,9 @@ from __future__ import annotations
 import dataclasses
 
 from liquidamp.analysis.measured.calibration import FitSpec, calibrate
-from liquidamp.analysis.measured.diagnosis_result import heldout_per_record
+from liquidamp.analysis.measured.diagnosis_result import heldout_per_record, judge_fits
 from liquidamp.analysis.measured.fit_spec import Parameter
 from liquidamp.analysis.measured.profile import profile_restart, undetermined_parameter
-from liquidamp.analysis.measured.selection import judge, sample_count
 from liquidamp.errors import LiquidampError
 
 __all__: list = []
@@ -201,13 +200,7 @@ def _profile_judged(res, chosen, probes, current, validation, options, bud, sel)
                            bud.max_nfev, bud.tol, sel.validation_tolerance)
     if prof is None or res2 is res:
         return res, chosen, prof
-    now, new = heldout_per_record(current), heldout_per_record(res2)
-    v = judge(current.residuals("calibration"), res2.residuals("calibration"),
-              len(res2.varying) - len(current.varying), [now[k] for k in now],
-              [new[k] for k in now], bic_threshold=sel.bic_threshold,
-              validation_tolerance=sel.validation_tolerance,
-              n_eff=sample_count(res2.calibration, res2.residuals("calibration"),
-                                 sel.sample_count))
+    v, new = judge_fits(current, res2, sel), heldout_per_record(res2)
     if not v.accepted:
         return res, chosen, dataclasses.replace(prof, restarted=False)
     chosen = dataclasses.replace(chosen, parameters=probes[chosen.effect].parameters(res2),

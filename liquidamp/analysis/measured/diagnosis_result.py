@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 
 from liquidamp.analysis.measured.calibration_result import CalibrationResult
 from liquidamp.analysis.measured.reference_models import comparison
+from liquidamp.analysis.measured.selection import Verdict, judge, sample_count
 
 __all__ = ["Step", "Diagnosis", "heldout_per_record"]
 
@@ -27,6 +28,37 @@ __all__ = ["Step", "Diagnosis", "heldout_per_record"]
 def heldout_per_record(result: CalibrationResult) -> dict:
     """Record label -> held-out NRMSE of a calibrated model [-] (its validation records)."""
     return {e.label: e.nrmse for e in result.record_errors if e.role == "validation"}
+
+
+def judge_fits(current: CalibrationResult, new: CalibrationResult, sel) -> Verdict:
+    """The selection rule ``sel`` on fit ``new`` against the model held ``current``.
+
+    :func:`~liquidamp.analysis.measured.selection.judge` on their calibration residuals
+    [N], the parameters ``new`` frees beyond ``current``, each held-out record of
+    ``current`` (NRMSE [-], record by record), ``sel``'s BIC threshold and validation
+    tolerance, and the samples counted as ``sel.sample_count`` says on ``new``'s records
+    (:func:`~liquidamp.analysis.measured.selection.sample_count`): the one comparison of
+    two fits every stage of the diagnosis makes (a round's refits, the profile restart, a
+    device credited with a refit's fall, an alternative class start).
+
+    Parameters
+    ----------
+    current, new : CalibrationResult
+        The model held and the one judged (same calibration and validation records).
+    sel : SelectionRule
+        ``bic_threshold``, ``validation_tolerance``, ``sample_count``.
+
+    Returns
+    -------
+    Verdict
+    """
+    now, then = heldout_per_record(current), heldout_per_record(new)
+    return judge(current.residuals("calibration"), new.residuals("calibration"),
+                 len(new.varying) - len(current.varying), [now[k] for k in now],
+                 [then[k] for k in now], bic_threshold=sel.bic_threshold,
+                 validation_tolerance=sel.validation_tolerance,
+                 n_eff=sample_count(new.calibration, new.residuals("calibration"),
+                                    sel.sample_count))
 
 
 @dataclass(frozen=True)

@@ -18,8 +18,7 @@ from liquidamp.analysis.measured.calibration import CalibrationResult
 from liquidamp.analysis.measured.diagnosis_evidence import REDUCTIONS, Candidate
 from liquidamp.analysis.measured.diagnosis_fits import _refit
 from liquidamp.analysis.measured.diagnosis_options import SelectionRule
-from liquidamp.analysis.measured.diagnosis_result import heldout_per_record
-from liquidamp.analysis.measured.selection import judge, sample_count
+from liquidamp.analysis.measured.diagnosis_result import heldout_per_record, judge_fits
 from liquidamp.errors import LiquidampError
 
 __all__: list = []
@@ -35,15 +34,9 @@ def _freed_at_bound(res: CalibrationResult, change) -> list:
 def _judge_round(ranked, refits, probes, current, sel: SelectionRule):
     """Stage "select", part 1: the selection rule on every refit (per held-out record, the
     honest sample count, no freed parameter at a bound)."""
-    now = heldout_per_record(current)
     for cand in [c for c in ranked if c.effect in refits]:
         res = refits[cand.effect]
-        new = heldout_per_record(res)
-        n_eff = sample_count(res.calibration, res.residuals("calibration"), sel.sample_count)
-        v = judge(current.residuals("calibration"), res.residuals("calibration"),
-                  len(res.varying) - len(current.varying), [now[k] for k in now],
-                  [new[k] for k in now], bic_threshold=sel.bic_threshold,
-                  validation_tolerance=sel.validation_tolerance, n_eff=n_eff)
+        v, new = judge_fits(current, res, sel), heldout_per_record(res)
         why = ([f"refit: {res.message}"] if not res.converged else []) + list(v.reasons)
         bound = _freed_at_bound(res, probes[cand.effect])
         if bound and sel.reject_at_bound:
