@@ -233,8 +233,9 @@ def _friction_baseline(level, noise: float = 50.0, device_class: str = "friction
 
 def test_friction_alternatives_offer_the_fluid_level_not_chosen():
     from liquidamp.analysis.measured.class_revisit import friction_alternatives
-    from liquidamp.analysis.measured.device_class import FLUID_FLOOR, linear_stiffness
+    from liquidamp.analysis.measured.device_class import FLUID_FLOOR
     from liquidamp.analysis.measured.record_quality import noise_floor
+    from liquidamp.analysis.measured.start import linear_stiffness
 
     run = {"current": SimpleNamespace(nrmse_calibration=0.3)}
     base, params, rec = _friction_baseline(None)  # the noise floor chosen
