@@ -51,8 +51,6 @@ def pytest_configure(config):
     answers do not depend on the thread count (``fit_objective``)."""
     workers = os.environ.get("PYTEST_XDIST_WORKER_COUNT")
     if workers and not os.environ.get("LIQUIDAMP_THREADS"):
-        try:
-            cores = len(os.sched_getaffinity(0))
-        except AttributeError:  # not on Linux
-            cores = os.cpu_count() or 1
-        os.environ["LIQUIDAMP_THREADS"] = str(max(1, cores // max(1, int(workers))))
+        from liquidamp.analysis.measured.fit_objective import fit_threads  # the usable cores
+
+        os.environ["LIQUIDAMP_THREADS"] = str(max(1, fit_threads() // max(1, int(workers))))
