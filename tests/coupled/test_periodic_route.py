@@ -216,3 +216,31 @@ def test_no_shooting_route_is_the_auto_march_without_the_newton_runs():
     b = periodic.periodic_state(rig, eng, x0, COMPILED, route="no_shooting")
     assert a.route == b.route == "march"
     np.testing.assert_array_equal(a.states, b.states)
+
+
+def test_a_shooting_out_of_iterations_raises_or_is_accepted_below_accept():
+    """The iterations run out above ``tol``: without ``accept`` the shooting raises (it used
+    to return the unconverged orbit silently where the last iteration tightened the runs);
+    with ``accept`` above the residual reached it returns the orbit, says so, and that orbit
+    is the converged one to within the residual's reach."""
+    m, p = get_model("full"), preset("inerter")
+    rig = TestRig(m, p, HarmonicStroke(1e-3, 3.0))
+    fit = SolverOptions.preset("fit")  # rtol 1e-6: a one-period run is not exact to 1e-12
+    eng = engine_for(rig, fit)
+    x0 = m.initial_state(p, 0.0)
+    with pytest.raises(ConvergenceError, match="shooting did not converge in 4 iterations"):
+        periodic.periodic_state(rig, eng, x0, fit, route="shooting",
+                                shooting=periodic.ShootingOptions(tol=1e-12, max_iter=4))
+    got = periodic.periodic_state(
+        rig, eng, x0, fit, route="shooting",
+        shooting=periodic.ShootingOptions(tol=1e-12, max_iter=4, accept=1e-4))
+    assert got.stats["accepted"] is True and "accepted after 4 iterations below" in got.message
+    ref = periodic.periodic_state(rig, engine_for(rig, COMPILED), x0, COMPILED,
+                                  route="shooting")
+    assert ref.stats["accepted"] is False
+    scale = np.asarray(m.state_scales(p), float)[:, None]
+    # measured: residual 1.04e-5, distance from the converged orbit 1.10e-5 of the scales
+    assert 1e-12 < got.residual < 1e-4
+    assert np.max(np.abs(got.states - ref.states) / scale) < 5 * got.residual
+    with pytest.raises(ParameterError, match=r"accept must lie in \[tol, 1\)"):
+        periodic.ShootingOptions(tol=1e-6, accept=1e-7)

@@ -262,3 +262,31 @@ def test_stroke_share_on_the_absolute_stroke():
     assert stroke_share([rec], p, absolute=True) == pytest.approx(closed, rel=1e-12)
     assert stroke_share([rec], p) == pytest.approx(Y / p.stroke_limit, rel=1e-12)
     assert stroke_factor([rec], p.replace(V02=P.A_p * 0.025), absolute=True) > 1.0
+
+
+def test_a_preset_fit_judges_the_chamber_end_about_the_record_mean():
+    """A gas-charged device holds its chambers on the absolute stroke: its chamber end is
+    reached about each record's mean, not about the datum.  A device whose chamber 1 ends
+    4.3 mm from the datum takes a 12 mm stroke about a mean of -15 mm (19.5 mm of room);
+    ``calibrate(sizing='preset')`` refused it (the check ran on the datum; a diagnosis of a
+    vehicle-damper record stopped on it in a gas-charge profile refit)."""
+    from liquidamp.analysis.measured.calibration import calibrate
+    from liquidamp.analysis.measured.fit_spec import FitSpec
+    from liquidamp.analysis.measured.synthetic import synthetic_record
+    from liquidamp.device import preset
+
+    off = -0.015
+    g = {"rod_area_m2": 4.5e-5, "charge_pressure_Pa": 6.9e5, "gas_volume_m3": 2.4e-6,
+         "polytropic_index": 1.25, "stroke_offset_m": off}
+    ref = preset("reference")
+    vol = {"V01": 3e-6 / ref.V01, "V02": 4e-5 / ref.V02}
+    dev = ref.scaled(**vol)
+    assert dev.stroke_limit < 0.012 < (dev.V01 - dev.A_p * off) / dev.A_p
+    rec = synthetic_record(preset="reference", frequency=0.5, amplitude=0.012, cycles=3,
+                           seed=3, effects={"gas_charge": g}, displacement_offset=off,
+                           multipliers={**vol, "c1": 1.3})
+    start = GasCharge(4.5e-5, 6.9e5, 2.4e-6, 1.25)
+    res = calibrate([rec], params=dev, effects=(start,), spec=FitSpec.default(vary=("c1",)),
+                    sizing="preset", max_nfev=30)
+    assert res.nrmse_calibration < 0.02
+    assert res.params.c1 == pytest.approx(1.3 * dev.c1, rel=0.05)

@@ -274,6 +274,12 @@ def _scaled_values(spec: FitSpec, values: dict, force: float, stroke: float) -> 
     return out
 
 
+def _absolute(model, effects) -> bool:
+    """Whether ``model`` with ``effects`` holds its chambers on the absolute stroke (a gas
+    charge on a device with chambers: :func:`~liquidamp.device.effects.on_absolute_stroke`)."""
+    return model.pressures is not None and any(e.name == "gas_charge" for e in effects)
+
+
 def _start_device(obj: FitObjective, records, validate, sizing: str) -> Sizing:
     """The device the fit starts from: the given one when the records are near it, else
     similar to it and sized to the records (module docstring of start).
@@ -284,7 +290,7 @@ def _start_device(obj: FitObjective, records, validate, sizing: str) -> Sizing:
     t0 = _trial(obj, f"preset {base.name}" if base.name else "given device", obj.fixed)
     ratio0 = 1.0 / t0.rms_ratio if t0.ran and t0.rms_ratio else None
     # a gas-charged device's chambers follow the absolute stroke (on_absolute_stroke)
-    absolute = any(e.name == "gas_charge" for e in effects) and obj.model.pressures is not None
+    absolute = _absolute(obj.model, effects)
     s = stroke_factor(records + validate, base, absolute)
     share = stroke_share(records + validate, base, absolute)
     if sizing == "preset":
@@ -531,7 +537,12 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
         for w in res.warnings if warn else ():
             warnings.warn(f"calibrate: {w}", LiquidampWarning, stacklevel=2)
         return res
-    quality, found = check_records(records + validate, base if sizing == "preset" else None,
+    # the chamber end bounds the stroke as read, about the record's mean; a gas-charged
+    # device holds its chambers on the absolute stroke, so its reach is judged about each
+    # record's own mean by _with_stroke_limit below (a profile refit of a gas charge whose
+    # datum volume V01 is 1.5 cm^3 reaches 36 mm about a mean of -31 mm, 5 mm about 0)
+    on_datum = sizing == "preset" and not _absolute(get_model(model), effects)
+    quality, found = check_records(records + validate, base if on_datum else None,
                                    outliers=outliers)
     if outliers != "refuse":  # dropped (the force) or kept, in every later check too
         how = drop_outliers if outliers == "drop" else keep_outliers

@@ -34,7 +34,7 @@ import numpy as np
 from liquidamp.analysis.measured.record_model import integrate
 from liquidamp.analysis.measured.records import Record, write_record
 from liquidamp.device import preset as get_preset
-from liquidamp.device.effects import Effect, make_effect, with_effects
+from liquidamp.device.effects import Effect, make_effect, on_absolute_stroke, with_effects
 from liquidamp.device.models import get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ParameterError, check_in_range, check_nonnegative, check_positive
@@ -327,6 +327,9 @@ def synthetic_record(recipe: Recipe | None = None, *, settle_cycles: int = 6,
     params = recipe.params()
     model = with_effects(get_model(recipe.model), *recipe.effect_objects())
     model.check_params(params)
+    # a gas-charged device runs on the absolute stroke, as the fit simulates it
+    # (simulate_record): chambers V01, V02 at the datum, the record about its offset
+    model, params = on_absolute_stroke(model, params, recipe.displacement_offset)
     if stroke.max_abs >= params.stroke_limit:
         raise ParameterError(f"stroke {stroke.max_abs:.4g} m reaches the chamber end "
                              f"{params.stroke_limit:.4g} m")
