@@ -43,7 +43,11 @@ air-free chamber, B ~ 1.4 GPa, has nearly dependent invariant rows; an earlier
 bordered least-squares form stalled there).  A Newton step is taken only if it
 reduces the residual (step halving), otherwise one marched period.  A residual
 that stalls at the integration error of a one-period run tightens the runs tenfold
-(down to ``MIN_RTOL``).
+(down to ``MIN_RTOL``).  Where the iterations run out above the tolerance the shooting
+raises, unless the residual is below ``ShootingOptions.accept`` (a caller that tolerates
+an orbit periodic to the one-period runs' integration error: the record simulation,
+whose fit preset integrates at rtol 1e-6), where the orbit is returned with
+``stats["accepted"]`` True and its message says so.
 
 References
 ----------
@@ -193,7 +197,8 @@ class PeriodicState:
         The route and its figures, in words.
     stats : dict
         Solver work counts, with ``route``, ``march_cycles``, ``shooting_runs``,
-        ``newton_iterations``.
+        ``newton_iterations``; a shot orbit also ``accepted`` (True where the iterations
+        ran out below ``ShootingOptions.accept``, not below the tolerance).
     """
 
     states: np.ndarray
