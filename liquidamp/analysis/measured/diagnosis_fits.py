@@ -187,9 +187,20 @@ def _profile_step(res, chosen, probes, current, validation, options, bud, sel, w
     least determined freed parameter (:func:`_profiled`), kept only where it still passes the
     selection rule against ``current``; the candidate's parameters follow it, and
     ``warnings`` (a list) gains the profile's report.  Returns the fit, the candidate and the
-    profile (None: nothing undetermined)."""
-    res, chosen, prof = _profile_judged(res, chosen, probes, current, validation, options,
-                                        bud, sel)
+    profile (None: nothing undetermined, or the profile failed).
+
+    The profile refines a fit the rule has already accepted: where one of its refits fails
+    (a library error: a chamber at the pressure floor, a record the profile's device cannot
+    take), the accepted fit stands and ``warnings`` says why it was not profiled, rather than
+    the whole diagnosis stopping (a gas charge's profile refit once refused a vehicle-damper
+    record and ended the diagnosis with exit code 2; ``runs/s14_lead``)."""
+    try:
+        res, chosen, prof = _profile_judged(res, chosen, probes, current, validation,
+                                            options, bud, sel)
+    except LiquidampError as exc:
+        warnings.append(f"not profiled: {chosen.effect}'s fit kept where it stopped (its "
+                        f"profile failed: {exc})")
+        return res, chosen, None
     if prof is not None:
         warnings.append(_profile_warning(chosen.effect, prof))
     return res, chosen, prof

@@ -170,3 +170,33 @@ def test_elastomer_parallel_spring_from_a_stroke_with_a_strong_third_harmonic():
     lo, hi = prof.interval
     assert 0.85 * 2e4 < lo < 2e4 < hi < 1.15 * 2e4 * 10 ** 0.25
     assert min(prof.deviance[0], prof.deviance[-1]) > PROFILE_LEVEL
+
+
+def test_a_failed_profile_keeps_the_accepted_fit_and_says_so(monkeypatch):
+    """The profile refines a fit the selection rule accepted: a library error in one of its
+    refits leaves that fit standing, with a warning naming the effect and the error, instead
+    of stopping the diagnosis (a gas charge's profile refit once ended a diagnosis with exit
+    code 2).  Any other error is a bug and still propagates."""
+    from liquidamp.analysis.measured import diagnosis_fits
+    from liquidamp.analysis.measured.diagnosis_evidence import Candidate
+    from liquidamp.analysis.measured.diagnosis_options import Budget, SelectionRule
+    from liquidamp.errors import DataFileError
+
+    def failing(*args, **kwargs):
+        raise DataFileError("calibrate: rec.csv, line 230: displacement past the chamber end")
+
+    monkeypatch.setattr(diagnosis_fits, "_profiled", failing)
+    fit, cand, warnings = object(), Candidate("gas_charge", 0.7, 0.5, {}), []
+    res, chosen, prof = diagnosis_fits._profile_step(
+        fit, cand, {"gas_charge": None}, None, (), None, Budget(), SelectionRule(), warnings)
+    assert res is fit and chosen is cand and prof is None
+    assert len(warnings) == 1 and warnings[0].startswith("not profiled: gas_charge's fit kept")
+    assert "line 230: displacement past the chamber end" in warnings[0]
+
+    def buggy(*args, **kwargs):
+        raise ZeroDivisionError("a bug")
+
+    monkeypatch.setattr(diagnosis_fits, "_profiled", buggy)
+    with pytest.raises(ZeroDivisionError):
+        diagnosis_fits._profile_step(fit, cand, {"gas_charge": None}, None, (), None,
+                                     Budget(), SelectionRule(), [])
