@@ -288,5 +288,7 @@ def test_a_preset_fit_judges_the_chamber_end_about_the_record_mean():
     start = GasCharge(4.5e-5, 6.9e5, 2.4e-6, 1.25)
     res = calibrate([rec], params=dev, effects=(start,), spec=FitSpec.default(vary=("c1",)),
                     sizing="preset", max_nfev=30)
-    assert res.nrmse_calibration < 0.02
-    assert res.params.c1 == pytest.approx(1.3 * dev.c1, rel=0.05)
+    # the record and the fit on one convention (the generator runs on_absolute_stroke too):
+    # measured NRMSE 0.00449 against the noise floor 1 N / 221.6 N RMS = 0.00451, c1 x1.2989
+    assert res.nrmse_calibration < 1.2 * 1.0 / float(np.std(rec.force))
+    assert res.params.c1 == pytest.approx(1.3 * dev.c1, rel=0.01)
