@@ -180,7 +180,10 @@ class Recipe:
     force_noise : float
         Load-cell noise standard deviation [N].
     displacement_offset : float
-        LVDT zero offset [m].
+        LVDT zero offset [m]: the device runs about its own zero and the record reads the
+        stroke plus this offset; for a gas-charged device with chambers it is the absolute
+        mean stroke instead (the record's zero is the stroke datum, V01 and V02 are held
+        there: :func:`~liquidamp.device.effects.on_absolute_stroke`, as the fit reads it).
     seed : int
         Random seed (noise, harmonic phases, start phase).
     multipliers : tuple of (name, value) pairs
@@ -327,9 +330,11 @@ def synthetic_record(recipe: Recipe | None = None, *, settle_cycles: int = 6,
     params = recipe.params()
     model = with_effects(get_model(recipe.model), *recipe.effect_objects())
     model.check_params(params)
-    # a gas-charged device runs on the absolute stroke, as the fit simulates it
-    # (simulate_record): chambers V01, V02 at the datum, the record about its offset
-    model, params = on_absolute_stroke(model, params, recipe.displacement_offset)
+    # a gas-charged device with chambers runs on the absolute stroke, as the fit simulates it
+    # (simulate_record): chambers V01, V02 at the datum, the record about its offset (other
+    # position effects keep the offset as an LVDT zero error: the device about its own zero)
+    if model.pressures is not None and any(e.name == "gas_charge" for e in model.effects):
+        model, params = on_absolute_stroke(model, params, recipe.displacement_offset)
     if stroke.max_abs >= params.stroke_limit:
         raise ParameterError(f"stroke {stroke.max_abs:.4g} m reaches the chamber end "
                              f"{params.stroke_limit:.4g} m")
