@@ -37,7 +37,8 @@ PHYSICAL = {  # option -> (a value with a unit, its value in the option's base u
 DIMENSIONLESS = {"--speeds", "--k", "--harmonics", "--rtol", "--degrade", "--change"}
 NAMES = {"--preset", "--model", "--effect", "--engine", "--compiled-method", "--method",
          "--rotor", "--damper", "--section", "--aero", "--port", "--candidate", "--sizing",
-         "--average", "--vary", "--cases", "--decimate", "--outliers", "--dask"}
+         "--average", "--vary", "--cases", "--decimate", "--outliers", "--dask",
+         "--force-sign"}
 FILES = {"--json", "--plot", "--out", "--report", "--save-device", "--device", "--validate"}
 COUNTS = {"--window", "--order", "--max-nfev", "--max-steps", "--top", "--repeats",
           "--inoperative", "--samples", "--blade"}

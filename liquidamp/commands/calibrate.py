@@ -58,6 +58,12 @@ def add_fit_arguments(p) -> None:
                    "refuse (default) the records, listing every spike with its file line; "
                    "drop the force spikes (a displacement spike is still refused: the stroke "
                    "drives the model); keep every spike, fitted as recorded")
+    p.add_argument("--force-sign", choices=("auto", "as-read", "flip"), default="auto",
+                   help="the force's sign convention: auto (default) reads a record whose "
+                   "loop delivers energy (a damper's loop drawn backwards: at least 25%% of "
+                   "RMS(F) x RMS(v), beyond 5 standard errors) with its force negated and "
+                   "says so first in the summary; as-read keeps every sign (such a record "
+                   "is refused); flip negates every force")
     add_json_argument(p, "fit")
     p.add_argument("--report", default=None, metavar="DIR",
                    help="folder for an HTML report (index.html and PNGs, written after the "
@@ -183,8 +189,12 @@ def load(args):
     from liquidamp.analysis.measured.calibration import PAPER_FOUR, FitSpec
 
     params, effects = device_and_effects(args, default="paper_initial")
-    cal = [_read(f, args.window, args.order) for f in args.records]
-    val = [_read(f, args.window, args.order) for f in args.validate]
+    from liquidamp.analysis.measured.checks import orient_force
+
+    cal = [orient_force(_read(f, args.window, args.order), args.force_sign)
+           for f in args.records]
+    val = [orient_force(_read(f, args.window, args.order), args.force_sign)
+           for f in args.validate]
     vary = tuple(v.strip() for v in args.vary.split(",") if v.strip())
     # the default --vary leaves the model's structure to the start (spec None: calibrate
     # compares the fluid, friction and viscous starts, analysis.measured.device_class)

@@ -385,11 +385,23 @@ class CalibrationResult:
         return (f"<CalibrationResult {self.model}: {self.status}, NRMSE calibration "
                 f"{self.nrmse_calibration:.4g}{nv}; {vals}{extra}>")
 
+    def force_negated(self) -> str:
+        """The records read with their force negated, "" if none: ``"a.csv, b.csv (the
+        loop as recorded delivers energy: read with the other sign convention)"``
+        (:func:`~liquidamp.analysis.measured.checks.orient_force`)."""
+        names = [q.source.replace("\\", "/").rsplit("/", 1)[-1] for q in self.data_quality
+                 if q.force_negated]
+        if not names:
+            return ""
+        return (", ".join(names) + " (the loop as recorded delivers energy, a damper's loop "
+                "drawn backwards: read with the other sign convention, the force negated)")
+
     def summary(self) -> str:
         """One line: status, NRMSE (held out per record, pooled beside), the start device and
-        scale, the flagged parameters; led by ``PHYSICS MODEL LOSES TO THE LINE: ...`` where
-        the line F = c v + k y + F0 fitted on the same split predicts a held-out record at
-        least as well, ``PHYSICS MODEL LOSES TO THE TWO-SLOPE MAP: ...`` likewise for the
+        scale, the flagged parameters; led by ``FORCE NEGATED: ...`` where a record's
+        force was read negated (:meth:`force_negated`), then ``PHYSICS MODEL LOSES TO THE
+        LINE: ...`` where the line F = c v + k y + F0 fitted on the same split predicts a
+        held-out record at least as well, ``PHYSICS MODEL LOSES TO THE TWO-SLOPE MAP: ...`` likewise for the
         dyno's two-slope force-velocity map, then by ``ABOVE THE NOISE: ...`` where the
         calibration NRMSE is more than :data:`STRUCTURE_FACTOR` x the records' noise floor
         (:meth:`above_noise`: a converged optimizer is not a model that explains the
@@ -419,7 +431,9 @@ class CalibrationResult:
         implausible = "".join(f"; IMPLAUSIBLE: {f.message}" for f in self.plausibility)
         above = self.above_noise()
         lose_map = self.versus_map()
-        return (("PHYSICS MODEL LOSES TO THE LINE: " + lose + "; " if lose else "")
+        negated = self.force_negated()
+        return (("FORCE NEGATED: " + negated + "; " if negated else "")
+                + ("PHYSICS MODEL LOSES TO THE LINE: " + lose + "; " if lose else "")
                 + ("PHYSICS MODEL LOSES TO THE TWO-SLOPE MAP: " + lose_map + "; "
                    if lose_map else "")
                 + ("ABOVE THE NOISE: " + above + "; " if above else "")

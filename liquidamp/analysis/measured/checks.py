@@ -18,6 +18,7 @@ References
 from __future__ import annotations
 
 import dataclasses
+import math
 import weakref
 
 import numpy as np
@@ -33,12 +34,100 @@ from liquidamp.device.params import DeviceParams
 from liquidamp.errors import DataFileError, check_choice
 
 __all__ = ["check_records", "drop_outliers", "keep_outliers", "dropped_outliers",
-           "OUTLIER_CHOICES"]
+           "OUTLIER_CHOICES", "orient_force", "FORCE_SIGNS", "FLIP_SHARE"]
 
 
 #: What to do with the spikes :func:`check_records` finds (``outliers=``; ``--outliers`` on
 #: the command line): refuse the records, drop the force spikes, or keep them as recorded.
 OUTLIER_CHOICES = ("refuse", "drop", "keep")
+
+
+#: How a record's force sign is read (``force_sign=`` of :func:`orient_force`;
+#: ``--force-sign`` on the command line): ``'auto'`` negates a loop that runs a damper
+#: backwards, ``'as-read'`` keeps every sign as recorded, ``'flip'`` negates every force.
+FORCE_SIGNS = ("auto", "as-read", "flip")
+
+#: Least share of RMS(F) RMS(v) a recorded loop must deliver (and more than
+#: :data:`FLIP_SIGMAS` standard errors) for ``force_sign='auto'`` to read its force negated
+#: [-].  A damper recorded with the other sign convention delivers nearly all of it (the
+#: shared relief-valve record, negated: 79-88 %); a stiff device whose channels are a few
+#: samples apart delivers a few percent, and stays refused by the data checks (they refuse
+#: from 5 %), not turned into a negative stiffness.
+FLIP_SHARE = 0.25
+#: Standard errors of the delivered power ``force_sign='auto'`` needs besides [-].
+FLIP_SIGMAS = 5.0
+
+
+def orient_force(record: Record, force_sign: str = "auto") -> Record:
+    """The record with its force in liquidamp's sign convention (stage "check", first).
+
+    liquidamp reads the force the device exerts on the load cell, positive where it resists
+    a positive stroke: a passive device absorbs energy, the loop integral of F dy is
+    positive.  Laboratories record either sign (tension or compression positive); a damper
+    recorded with the other one draws its loop backwards and delivers energy, which no
+    passive device does.  ``'auto'`` reads such a record with its force negated where the
+    loop delivers at least :data:`FLIP_SHARE` of RMS(F) x RMS(v) of power, beyond
+    :data:`FLIP_SIGMAS` standard errors of its noise (the energy test of
+    :func:`~liquidamp.analysis.measured.record_quality.check_record`, stricter); a loop
+    that delivers less stays as read (and is refused by :func:`check_records` where it
+    delivers energy at all).  A negated stroke would do the same for a symmetric device;
+    for an asymmetric one the two readings are mirror images (compression and rebound
+    swapped), and the force is the one negated.  What was done is kept in
+    ``meta["force_sign"]`` (the reason, with the figures), reported by the data checks
+    (:attr:`DataQuality.force_negated
+    <liquidamp.analysis.measured.record_quality.DataQuality.force_negated>`) and led by
+    ``FORCE NEGATED`` in the calibration's and the diagnosis's summaries.
+
+    Parameters
+    ----------
+    record : Record
+        A record as read (not conditioned).
+    force_sign : {'auto', 'as-read', 'flip'}
+        ``'auto'`` (default): negate a loop run backwards; ``'as-read'``: keep the sign;
+        ``'flip'``: negate the force.
+
+    Returns
+    -------
+    Record
+        ``record`` itself, or a copy with the force negated.
+
+    Raises
+    ------
+    ParameterError
+        ``force_sign`` not one of :data:`FORCE_SIGNS`.
+
+    References
+    ----------
+    .. [1] J. C. Dixon, The Shock Absorber Handbook, 2nd ed., Wiley, 2007, Ch. 5 (the loop
+       of a damper and its work per cycle).
+
+    Examples
+    --------
+    >>> t = np.arange(0, 2.0, 0.005)
+    >>> y = 0.003 * np.sin(6 * np.pi * t)
+    >>> backwards = Record.from_arrays(t, y, -500 * np.cos(6 * np.pi * t), source="b.csv")
+    >>> r = orient_force(backwards)
+    >>> bool(np.all(r.force == -backwards.force)), r.meta["force_sign"][:46]
+    (True, 'the loop as recorded delivers 14.1 W (100% of ')
+    >>> orient_force(backwards, "as-read") is backwards
+    True
+    """
+    check_choice("force_sign", force_sign, FORCE_SIGNS)
+    if force_sign == "as-read" or "force_sign" in record.meta:
+        return record
+    if force_sign == "auto":
+        q = check_record(record)
+        P, sP, share = q.dissipated_power, q.dissipated_power_std, q.loss_share
+        if not (share < -FLIP_SHARE and P < -FLIP_SIGMAS * sP):
+            return record
+        why = (f"the loop as recorded delivers {-P:.4g} W ({-share:.0%} of RMS(F) x RMS(v), "
+               f"{-P / sP if sP > 0 else math.inf:.3g} standard errors), a damper's loop drawn "
+               "backwards: the force was recorded with the other sign convention; read "
+               "negated (force_sign 'auto'; 'as-read' keeps it and refuses the record)")
+    else:
+        why = "force_sign 'flip': every force read negated"
+    return dataclasses.replace(record, force=-record.force,
+                               meta={**record.meta, "force_sign": why})
 
 
 def _option(value: str, cli: bool) -> str:

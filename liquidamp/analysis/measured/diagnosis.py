@@ -275,13 +275,17 @@ def _holdout(calibration) -> tuple[tuple, tuple, str]:
     i = int(np.searchsorted(r.time, r.time[0] + half * r.period))
     from liquidamp.analysis.measured.records import Record
 
-    def part(sl, tag, first):
+    def part(sl, tag):
+        # each half keeps the file's own lines, the measured channels and what the reading
+        # did (a force read negated)
         return Record.from_arrays(r.time[sl], r.displacement[sl], r.force[sl],
                                   window=r.window, order=r.order, source=r.source + tag,
-                                  first_line=first)
+                                  lines=[r.line(j) for j in range(r.time.size)[sl]],
+                                  channels={k: v[sl] for k, v in r.channels.items()},
+                                  meta={k: v for k, v in r.meta.items()
+                                        if k in ("force_sign",)})
 
-    return ((part(slice(0, i), "", r.first_line),),
-            (part(slice(i, None), " (second half)", r.line(i)),),
+    return ((part(slice(0, i), ""),), (part(slice(i, None), " (second half)"),),
             f"no validation records given: the second half of {r.label} ({half} cycles "
             "from its middle on) held out")
 

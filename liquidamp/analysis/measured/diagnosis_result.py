@@ -229,10 +229,13 @@ class Diagnosis:
                      <= floor * (1.0 + 1e-6))
 
     def summary(self) -> str:
-        """Lines: the verdict first (non-stationary, unexplained, loses to the line; then the
-        effects added and the held-out NRMSE per record, pooled beside), then the
-        reference models held out, then why the loop stopped."""
+        """Lines: the verdict first (a force read negated, non-stationary, unexplained, loses
+        to the line; then the effects added and the held-out NRMSE per record, pooled
+        beside), then the reference models held out, then why the loop stopped."""
         first = []
+        negated = self.baseline.force_negated()
+        if negated:
+            first.append("FORCE NEGATED: " + negated)
         drifting = [e.name for e in self.final.effects if not e.stationary]
         if self.non_stationary and drifting:
             first.append("NON-STATIONARY: the records drift (" + self.non_stationary + "); "

@@ -307,6 +307,9 @@ class DataQuality:
         Measured channels of the record (:attr:`Record.channels
         <liquidamp.analysis.measured.records.Record.channels>`): name -> {"unit",
         "min", "max", "mean"} in SI.
+    force_negated : str
+        Why the record's force was read negated
+        (:func:`~liquidamp.analysis.measured.checks.orient_force`), else "".
     """
 
     source: str
@@ -329,6 +332,7 @@ class DataQuality:
     harmonics_resolved: int = 0
     drift: Drift | None = None
     channels: dict = field(default_factory=dict)
+    force_negated: str = ""
 
     @property
     def nonstationary(self) -> bool:
@@ -370,6 +374,7 @@ class DataQuality:
                 "nonstationary": self.nonstationary,
                 "drift": None if self.drift is None else self.drift.as_dict(),
                 "channels": {k: dict(v) for k, v in self.channels.items()},
+                "force_negated": self.force_negated,
                 "problems": list(self.problems), "notes": list(self.notes)}
 
 
@@ -630,6 +635,9 @@ def check_record(record: Record, params: DeviceParams | None = None, *,
                      "is, from rest at its first sample (no pre-roll)")
     if drift.nonstationary:
         notes.append(f"{label}: {drift.reason}; no model of a stationary device follows it")
+    negated = str(record.meta.get("force_sign", ""))
+    if negated:
+        notes.append(f"{label}: force read negated: {negated}")
     # energy sign: a passive device absorbs energy
     E, P, sP, share = loop_power(record, F, sigma)
     if not problems and share < -max_delivered and P < -energy_sigmas * sP:
@@ -677,7 +685,7 @@ def check_record(record: Record, params: DeviceParams | None = None, *,
                        stroke=record.summary(), energy_per_cycle=E, dissipated_power=P,
                        dissipated_power_std=sP, loss_share=share, samples_per_cycle=float(spc),
                        velocity_gain=gain, harmonics_resolved=n_harm, drift=drift,
-                       channels=channel_summary(record))
+                       channels=channel_summary(record), force_negated=negated)
 
 
 def check_record_stroke(record: Record, params: DeviceParams) -> list[str]:
