@@ -401,11 +401,11 @@ class CalibrationResult:
         scale, the flagged parameters; led by ``FORCE NEGATED: ...`` where a record's
         force was read negated (:meth:`force_negated`), then ``PHYSICS MODEL LOSES TO THE
         LINE: ...`` where the line F = c v + k y + F0 fitted on the same split predicts a
-        held-out record at least as well, ``PHYSICS MODEL LOSES TO THE TWO-SLOPE MAP: ...`` likewise for the
-        dyno's two-slope force-velocity map, then by ``ABOVE THE NOISE: ...`` where the
-        calibration NRMSE is more than :data:`STRUCTURE_FACTOR` x the records' noise floor
-        (:meth:`above_noise`: a converged optimizer is not a model that explains the
-        record).
+        held-out record at least as well, ``PHYSICS MODEL LOSES TO THE TWO-SLOPE MAP: ...``
+        likewise for the dyno's two-slope force-velocity map, then by ``ABOVE THE NOISE:
+        ...`` where the calibration NRMSE is more than :data:`STRUCTURE_FACTOR` x the
+        records' noise floor (:meth:`above_noise`: a converged optimizer is not a model that
+        explains the record).
 
         Examples of its content: ``converged (41 evaluations): NRMSE calibration
         0.0123, held out b 0.0231, c 0.0310 (pooled 0.0262); start physics from
