@@ -21,13 +21,16 @@ __all__ = ["COLUMN_UNITS", "CHANNEL_UNITS", "CHANNEL_SI", "COLUMN_NAMES", "parse
 
 
 COLUMN_UNITS: dict[str, dict[str, float]] = {
-    "time": {"s": 1.0, "ms": 1e-3},
+    "time": {"s": 1.0, "ms": 1e-3, "sec": 1.0, "secs": 1.0, "msec": 1e-3},
     "displacement": {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "\u00b5m": 1e-6,
-                     "\u03bcm": 1e-6, "in": 0.0254},
+                     "\u03bcm": 1e-6, "in": 0.0254, "inch": 0.0254, "inches": 0.0254},
     "force": {"N": 1.0, "daN": 10.0, "kN": 1e3, "kgf": 9.80665, "lbf": 4.4482216152605,
-              "kip": 4448.2216152605},
+              "kip": 4448.2216152605, "lb": 4.4482216152605, "lbs": 4.4482216152605,
+              "kips": 4448.2216152605},
 }
-"""Accepted columns and units: name -> {unit: factor to SI}."""
+"""Accepted columns and units: name -> {unit: factor to SI} (``sec``, ``msec``, ``inch``,
+and ``lb``, ``lbs``, ``kips`` for a force -- pound-force as test laboratories write it --
+read as ``s``, ``ms``, ``in``, ``lbf``, ``kip``)."""
 
 CHANNEL_UNITS: dict[str, dict[str, tuple[float, float]]] = {
     "temperature": {"K": (1.0, 0.0), "C": (1.0, 273.15), "\u00b0C": (1.0, 273.15),

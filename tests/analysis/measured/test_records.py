@@ -48,9 +48,15 @@ def test_imperial_units_and_parenthesised_headers_read_as_si(tmp_path):
                             zip(t, y / 0.0254, F / 4448.2216152605, strict=True)))
     lb = read_record(_write(tmp_path / "lb.csv", "time [s],displacement [in],force [lbf]",
                             zip(t, y / 0.0254, F / 4.4482216152605, strict=True)))
-    for r in (us, lb):
+    # as laboratories also spell them: sec, msec, inch(es), lb(s) (pound-force), kips
+    spelt = read_record(_write(tmp_path / "sp.csv", "Time (sec), Disp (inches), Force (lbs)",
+                               zip(t, y / 0.0254, F / 4.4482216152605, strict=True)))
+    ms = read_record(_write(tmp_path / "ms.csv", "Time [msec],Displacement [inch],Load [kips]",
+                            zip(t * 1e3, y / 0.0254, F / 4448.2216152605, strict=True)))
+    for r in (us, lb, spelt, ms):
         assert np.allclose(r.displacement, si.displacement, rtol=1e-9, atol=1e-12)
         assert np.allclose(r.force, si.force, rtol=1e-9, atol=1e-9)
+        assert r.sampling_rate == pytest.approx(si.sampling_rate, rel=1e-9)
     assert us.amplitude == pytest.approx(0.003, rel=1e-4)
 
 
