@@ -393,6 +393,7 @@ EFFECT_UNITS = {
     "moving_mass": {"mass_kg": "kg"},
     "series_compliance": {"stiffness_N_per_m": "N/m"},
     "freeplay": {"gap_m": "m"},
+    "floating_freeplay": {"gap_m": "m", "contact_stiffness_N_per_m": "N/m"},
     "leakage": {"coefficient_m3_per_s_Pa": "m^3/(s Pa)"},
     "cavitation": {"vapour_pressure_Pa": "Pa"},
     "relief_valve": {"cracking_pressure_Pa": "Pa", "conductance_m3_per_s_Pa": "m^3/(s Pa)"},

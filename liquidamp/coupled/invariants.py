@@ -226,25 +226,53 @@ def onto_invariants(model: DeviceModel, params: DeviceParams, x, rest, y: float 
     # by the difference over k, and so another orbit (chamber volumes and pressures
     # shifted).  It is held at the rest state's, alternately with the mass (the mass
     # depends on the piston's stroke, the balance on the pressures; a few rounds agree)
-    ic, k, force = balance
-    c0 = k * (y - rest[ic]) - force(rest)
+    # (behind a floating freeplay's contact likewise: its force law in place of k e)
+    ic, contact, offset, force = balance
+    c0 = contact(y - rest[ic]) - force(rest)
     z = np.array(x, float)
     for _ in range(4):
         z = project_level_set(z, gap, scale)
-        miss = k * (y - z[ic]) - force(z) - c0
-        z[ic] += miss / k
+        miss = contact(y - z[ic]) - force(z) - c0
+        z[ic] = y - offset(force(z) + c0, y - z[ic])
         if abs(miss) <= 1e-9 * (abs(c0) + abs(force(z)) + 1.0):
             break
     return project_level_set(z, gap, scale)
 
 
 def _compliance_balance(model, params):
-    """``(index of y_piston, k [N/m], F_fluid(x) [N])`` of a model behind a finite series
-    compliance, else None.  F_fluid is the bare fluid model's force at the piston stroke
-    (what the spring carries; a linear function of its states)."""
-    eff = model.effect("series_compliance") if model.effects else None
-    if eff is None or not np.isfinite(eff.stiffness_N_per_m):
+    """``(index of y_piston, f_c(e) [N], f_c^-1(F, e_now) [m], F_fluid(x) [N])`` of a model
+    behind a finite series compliance (f_c = k e) or a floating freeplay's contact (f_c the
+    dead band's force law, :func:`~liquidamp.device.kernels_laws.float_contact_force`; its
+    inverse keeps e_now inside the band where F = 0), else None.  F_fluid is the bare fluid
+    model's force at the piston stroke (what the spring carries; a linear function of its
+    states)."""
+    from liquidamp.device.kernels_laws import float_contact_force, float_contact_offset
+
+    eff = None
+    for name in ("series_compliance", "floating_freeplay"):
+        eff = (model.effect(name) if model.effects else None) or eff
+    if eff is None:
         return None
+    if eff.name == "series_compliance":
+        k = float(eff.stiffness_N_per_m)
+        if not np.isfinite(k):
+            return None
+
+        def contact(e):
+            return k * e
+
+        def offset(F, e_now):
+            return F / k
+    else:
+        k, g = float(eff.contact_stiffness_N_per_m), float(eff.gap_m)
+        if g <= 0.0:  # a rigid attachment (the bare model)
+            return None
+
+        def contact(e):
+            return float_contact_force(e, g, k)
+
+        def offset(F, e_now):
+            return float_contact_offset(F, g, k, e_now)
     nb = model.n_base_states
     ic = model.state_names.index("y_piston", nb)
     bare = BASES[model.base]
@@ -253,7 +281,7 @@ def _compliance_balance(model, params):
         return float(np.asarray(bare.force(0.0, np.asarray(z[:nb], float),
                                            (z[ic], 0.0, 0.0), params), float))
 
-    return ic, float(eff.stiffness_N_per_m), force
+    return ic, contact, offset, force
 
 
 def project_level_set(x, gap, scale, cols=slice(None)):

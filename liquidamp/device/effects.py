@@ -23,6 +23,9 @@ name                    parameters                             states added
 ``moving_mass``         mass_kg                                none: F += m a
 ``series_compliance``   stiffness_N_per_m                      y_piston [m]
 ``freeplay``            gap_m                                  y_fp [m] (play operator)
+``floating_freeplay``   gap_m, contact_stiffness_N_per_m       y_piston [m] (the dead band
+                                                               before a free piston: a series
+                                                               contact engaged past the band)
 ``leakage``             coefficient_m3_per_s_Pa                none: bypass mass flow
 ``cavitation``          vapour_pressure_Pa                     Vc1, Vc2 [m^3] (vapour cavities)
 ``rotating_frame``      rotor_speed_rad_per_s,                 none: centrifugal pressure rise
@@ -172,7 +175,7 @@ from liquidamp.device.effects_force import (
     SlipWeakening,
     SmoothFriction,
 )
-from liquidamp.device.effects_kinematic import Freeplay, SeriesCompliance
+from liquidamp.device.effects_kinematic import FloatingFreeplay, Freeplay, SeriesCompliance
 from liquidamp.device.effects_operating import RotatingFrame
 from liquidamp.device.effects_position import BypassGroove
 from liquidamp.device.effects_thermal import SelfHeating
@@ -196,6 +199,7 @@ __all__ = [
     "MovingMass",
     "SeriesCompliance",
     "Freeplay",
+    "FloatingFreeplay",
     "Leakage",
     "Cavitation",
     "ReliefValve",
@@ -230,7 +234,7 @@ EFFECTS: dict[str, type[Effect]] = {
     for cls in (CoulombFriction, SmoothFriction, ForceOffset, MovingMass, SeriesCompliance,
                 Freeplay, Leakage, Cavitation, ReliefValve, AsymmetricLoss, Elastomer, EndStops,
                 RotatingFrame, GasCharge, DigressiveValve, FieldYield,
-                SelfHeating, BypassGroove, SlipWeakening)
+                SelfHeating, BypassGroove, SlipWeakening, FloatingFreeplay)
 }
 """Registry: effect name -> class."""
 
@@ -244,7 +248,7 @@ def effect_names() -> tuple[str, ...]:
     ('coulomb_friction', 'smooth_friction', 'force_offset', 'moving_mass', \
 'series_compliance', 'freeplay', 'leakage', 'cavitation', 'relief_valve', 'asymmetric_loss', \
 'elastomer', 'end_stops', 'rotating_frame', 'gas_charge', 'digressive_valve', \
-'field_yield', 'self_heating', 'bypass_groove', 'slip_weakening')
+'field_yield', 'self_heating', 'bypass_groove', 'slip_weakening', 'floating_freeplay')
     """
     return tuple(EFFECTS)
 
@@ -274,7 +278,7 @@ def make_effect(name: str, **parameters) -> Effect:
     liquidamp.errors.ParameterError: unknown effect 'stiction'; valid: coulomb_friction, \
 smooth_friction, force_offset, moving_mass, series_compliance, freeplay, leakage, cavitation, \
 relief_valve, asymmetric_loss, elastomer, end_stops, rotating_frame, gas_charge, \
-digressive_valve, field_yield, self_heating, bypass_groove, slip_weakening
+digressive_valve, field_yield, self_heating, bypass_groove, slip_weakening, floating_freeplay
     """
     check_choice("effect", name, EFFECTS)
     cls = EFFECTS[name]

@@ -179,3 +179,99 @@ class Freeplay(Effect):
 
     def state_scales(self, params):
         return np.array([1e-4])
+
+
+@dataclass(frozen=True)
+class FloatingFreeplay(Effect):
+    """Dead band of half-width ``gap_m`` between the rod and a floating piston.
+
+    The rod meets the piston through a contact of stiffness ``contact_stiffness_N_per_m``
+    at either end of the band; the piston itself is massless and free (no seal holds it),
+    so it carries the fluid force only through that contact, k_c(e) = F_fluid, e = y -
+    y_piston, with k_c the contact's force law: 0 inside the band, k (|e| - gap) sign(e)
+    beyond it (C1 onset, :func:`~liquidamp.device.kernels_laws.float_contact`).  Its rate
+    follows as a series spring's (:func:`compliance_rate`) with the contact's engaged
+    stiffness: in contact it follows the rod (stiffly), inside the band the fluid force
+    is held at zero and the piston drifts with the channel's flow.  So the rod loses the
+    piston not where it reverses (``freeplay``, whose piston the seals hold: the force
+    drops to zero at once) but where the chambers have unloaded (the fluid pushes the
+    piston back after the rod), and meets it again after crossing the band.  A piston
+    with light seals or a rod-end clearance behind a free piston reads so.
+
+    ``gap_m`` 0 is the bare model (a rigid attachment; the contact stiffness then
+    unused); a positive gap needs a finite contact stiffness.  It occupies the series
+    spring's slot (``y_piston``), so it cannot be composed with ``series_compliance``.
+
+    Parameters
+    ----------
+    gap_m : float
+        Half-width of the dead band >= 0 [m].
+    contact_stiffness_N_per_m : float
+        Stiffness of the contact at the band's ends > 0 [N/m].
+
+    References
+    ----------
+    .. [1] B. Titurus, AIAA J. 56(10), 2018, Sec. II (the piston and chamber equations).
+    .. [2] R. I. Leine, H. Nijmeijer, Dynamics and Bifurcations of Non-Smooth Mechanical
+       Systems, Springer, 2004, Ch. 1 (unilateral contact with a backlash, regularized).
+
+    Examples
+    --------
+    >>> from liquidamp.device import preset
+    >>> from liquidamp.device.models import get_model
+    >>> from liquidamp.device.effects import with_effects
+    >>> from liquidamp.coupled.testrig import HarmonicStroke, steady_state
+    >>> fp = FloatingFreeplay(gap_m=5e-4, contact_stiffness_N_per_m=2e7)
+    >>> m = with_effects(get_model("full"), fp)
+    >>> r = steady_state(m, preset("device_b"), HarmonicStroke(0.002, 3.0))
+    >>> # the rod crosses the band with the fluid force held at zero: a flat stretch of the
+    >>> # loop about each reversal's end, 2 x 0.5 mm of its 8 mm of travel per cycle
+    >>> bool(np.mean(np.abs(r.force) < 1e-3 * np.max(np.abs(r.force))) > 0.05)
+    True
+    """
+
+    gap_m: float = 0.0
+    contact_stiffness_N_per_m: float = 1e8
+    bare: ClassVar[dict] = {"gap_m": 0.0}
+    name: ClassVar[str] = "floating_freeplay"
+    units: ClassVar[dict] = {"gap_m": "m", "contact_stiffness_N_per_m": "N/m"}
+    fit_keys: ClassVar[tuple] = ("gap_m", "contact_stiffness_N_per_m")
+    bounds: ClassVar[dict] = {"gap_m": (1e-7, 1e-2), "contact_stiffness_N_per_m": (1e3, 1e10)}
+    order: ClassVar[int] = 20  # the series spring's place (the same compiled slot)
+    description: ClassVar[str] = "dead band before a floating (unsealed) piston"
+    state_names: ClassVar[tuple] = ("y_piston",)
+    state_units: ClassVar[tuple] = ("m",)
+    slot: ClassVar[int] = K.S_IC
+    kind: ClassVar[str] = "kinematic"
+
+    def __post_init__(self):
+        check_nonnegative("floating_freeplay gap_m", self.gap_m, "m")
+        k = float(self.contact_stiffness_N_per_m)
+        if not (k > 0 and math.isfinite(k)):
+            raise ParameterError("floating_freeplay contact_stiffness_N_per_m must be a finite "
+                                 f"number > 0 [N/m], got {k:g}")
+
+    check = SeriesCompliance.check
+
+    def check_with(self, effects):
+        if any(e.name == "series_compliance" for e in effects):
+            raise ParameterError(
+                "effect 'floating_freeplay' cannot be composed with 'series_compliance': "
+                "both are the element between the rod and the piston (the contact stiffness "
+                "is the floating freeplay's series spring)")
+
+    small_signal_reason: ClassVar[str | None] = (
+        "inside the dead band the piston floats and the device carries no force")
+    describing_reason: ClassVar[str | None] = (
+        "a dead band in series with the fluid, the piston free inside it")
+
+    def pack(self, ep):
+        # gap 0: the rigid attachment (the bare model), whatever the contact stiffness
+        ep[K.E_KC] = float(self.contact_stiffness_N_per_m) if self.gap_m > 0 else math.inf
+        ep[K.E_KCG] = float(self.gap_m)
+
+    def initial_state(self, params, y0):
+        return np.array([y0])
+
+    def state_scales(self, params):
+        return np.array([1e-4])

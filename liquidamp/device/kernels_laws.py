@@ -227,6 +227,79 @@ def compliance_rate(v, k, g0, g1):
 
 
 @njit(cache=True, error_model="numpy")
+def float_contact(e, gap):
+    """Share of a series contact's stiffness engaged at rod-piston offset ``e`` [-].
+
+    A dead band of half-width ``gap`` [m] between the rod and a floating piston
+    (``floating_freeplay``): 0 inside it, 1 in contact, the C1 smoothstep over a
+    width ``delta = 0.05 gap + 1e-7 m`` centred on |e| = gap, so that the contact
+    force, the integral of the engaged stiffness, is k (|e| - gap) sign(e) beyond
+    gap + delta / 2 (:func:`float_contact_force`).  ``gap <= 0``: 1 (the spring
+    as it is).
+
+    Examples
+    --------
+    >>> float_contact(0.0, 1e-3), float_contact(2e-3, 1e-3), float_contact(1e-3, 1e-3)
+    (0.0, 1.0, 0.5)
+    >>> float_contact(0.0, 0.0)
+    1.0
+    """
+    if gap <= 0.0:
+        return 1.0
+    delta = 0.05 * gap + 1e-7
+    return _smoothstep((abs(e) - gap) / delta + 0.5)
+
+
+def float_contact_force(e, gap, k):
+    """Contact force of a series spring k [N/m] behind a dead band of half-width ``gap``
+    [m] at rod-piston offset ``e`` [m]: the integral of k :func:`float_contact` [N].
+
+    Examples
+    --------
+    >>> float_contact_force(3e-3, 1e-3, 1e6)     # 2 mm into the contact
+    2000.0
+    >>> float_contact_force(-5e-4, 1e-3, 1e6), float_contact_force(5e-4, 0.0, 1e6)
+    (-0.0, 500.0)
+    """
+    if gap <= 0.0:
+        return k * e
+    delta = 0.05 * gap + 1e-7
+    s = min(max((abs(e) - gap) / delta + 0.5, 0.0), 1.0)
+    a = delta * (s ** 3 - 0.5 * s ** 4) + max(abs(e) - gap - 0.5 * delta, 0.0)
+    return math.copysign(k * a, e)
+
+
+def float_contact_offset(force, gap, k, e_now):
+    """Rod-piston offset [m] at which :func:`float_contact_force` carries ``force`` [N];
+    where the force is zero, ``e_now`` kept inside the band (any offset there carries none).
+
+    Examples
+    --------
+    >>> round(float_contact_offset(2000.0, 1e-3, 1e6, 0.0), 12)
+    0.003
+    >>> float_contact_offset(0.0, 1e-3, 1e6, 5e-3) <= 1e-3
+    True
+    """
+    if gap <= 0.0:
+        return force / k
+    delta = 0.05 * gap + 1e-7
+    a = abs(force) / k
+    if a == 0.0:
+        inner = gap - 0.5 * delta
+        return min(max(e_now, -inner), inner)
+    if a >= 0.5 * delta:
+        return math.copysign(gap + a, force)
+    lo, hi = 0.0, 1.0  # the smoothstep's stretch: its integral is monotone in s
+    for _ in range(60):
+        s = 0.5 * (lo + hi)
+        if delta * (s ** 3 - 0.5 * s ** 4) < a:
+            lo = s
+        else:
+            hi = s
+    return math.copysign(gap + (0.5 * (lo + hi) - 0.5) * delta, force)
+
+
+@njit(cache=True, error_model="numpy")
 def cavity_width(p_v):
     """Pressure width of the regularised cavity switch [Pa]: 0.05 p_v + 500 Pa.
 

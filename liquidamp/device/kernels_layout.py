@@ -119,8 +119,11 @@ E_GD, E_GC, E_GW, E_GY0 = 50, 51, 52, 53
 #: Slip weakening of smooth friction: excess of the breakaway level over the sliding one
 #: [-] and the weakening (slip) distance [m] (:func:`slip_memory_rate`, :func:`weakening`).
 E_WB, E_WD = 54, 55
+#: Floating freeplay: dead-band half-width of the series contact [m] (0: none, the
+#: series spring as it is) (:func:`~liquidamp.device.kernels_laws.float_contact`).
+E_KCG = 56
 #: The effect slots; the state scales follow from ``ep[N_EP]`` on.
-N_EP = 56
+N_EP = 57
 
 # ------------------------------------------------------- measured input channels
 #: Measured input channels a model may read by name (issue #20), in their slot order: an

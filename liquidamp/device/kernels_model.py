@@ -28,6 +28,7 @@ from liquidamp.device.kernels_laws import (
     cavity_rates,
     compliance_rate,
     elastomer_rate,
+    float_contact,
     friction_level,
     gas_force,
     gas_pressure,
@@ -66,6 +67,7 @@ from liquidamp.device.kernels_layout import (
     E_K0,
     E_K1,
     E_KC,
+    E_KCG,
     E_KS,
     E_LEAK,
     E_MASS,
@@ -501,7 +503,10 @@ def model_rhs(spec, x, y, v, prm, ep, out):
             g1 = state_force(mid, d1, prm) - g0
             if spec[S_ROT] > 0:  # the force's centrifugal term A_p dp_c(y_piston)
                 g1 += prm[P_AP] * rotating_slope(prm, ep)
-            vp = compliance_rate(vi, k, g0, g1)
+            # behind a dead band (floating_freeplay) the contact engages its stiffness
+            # only past the band: inside it k -> 0 and the piston floats, the fluid force
+            # held where it is (0, the contact's)
+            vp = compliance_rate(vi, k * float_contact(yi - yp, ep[E_KCG]), g0, g1)
             for i in range(n_in):
                 out[i] = out[i] + vp * (d1[i] - out[i])
             out[icp] = vp

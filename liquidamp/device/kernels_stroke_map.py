@@ -45,6 +45,7 @@ from liquidamp.device.kernels_layout import (
     E_GAP,
     E_K1,
     E_KC,
+    E_KCG,
     E_LEAK,
     E_SFC,
     E_SIG,
@@ -96,7 +97,7 @@ def _applies(spec, ep):
     mid = spec[S_MID]
     if spec[S_LEAK] != 0 and not (mid == M_FULL or mid == M_NO_INERTIA):
         return False
-    return not (icp >= 0 and (math.isinf(ep[E_KC]) or icp != spec[S_NB]))
+    return not (icp >= 0 and (math.isinf(ep[E_KC]) or icp != spec[S_NB] or ep[E_KCG] > 0.0))
 
 
 @njit(cache=True, error_model="numpy")

@@ -55,7 +55,8 @@ ZERO = {"coulomb_friction": {"force_N": 0.0}, "smooth_friction": {"force_N": 0.0
         "field_yield": {"yield_pressure_Pa": 0.0, "yield_pressure_per_input": 0.0},
         "self_heating": {"beta_per_K": 0.0, "c2_exponent": 0.0},
         "bypass_groove": {"depth": 0.0},
-        "slip_weakening": {"ratio": 0.0}}
+        "slip_weakening": {"ratio": 0.0},
+        "floating_freeplay": {"gap_m": 0.0, "contact_stiffness_N_per_m": 1e5}}
 #: Effects that modify another one: the bare model holds that one (slip weakening weakens
 #: smooth friction).
 COMPANION = {"slip_weakening": ("smooth_friction", {"force_N": 30.0,

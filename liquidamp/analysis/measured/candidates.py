@@ -83,8 +83,10 @@ __all__ = ["Change", "Composite", "COMPOSITES", "DEVICE_REFINEMENTS", "REDUCTION
 #: two directions crack and open alike is the relief valve.  The pressure level freed with
 #: the inertance, its level left where it was, is the inertance alone.  Backlash whose dead
 #: band closes (a gap of a micrometre on a friction-and-leak record) is its friction alone.
+#: A floating freeplay whose band closes is its contact alone: a spring in series.
 REDUCTIONS = {"relief_valve": "leakage", "digressive_valve": "relief_valve",
-              "pressure_level": "inertance", "backlash": "smooth_friction"}
+              "pressure_level": "inertance", "backlash": "smooth_friction",
+              "floating_freeplay": "series_compliance"}
 
 
 @dataclass(frozen=True)
@@ -235,6 +237,10 @@ def probe_effect(name: str, result: CalibrationResult) -> Effect:
         return cls(stiffness_N_per_m=10.0 * Fa / Y)
     if name == "freeplay":
         return cls(gap_m=0.03 * Y)
+    if name == "floating_freeplay":
+        # the contact a hundred times stiffer than the loop's secant Fa / Y: the probe is the
+        # dead band, not a series spring
+        return cls(gap_m=0.03 * Y, contact_stiffness_N_per_m=100.0 * Fa / Y)
     if name == "slip_weakening":
         # the weakening shows only beyond the friction's pre-sliding stroke F_c / sigma0 (a
         # shorter one is hidden in the bristles' rise, a much longer one is a level): probed
