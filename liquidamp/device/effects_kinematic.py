@@ -193,10 +193,11 @@ class FloatingFreeplay(Effect):
     follows as a series spring's (:func:`compliance_rate`) with the contact's engaged
     stiffness: in contact it follows the rod (stiffly), inside the band the fluid force
     is held at zero and the piston drifts with the channel's flow.  So the rod loses the
-    piston not where it reverses (``freeplay``, whose piston the seals hold: the force
-    drops to zero at once) but where the chambers have unloaded (the fluid pushes the
-    piston back after the rod), and meets it again after crossing the band.  A piston
-    with light seals or a rod-end clearance behind a free piston reads so.
+    piston not where it reverses but where the chambers have unloaded (the fluid pushes
+    the piston back after the rod), and meets it again after crossing the band with no
+    force in between; ``freeplay``'s piston, held by its seals, stays put in the band
+    while the force it reads relaxes through the channel.  A piston with light seals or a
+    rod-end clearance before a free piston reads so.
 
     ``gap_m`` 0 is the bare model (a rigid attachment; the contact stiffness then
     unused); a positive gap needs a finite contact stiffness.  It occupies the series
