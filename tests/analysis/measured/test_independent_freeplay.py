@@ -37,4 +37,5 @@ def test_the_default_command_adds_the_floating_freeplay_first(tmp_path, capsys):
     assert after < 0.5 * before
     seal = [c for c in d["steps"][0]["evidence"] if c["effect"] == "freeplay"
             and c.get("nrmse_validation") is not None]
-    assert all(c["nrmse_validation"] > 2 * after for c in seal)
+    # the seal-held freeplay, refitted beside it, predicts the held-out record 4 x worse
+    assert seal and all(c["nrmse_validation"] > 2 * after for c in seal)
