@@ -84,10 +84,14 @@ def test_flipped_sign_is_refused_naming_the_sign(paper):
 
 
 def test_flipped_sign_cli_exit_2(paper, tmp_path, capsys):
+    """Read as recorded (``--force-sign as-read``) a flipped record is refused; by default
+    the command line reads it negated and says so first (tests/analysis/measured/
+    test_force_sign.py)."""
     cal, _ = paper
     path = write_record(tmp_path / "flipped.csv", time=cal.time, displacement=cal.displacement,
                         force=-cal.force)
-    code = main(["calibrate", str(path), "--json", str(tmp_path / "x.json")])
+    code = main(["calibrate", str(path), "--force-sign", "as-read", "--json",
+                 str(tmp_path / "x.json")])
     err = capsys.readouterr().err
     assert code == 2
     assert "the force runs against the stroke rate" in err and "flip the force column" in err
