@@ -31,7 +31,7 @@ from liquidamp.errors import ParameterError
 GAP, K_C = 4e-4, 2e7
 
 
-def _massive_piston_maxwell(p, Y, f, gap, k_c, m_p=2e-4, c_c=None, cycles=12):
+def _massive_piston_maxwell(p, Y, f, gap, k_c, m_p=5e-3, c_c=None, cycles=3):
     """Load-cell force [N] over the last cycle of a massive piston behind a dead band and a
     Maxwell fluid (dF/dt = k_D v_p - F / T_D), written here from the physics (not liquidamp's
     kernels): m v_p' = f_c - F, f_c = k_c (e -+ gap) + c_c (v - v_p) beyond the band (a
@@ -62,8 +62,9 @@ def _massive_piston_maxwell(p, Y, f, gap, k_c, m_p=2e-4, c_c=None, cycles=12):
 
 def test_a_massless_floating_piston_is_the_limit_of_a_massive_one():
     """The Maxwell device behind the band: liquidamp's massless floating piston against an
-    independent Radau run of a 0.2 g piston between the contact and the fluid (its contact
-    resonance 1.6 kHz, a hundred times the stroke's harmonics that matter)."""
+    independent Radau run of a 5 g piston between the contact and the fluid (its contact
+    resonance 10 kHz; the Maxwell relaxation time 16 ms settles it within the first of three
+    cycles).  Measured: 0.6 % (1 g and 5 g pistons alike, 1.1 % at 20 g)."""
     p = preset("reference")
     Y, f = 2e-3, 3.0
     t, F_ref = _massive_piston_maxwell(p, Y, f, GAP, K_C)
@@ -75,7 +76,7 @@ def test_a_massless_floating_piston_is_the_limit_of_a_massive_one():
     order = np.argsort(ph)
     F = np.interp((t * f) % 1.0, ph[order], np.asarray(r.force)[order], period=1.0)
     err = float(np.sqrt(np.mean((F - F_ref) ** 2)) / np.sqrt(np.mean(F_ref ** 2)))
-    assert err < 0.02
+    assert err < 0.015
     # and the seal-held freeplay of the same gap is a different device (the route can fail)
     held = steady_state(with_effects(get_model("maxwell"),
                                      make_effect("freeplay", gap_m=GAP)),
