@@ -381,8 +381,11 @@ def revisit(run: dict, alt_run: dict, chosen: str, alt: str, sel, cls: str = "")
         starts += (dataclasses.replace(alternative_outcome(alt, base, cls), chosen=True),)
     alt_run = dict(alt_run, baseline=dataclasses.replace(base, class_starts=starts,
                                                          device_class=cls or alt))
-    alt_run["warnings"] = [f"device class revisited: {what}: it passes the selection rule, "
-                           f"the {alt} start replaces the {chosen} start"] + alt_run["warnings"]
+    # the starts revisited before this one stay named (every start tried is reported)
+    tried = [w for w in run["warnings"] if w.startswith("device class revisited: ")]
+    alt_run["warnings"] = tried + [f"device class revisited: {what}: it passes the selection "
+                                   f"rule, the {alt} start replaces the {chosen} start"
+                                   ] + alt_run["warnings"]
     return alt_run
 
 

@@ -86,6 +86,14 @@ def test_the_other_start_replaces_only_where_it_passes_the_rule():
     expect = 200 * math.log((0.5 / 2.0) ** 2) + 5 * math.log(200)
     assert f"delta BIC {expect:.4g}" in out["warnings"][0]
     assert "replaces the friction start" in out["warnings"][0]
+    # a start revisited before the one that replaces the run stays named; the replaced
+    # run's own diagnosis warnings go with it
+    run, alt, _ = _runs(0.5, 0.01, 7)
+    earlier = "device class revisited: the fluid (S_t x0.1) start is not diagnosed: ..."
+    run["warnings"] += [earlier, "tie: a and b explain the residual about equally"]
+    out = revisit(run, alt, "friction", "fluid", sel)
+    assert out["warnings"][0] == earlier and "replaces the friction start" in out["warnings"][1]
+    assert not any(w.startswith("tie: ") for w in out["warnings"])
     # the same fit 5 % worse on the held-out record: vetoed record by record, kept, said why
     run, alt, _ = _runs(0.5, 0.21, 7)
     out = revisit(run, alt, "friction", "fluid", sel)
