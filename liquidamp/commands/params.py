@@ -85,9 +85,9 @@ def device_and_effects(args, default: str = "reference"):
 def plausibility(params, effects, amplitude=None) -> list[str]:
     """Warnings for effect geometry the device (or the stroke) cannot have.
 
-    A freeplay half-gap or an end stop's reach (centre + clearance) beyond
-    the chamber's stroke limit min(V01, V02)/A_p, and a freeplay half-gap
-    at least the stroke amplitude (the stroke never closes the gap).
+    A freeplay half-gap (seal-held or floating) or an end stop's reach (centre +
+    clearance) beyond the chamber's stroke limit min(V01, V02)/A_p, and a freeplay
+    half-gap at least the stroke amplitude (the stroke never closes the gap).
 
     Parameters
     ----------
@@ -117,13 +117,13 @@ def plausibility(params, effects, amplitude=None) -> list[str]:
         amps = [float(a) for a in amplitude]
     for e in effects:
         d = e.as_dict()
-        if e.name == "freeplay":
+        if e.name in ("freeplay", "floating_freeplay"):
             gap = d["gap_m"]
             if gap > lim:
-                out.append(f"freeplay gap_m = {gap:g} m is beyond the chamber: the stroke limit "
-                           f"min(V01, V02)/A_p is {lim:.4g} m")
+                out.append(f"{e.name} gap_m = {gap:g} m is beyond the chamber: the stroke "
+                           f"limit min(V01, V02)/A_p is {lim:.4g} m")
             elif amps and gap >= max(amps):
-                out.append(f"freeplay gap_m = {gap:g} m (half-width) is at least the stroke "
+                out.append(f"{e.name} gap_m = {gap:g} m (half-width) is at least the stroke "
                            f"amplitude {max(amps):g} m: the stroke never closes the gap")
         elif e.name == "end_stops":
             reach = abs(d.get("centre_m", 0.0)) + d["clearance_m"]

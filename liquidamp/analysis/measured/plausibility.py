@@ -186,13 +186,14 @@ def plausibility_flags(params: DeviceParams, effects, records, *, force_scale: f
                 "spring): the spring draws the loop's turn (a dead band or pre-sliding?)",
                 {"series_stiffness [N/m]": ks, "turn_stiffness [N/m]": kt,
                  "|K*| [N/m]": K}))
-    fp = by.get("freeplay")
-    if fp is not None and fp.gap_m >= 0.5 * Y:
-        out.append(PlausibilityFlag(
-            "gap_comparable_to_stroke",
-            f"freeplay gap {fp.gap_m * 1e3:.3g} mm against a stroke amplitude of "
-            f"{Y * 1e3:.3g} mm (at least half): most of each swing moves nothing",
-            {"gap [m]": fp.gap_m, "stroke_amplitude [m]": Y}))
+    for name in ("freeplay", "floating_freeplay"):
+        fp = by.get(name)
+        if fp is not None and fp.gap_m >= 0.5 * Y:
+            out.append(PlausibilityFlag(
+                "gap_comparable_to_stroke",
+                f"{name} gap {fp.gap_m * 1e3:.3g} mm against a stroke amplitude of "
+                f"{Y * 1e3:.3g} mm (at least half): most of each swing moves nothing",
+                {"gap [m]": fp.gap_m, "stroke_amplitude [m]": Y}))
     stops = by.get("end_stops")
     if stops is not None:
         peak = max(float(np.max(np.abs(r.displacement - r.offset))) for r in records)

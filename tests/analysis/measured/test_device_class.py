@@ -158,6 +158,12 @@ def test_plausibility_flags_name_their_numbers():
     stops = make_effect("end_stops", stiffness_N_per_m=1e6, clearance_m=0.03)
     kinds = [f.kind for f in plausibility_flags(p, (gap, stops), [rec])]
     assert kinds == ["gap_comparable_to_stroke", "end_stops_unsupported"]
+    floating = make_effect("floating_freeplay", gap_m=0.006, contact_stiffness_N_per_m=1e7)
+    flags = plausibility_flags(p, (floating,), [rec])
+    assert [f.kind for f in flags] == ["gap_comparable_to_stroke"]
+    assert flags[0].message.startswith("floating_freeplay gap 6 mm")
+    narrow = make_effect("floating_freeplay", gap_m=0.001, contact_stiffness_N_per_m=1e7)
+    assert plausibility_flags(p, (narrow,), [rec]) == ()
     # a fluid device sized 150x with its air ratios at a bound: the impostor
     flags = plausibility_flags(p, (), [rec], force_scale=150.0, at_bound=("inv_gamma1", "c2"))
     assert [f.kind for f in flags] == ["fluid_unsupported"]
