@@ -83,7 +83,8 @@ __all__ = ["stroke_map_jac", "stroke_map_rhs_t"]
 @njit(cache=True, error_model="numpy")
 def _applies(spec, ep):
     """Whether the stroke-map forms hold the composition: one map (series compliance of
-    finite stiffness with the piston stroke right after the fluid's states, or freeplay),
+    finite stiffness without a dead band, its piston stroke right after the fluid's states,
+    or freeplay; not a floating freeplay, whose contact stiffness depends on the stroke),
     leakage only on the ``full`` and ``no_inertia`` bases, and none of the effects they do not
     cover (cavities, relief valves, rebound asymmetry, a bypass groove, slip weakening, the
     rotating frame, self-heating, the field yield)."""
