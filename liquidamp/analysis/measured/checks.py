@@ -116,7 +116,7 @@ def orient_force(record: Record, force_sign: str = "auto") -> Record:
     if force_sign == "as-read" or "force_sign" in record.meta:
         return record
     if force_sign == "auto":
-        q = check_record(record)
+        q = _checked(record, None)  # cached: the data checks reuse it for a record kept
         P, sP, share = q.dissipated_power, q.dissipated_power_std, q.loss_share
         if not (share < -FLIP_SHARE and P < -FLIP_SIGMAS * sP):
             return record
