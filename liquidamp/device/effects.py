@@ -218,6 +218,7 @@ __all__ = [
     "make_effect",
     "with_effects",
     "on_absolute_stroke",
+    "chambers_on_absolute_stroke",
     "with_stroke_offset",
     "least_pressures",
     "lugre_rate",
@@ -430,6 +431,24 @@ def with_stroke_offset(model: DeviceModel, offset_m: float) -> DeviceModel:
     return with_effects(BASES[model.base], *effects)
 
 
+def chambers_on_absolute_stroke(model: DeviceModel, effects=()) -> bool:
+    """Whether ``model`` (with ``effects`` added) holds its chambers on the absolute
+    stroke: a ``gas_charge`` on a model with chamber pressures (:func:`on_absolute_stroke`
+    then moves V01, V02 and p0; a device without chambers keeps them).
+
+    Examples
+    --------
+    >>> from liquidamp.device.models import get_model
+    >>> gas = GasCharge(4.5e-5, 6.894757e5, 2.4e-6, 1.25)
+    >>> chambers_on_absolute_stroke(get_model("full"), (gas,))
+    True
+    >>> chambers_on_absolute_stroke(get_model("dashpot"), (gas,))
+    False
+    """
+    return model.pressures is not None and any(
+        e.name == "gas_charge" for e in (*model.effects, *effects))
+
+
 def on_absolute_stroke(model, params, offset_m: float):
     """The model and device a record read about ``offset_m`` runs on: absolute stroke kept.
 
@@ -487,9 +506,9 @@ def on_absolute_stroke(model, params, offset_m: float):
     (-0.031, 790801, 81.426)
     """
     model = with_stroke_offset(model, offset_m)
-    gas = [e for e in model.effects if e.name == "gas_charge"]
-    if not gas or model.pressures is None:
+    if not chambers_on_absolute_stroke(model):
         return model, params
+    gas = [e for e in model.effects if e.name == "gas_charge"]
     if any(e.name == "cavitation" for e in model.effects):
         raise ParameterError(
             "a record on the absolute stroke fills a gas-charged device at its charge "

@@ -139,7 +139,12 @@ from liquidamp.analysis.measured.start import (
     stroke_factor,
     stroke_share,
 )
-from liquidamp.device.effects import EFFECTS, on_absolute_stroke, with_effects
+from liquidamp.device.effects import (
+    EFFECTS,
+    chambers_on_absolute_stroke,
+    on_absolute_stroke,
+    with_effects,
+)
 from liquidamp.device.models import get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import (
@@ -274,12 +279,6 @@ def _scaled_values(spec: FitSpec, values: dict, force: float, stroke: float) -> 
     return out
 
 
-def _absolute(model, effects) -> bool:
-    """Whether ``model`` with ``effects`` holds its chambers on the absolute stroke (a gas
-    charge on a device with chambers: :func:`~liquidamp.device.effects.on_absolute_stroke`)."""
-    return model.pressures is not None and any(e.name == "gas_charge" for e in effects)
-
-
 def _start_device(obj: FitObjective, records, validate, sizing: str) -> Sizing:
     """The device the fit starts from: the given one when the records are near it, else
     similar to it and sized to the records (module docstring of start).
@@ -290,7 +289,7 @@ def _start_device(obj: FitObjective, records, validate, sizing: str) -> Sizing:
     t0 = _trial(obj, f"preset {base.name}" if base.name else "given device", obj.fixed)
     ratio0 = 1.0 / t0.rms_ratio if t0.ran and t0.rms_ratio else None
     # a gas-charged device's chambers follow the absolute stroke (on_absolute_stroke)
-    absolute = _absolute(obj.model, effects)
+    absolute = chambers_on_absolute_stroke(obj.model, effects)
     s = stroke_factor(records + validate, base, absolute)
     share = stroke_share(records + validate, base, absolute)
     if sizing == "preset":
@@ -541,7 +540,7 @@ def calibrate(records, *, model="full", params: DeviceParams | None = None, effe
     # device holds its chambers on the absolute stroke, so its reach is judged about each
     # record's own mean by _with_stroke_limit below (a profile refit of a gas charge whose
     # datum volume V01 is 1.5 cm^3 reaches 36 mm about a mean of -31 mm, 5 mm about 0)
-    on_datum = sizing == "preset" and not _absolute(get_model(model), effects)
+    on_datum = sizing == "preset" and not chambers_on_absolute_stroke(get_model(model), effects)
     quality, found = check_records(records + validate, base if on_datum else None,
                                    outliers=outliers)
     if outliers != "refuse":  # dropped (the force) or kept, in every later check too

@@ -18,6 +18,7 @@ import dataclasses
 import functools
 import math
 from dataclasses import dataclass, field
+from pathlib import PurePath
 
 import numpy as np
 
@@ -389,8 +390,7 @@ class CalibrationResult:
         """The records read with their force negated, "" if none: ``"a.csv, b.csv (the
         loop as recorded delivers energy: read with the other sign convention)"``
         (:func:`~liquidamp.analysis.measured.checks.orient_force`)."""
-        names = [q.source.replace("\\", "/").rsplit("/", 1)[-1] for q in self.data_quality
-                 if q.force_negated]
+        names = [PurePath(q.source).name for q in self.data_quality if q.force_negated]
         if not names:
             return ""
         return (", ".join(names) + " (the loop as recorded delivers energy, a damper's loop "

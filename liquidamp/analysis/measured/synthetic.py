@@ -34,7 +34,13 @@ import numpy as np
 from liquidamp.analysis.measured.record_model import integrate
 from liquidamp.analysis.measured.records import Record, write_record
 from liquidamp.device import preset as get_preset
-from liquidamp.device.effects import Effect, make_effect, on_absolute_stroke, with_effects
+from liquidamp.device.effects import (
+    Effect,
+    chambers_on_absolute_stroke,
+    make_effect,
+    on_absolute_stroke,
+    with_effects,
+)
 from liquidamp.device.models import get_model
 from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ParameterError, check_in_range, check_nonnegative, check_positive
@@ -333,7 +339,7 @@ def synthetic_record(recipe: Recipe | None = None, *, settle_cycles: int = 6,
     # a gas-charged device with chambers runs on the absolute stroke, as the fit simulates it
     # (simulate_record): chambers V01, V02 at the datum, the record about its offset (other
     # position effects keep the offset as an LVDT zero error: the device about its own zero)
-    if model.pressures is not None and any(e.name == "gas_charge" for e in model.effects):
+    if chambers_on_absolute_stroke(model):
         model, params = on_absolute_stroke(model, params, recipe.displacement_offset)
     if stroke.max_abs >= params.stroke_limit:
         raise ParameterError(f"stroke {stroke.max_abs:.4g} m reaches the chamber end "
