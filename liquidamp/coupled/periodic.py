@@ -130,6 +130,17 @@ class ShootingOptions:
         invariants match the start's to ``tol``.  Default ``options.steady_tol``.
     max_iter : int
         Largest number of iterations (Newton steps and marched periods) [-].
+    budget : float, optional
+        Most integrator steps all one-period runs together may take, in units of the
+        first period's steps [-] (a run tightened by the stall rule, or refused at its
+        step limit, counts the steps it took).  Checked before each run; past it the
+        shooting stops as when its iterations run out (raises ConvergenceError, or
+        returns the last iterate below ``accept``; the final output run is not charged).  Default
+        None: no limit beyond ``max_iter``.  For a caller to whom one orbit is one of
+        hundreds (the record simulation inside a fit), a bound on what one hard point
+        costs: a nearly discontinuous device (a valve chattering at the integration's
+        noise) holds the residual above the tolerance while the stall rule tightens
+        the runs, each tenfold tightening costing several times the steps.
     accept : float, optional
         Where the iterations run out with the periodicity residual below ``accept``
         (and above ``tol``), the orbit is returned as converged at the one-period runs'
@@ -155,6 +166,7 @@ class ShootingOptions:
     tol: float | None = None
     max_iter: int = 40
     accept: float | None = None
+    budget: float | None = None
 
     def __post_init__(self) -> None:
         if not (isinstance(self.max_iter, int) and not isinstance(self.max_iter, bool)
@@ -171,6 +183,9 @@ class ShootingOptions:
             if self.tol is not None and not float(self.tol) <= acc < 1.0:
                 raise ParameterError(f"accept must lie in [tol, 1) [-], got {acc:g} "
                                      f"(tol {float(self.tol):g})")
+        if self.budget is not None and not float(self.budget) >= 1.0:
+            raise ParameterError(f"budget must be at least 1 first-period run [-], got "
+                                 f"{float(self.budget):g}")
 
 
 @dataclass(frozen=True, eq=False)
@@ -198,7 +213,9 @@ class PeriodicState:
     stats : dict
         Solver work counts, with ``route``, ``march_cycles``, ``shooting_runs``,
         ``newton_iterations``; a shot orbit also ``accepted`` (True where the iterations
-        ran out below ``ShootingOptions.accept``, not below the tolerance).
+        or the budget ran out below ``ShootingOptions.accept``, not below the tolerance)
+        and ``shooting_cost`` (integrator steps of all its one-period runs, in first
+        periods [-]; :attr:`ShootingOptions.budget`).
     """
 
     states: np.ndarray
@@ -324,11 +341,16 @@ def _march(rig, engine, x0, options, stats, grid=None):
         chunk = int(min(left, max(math.ceil(1.5 * to_go) + 3, 10), 5 * FIRST_CHUNK))
 
 
+class _BudgetSpent(Exception):
+    """Raised by a one-period run of :func:`_shoot` past ``ShootingOptions.budget``."""
+
+
 def _shoot(rig, engine, x, target, options, shooting: ShootingOptions, out_grid=None):
     """Newton shooting from ``x`` with the invariant values ``target`` held (module notes).
 
-    Returns ``(X, runs, iterations, newton, marched, residual, tightened_rtol, accepted)``
-    on success (``accepted``: the iterations ran out below ``shooting.accept``); raises
+    Returns ``(X, runs, iterations, newton, marched, residual, tightened_rtol, accepted,
+    cost)`` on success (``accepted``: the iterations or the budget ran out below
+    ``shooting.accept``; ``cost``: the integrator steps of all runs in first periods); raises
     ConvergenceError with the iterations and residual otherwise.
     """
     model, params, stroke = rig.model, rig.params, rig.stroke
@@ -345,17 +367,26 @@ def _shoot(rig, engine, x, target, options, shooting: ShootingOptions, out_grid=
     runs = 0
     run_opts = options  # tightened when the residual stalls at the integration error
     first = {}  # the first period's integrator steps (RUN_STEPS)
+    spent = 0  # integrator steps of all runs (ShootingOptions.budget)
+    charge = True
 
     def period(xs, t_eval=None):
-        nonlocal runs
+        nonlocal runs, spent
         runs += 1
         te = grid[-1:] if t_eval is None else t_eval  # ends at T either way
         limit = None
         if first.get("steps"):  # a 4th-order pair's steps grow as rtol^(-1/4)
             limit = int(RUN_STEPS * first["steps"]
                         * (options.rtol / run_opts.rtol) ** 0.25) + 1000
-        X = engine.march(rig, xs, 0.0, T, te, run_opts, max_step, first if limit is None
-                         else {}, max_steps=limit)
+        if (charge and shooting.budget is not None and first.get("steps")
+                and spent > shooting.budget * first["steps"]):
+            raise _BudgetSpent  # not a ConvergenceError: a Newton step's trial must not eat it
+        run_stats = first if limit is None else {}
+        try:
+            X = engine.march(rig, xs, 0.0, T, te, run_opts, max_step, run_stats,
+                             max_steps=limit)
+        finally:
+            spent += int(run_stats.get("steps", 0))
         return X[:, -1], X
 
     # one marched period removes the fast (stiff) part of the transient and shows how
@@ -376,61 +407,75 @@ def _shoot(rig, engine, x, target, options, shooting: ShootingOptions, out_grid=
     newton = marched = tightened = since = 0
     accepted = False
     res = gap = math.inf
-    for it in range(max_iter + 1):
-        res = float(np.max(np.abs((xT - x) / scale)))
-        g, _ = level.gap(x)
-        gap = float(np.max(np.abs(g))) if g.size else 0.0
-        history.append(res)
-        if res < tol and gap < tol:
-            break
-        if it == max_iter:
-            if shooting.accept is not None and res < shooting.accept and gap < tol:
-                accepted = True
+    it, x_at = 0, x
+    try:
+        for it in range(max_iter + 1):
+            res = float(np.max(np.abs((xT - x) / scale)))
+            g, _ = level.gap(x)
+            gap = float(np.max(np.abs(g))) if g.size else 0.0
+            history.append(res)
+            x_at = x  # the state res and gap belong to
+            if res < tol and gap < tol:
                 break
-            raise ConvergenceError(
-                f"shooting did not converge in {max_iter} iterations ({newton} Newton steps, "
-                f"{marched} marched periods, {runs} one-period runs): periodicity residual "
-                f"{res:.2e}, invariant gap {gap:.1e} (allowed {tol:g} for both); last "
-                f"residuals {', '.join(f'{h:.1e}' for h in history[-5:])}")
-        if (len(history) - since >= 3 and min(history[-2:]) > STALL_RATIO * history[-3]
-                and run_opts.rtol > MIN_RTOL):
-            # stalled for two iterations: the residual sits at the integration error of a
-            # one-period run (tens of rtol over a period), so tighten the runs tenfold
-            run_opts = run_opts.replace(rtol=max(run_opts.rtol / 10.0, MIN_RTOL))
-            tightened += 1
-            since = len(history)
-            xT, _ = period(x)
-            continue
-        w = (xT - x) / swing
-        Z = level.tangent(x)
-        J = np.empty((x.size, Z.shape[1]))
-        for k in range(Z.shape[1]):
-            dx = FD_STEP * Z[:, k] * swing
-            xp, _ = period(level.project(x + dx))
-            xm, _ = period(level.project(x - dx))
-            J[:, k] = (xp - xm) / (2.0 * FD_STEP * swing)
-        J -= Z
-        step = Z @ np.linalg.lstsq(J, -w, rcond=None)[0]
-        norm_w = float(np.linalg.norm(w))
-        for lam in STEP_LENGTHS:
-            x_try = level.project(x + lam * step * swing)
-            try:
-                xT_try, _ = period(x_try)
-            except (ConvergenceError, PressureError):
+            if it == max_iter:
+                if shooting.accept is not None and res < shooting.accept and gap < tol:
+                    accepted = True
+                    break
+                raise ConvergenceError(
+                    f"shooting did not converge in {max_iter} iterations ({newton} Newton "
+                    f"steps, {marched} marched periods, {runs} one-period runs): periodicity "
+                    f"residual {res:.2e}, invariant gap {gap:.1e} (allowed {tol:g} for both); "
+                    f"last residuals {', '.join(f'{h:.1e}' for h in history[-5:])}")
+            if (len(history) - since >= 3 and min(history[-2:]) > STALL_RATIO * history[-3]
+                    and run_opts.rtol > MIN_RTOL):
+                # stalled for two iterations: the residual sits at the integration error of
+                # a one-period run (tens of rtol over a period), so tighten the runs tenfold
+                run_opts = run_opts.replace(rtol=max(run_opts.rtol / 10.0, MIN_RTOL))
+                tightened += 1
+                since = len(history)
+                xT, _ = period(x)
                 continue
-            if np.linalg.norm((xT_try - x_try) / swing) < (1.0 - 1e-4 * lam) * norm_w:
-                x, xT = x_try, xT_try
-                newton += 1
-                break
-        else:
-            # no Newton step improves: march one period (converges as marching does)
-            x = level.project(xT)
-            xT, _ = period(x)
-            marched += 1
+            w = (xT - x) / swing
+            Z = level.tangent(x)
+            J = np.empty((x.size, Z.shape[1]))
+            for k in range(Z.shape[1]):
+                dx = FD_STEP * Z[:, k] * swing
+                xp, _ = period(level.project(x + dx))
+                xm, _ = period(level.project(x - dx))
+                J[:, k] = (xp - xm) / (2.0 * FD_STEP * swing)
+            J -= Z
+            step = Z @ np.linalg.lstsq(J, -w, rcond=None)[0]
+            norm_w = float(np.linalg.norm(w))
+            for lam in STEP_LENGTHS:
+                x_try = level.project(x + lam * step * swing)
+                try:
+                    xT_try, _ = period(x_try)
+                except (ConvergenceError, PressureError):
+                    continue
+                if np.linalg.norm((xT_try - x_try) / swing) < (1.0 - 1e-4 * lam) * norm_w:
+                    x, xT = x_try, xT_try
+                    newton += 1
+                    break
+            else:
+                # no Newton step improves: march one period (converges as marching does)
+                x = level.project(xT)
+                xT, _ = period(x)
+                marched += 1
+    except _BudgetSpent:
+        if not (shooting.accept is not None and res < shooting.accept and gap < tol):
+            raise ConvergenceError(
+                f"shooting spent its budget in iteration {it} ({newton} Newton steps, "
+                f"{marched} marched periods, {runs} one-period runs): {spent} integrator "
+                f"steps, more than {shooting.budget:g} x the first period's "
+                f"{first['steps']}; periodicity residual {res:.2e}, invariant gap {gap:.1e} "
+                f"(allowed {tol:g} for both)") from None
+        x, accepted = x_at, True
+    charge = False  # the output run is not charged to the budget
     xe, X = period(x, grid if out_grid is None else out_grid)
     res = float(np.max(np.abs((xe - x) / scale)))
+    cost = spent / first["steps"] if first.get("steps") else float(runs)
     return (X, runs, len(history) - 1, newton, marched, res,
-            run_opts.rtol if tightened else None, accepted)
+            run_opts.rtol if tightened else None, accepted, cost)
 
 
 def periodic_state(rig, engine, x0, options, *, route: str = "auto",
@@ -559,7 +604,7 @@ def periodic_state(rig, engine, x0, options, *, route: str = "auto",
             err.marched = (on_grid(X)[:, :-1], cycles, change)
             raise err
     try:
-        X, runs, iters, newton, marched, res, rtol, accepted = _shoot(
+        X, runs, iters, newton, marched, res, rtol, accepted, cost = _shoot(
             rig, engine, x, target, options, shooting, grid if fine is None else fine)
     except ConvergenceError as exc:
         if route == "shooting":
@@ -574,7 +619,7 @@ def periodic_state(rig, engine, x0, options, *, route: str = "auto",
         err.marched = (on_grid(X)[:, :-1], cycles, change)
         raise err from None
     stats.update(route="shooting", march_cycles=cycles, shooting_runs=runs,
-                 newton_iterations=iters, accepted=accepted)
+                 newton_iterations=iters, accepted=accepted, shooting_cost=cost)
     msg = (f"periodic orbit by shooting: {iters} iterations ({newton} Newton steps, "
            f"{marched} marched periods), {runs} one-period runs; periodicity residual "
            f"{res:.2e} of the state scales")

@@ -244,3 +244,38 @@ def test_a_shooting_out_of_iterations_raises_or_is_accepted_below_accept():
     assert np.max(np.abs(got.states - ref.states) / scale) < 5 * got.residual
     with pytest.raises(ParameterError, match=r"accept must lie in \[tol, 1\)"):
         periodic.ShootingOptions(tol=1e-6, accept=1e-7)
+
+
+def test_a_shooting_past_its_budget_raises_or_is_accepted_and_states_its_cost():
+    """``ShootingOptions.budget``: the shooting's integrator steps, in first periods, are
+    ``stats["shooting_cost"]``; a budget below what a shooting needs stops it with the
+    figures (or accepts its orbit below ``accept``), one above it changes nothing."""
+    m, p = get_model("full"), preset("inerter")
+    rig = TestRig(m, p, HarmonicStroke(1e-3, 3.0))
+    fit = SolverOptions.preset("fit")
+    eng = engine_for(rig, fit)
+    x0 = m.initial_state(p, 0.0)
+    tight = dict(tol=1e-12, max_iter=6)  # tightened runs: each costs more than a period
+    free = periodic.periodic_state(rig, eng, x0, fit, route="shooting",
+                                   shooting=periodic.ShootingOptions(**tight, accept=1e-4))
+    cost = free.stats["shooting_cost"]
+    # the first period (from rest, through the start-up transient) is counted in full;
+    # measured 8.7 first periods over 37 runs (the runs on the orbit take fewer steps)
+    assert 1.0 < cost < free.runs
+    roomy = periodic.periodic_state(
+        rig, eng, x0, fit, route="shooting",
+        shooting=periodic.ShootingOptions(**tight, accept=1e-4, budget=2 * cost))
+    np.testing.assert_array_equal(roomy.states, free.states)
+    with pytest.raises(ConvergenceError, match=r"shooting spent its budget in iteration \d+ "
+                       r".* more than 3 x the first period's"):
+        periodic.periodic_state(rig, eng, x0, fit, route="shooting",
+                                shooting=periodic.ShootingOptions(**tight, budget=3))
+    # measured: the budget of 7 first periods is spent in the 4th iteration, residual 1.1e-2
+    # after three Newton steps (8.7 first periods and 6 iterations without it)
+    short = periodic.periodic_state(
+        rig, eng, x0, fit, route="shooting",
+        shooting=periodic.ShootingOptions(**tight, accept=0.1, budget=7))
+    assert short.stats["accepted"] is True and short.iterations < free.iterations
+    assert 5 < short.stats["shooting_cost"] < cost and short.residual < 0.1
+    with pytest.raises(ParameterError, match="budget must be at least 1 first-period run"):
+        periodic.ShootingOptions(budget=0.5)
