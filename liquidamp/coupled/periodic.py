@@ -47,7 +47,9 @@ that stalls at the integration error of a one-period run tightens the runs tenfo
 raises, unless the residual is below ``ShootingOptions.accept`` (a caller that tolerates
 an orbit periodic to the one-period runs' integration error: the record simulation,
 whose fit preset integrates at rtol 1e-6), where the orbit is returned with
-``stats["accepted"]`` True and its message says so.
+``stats["accepted"]`` True and its message says so.  ``ShootingOptions.budget`` bounds
+the integrator steps of all one-period runs together (in first periods; the cost is
+``stats["shooting_cost"]``): past it the shooting stops as when its iterations run out.
 
 References
 ----------
