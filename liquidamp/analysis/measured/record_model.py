@@ -24,8 +24,8 @@ response's ``states[:, 0]``) is moved onto the invariants of rest and only short
 march (from three periods, :data:`WARM_MIN_CYCLES`); one shooting may spend at most
 :data:`RECORD_SHOOTING_BUDGET` periods' steps, so that one hard parameter point costs a fit
 seconds, not half a minute.  A record whose stroke is not periodic (tapered or broadband)
-has no steady state to approach: it runs under the Savitzky-Golay stroke (:meth:`Record.stroke`; a stroke of a
-few sinusoids under its line-spectrum fit) from rest at the start of a lead-in
+has no steady state to approach: it runs under the Savitzky-Golay stroke
+(:meth:`Record.stroke`; a stroke of a few sinusoids under its line-spectrum fit) from rest at the start of a lead-in
 (:func:`~liquidamp.analysis.measured.lead_in.lead_in`: a tenth of the record or one period,
 at most 1 s) in which the rod moves as the record moves into the state most like its first
 sample's (the method of analogues, for a stroke of a few sinusoids; else a ramp at the
