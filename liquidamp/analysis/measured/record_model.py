@@ -9,34 +9,34 @@ back and a gas-charged device's chambers follow the absolute stroke at the charg
 normalized RMS force error used by the calibration; :func:`integrate` is the synthetic
 generator's LSODA march under any scalar stroke.
 
-The periodic steady state, not a pre-roll: a periodic record
-(:attr:`Record.periodic`) is simulated on the periodic orbit of its cycle.  Its stroke is
-its Fourier series (:func:`record_stroke`: the averaged record's fit, or the least-squares
-fit of the displacement with the fundamental refined), so velocity and acceleration are
-exact (the 21-point Savitzky-Golay velocity is 1.3 % low at 40 samples per cycle); the
-orbit comes from :func:`liquidamp.coupled.periodic.periodic_state` (march while it
-converges, Newton shooting with the invariants of the device at rest where it stalls), on
-the phases of the samples the record (or its conditioning) needs.  Before, the model was
-pre-rolled over the first cycle a fixed number of times from rest: with the true
-parameters of a slowly settling device (device_a, 5 Hz) NRMSE 0.044 against a noise floor
-of 0.0017; now within 1.03x of the floor.  A warm start (``x0``, e.g. the previous
-response's ``states[:, 0]``) is moved onto the invariants of rest and only shortens the
-march (from three periods, :data:`WARM_MIN_CYCLES`); one shooting may spend at most
-:data:`RECORD_SHOOTING_BUDGET` periods' steps, so that one hard parameter point costs a fit
-seconds, not half a minute.  A record whose stroke is not periodic (tapered or broadband)
-has no steady state to approach: it runs under the Savitzky-Golay stroke
-(:meth:`Record.stroke`; a stroke of a few sinusoids under its line-spectrum fit) from rest at the start of a lead-in
+The periodic steady state, not a pre-roll: a periodic record (:attr:`Record.periodic`) is
+simulated on the periodic orbit of its cycle.  Its stroke is its Fourier series
+(:func:`record_stroke`: the averaged record's fit, or the least-squares fit of the
+displacement with the fundamental refined), so velocity and acceleration are exact (the
+21-point Savitzky-Golay velocity is 1.3 % low at 40 samples per cycle); the orbit comes from
+:func:`liquidamp.coupled.periodic.periodic_state` (march while it converges, Newton shooting
+with the invariants of the device at rest where it stalls), on the phases of the samples the
+record (or its conditioning) needs.  Before, the model was pre-rolled over the first cycle a
+fixed number of times from rest: with the true parameters of a slowly settling device
+(device_a, 5 Hz) NRMSE 0.044 against a noise floor of 0.0017; now within 1.03x of the floor.
+A warm start (``x0``, e.g. the previous response's ``states[:, 0]``) is moved onto the
+invariants of rest and only shortens the march (from three periods,
+:data:`WARM_MIN_CYCLES`); one shooting may spend at most :data:`RECORD_SHOOTING_BUDGET`
+periods' steps, so that one hard parameter point costs a fit seconds, not half a minute.  A
+record whose stroke is not periodic (tapered or broadband) has no steady state to approach:
+it runs under the Savitzky-Golay stroke (:meth:`Record.stroke`; a stroke of a few sinusoids
+under its line-spectrum fit) from rest at the start of a lead-in
 (:func:`~liquidamp.analysis.measured.lead_in.lead_in`: a tenth of the record or one period,
 at most 1 s) in which the rod moves as the record moves into the state most like its first
-sample's (the method of analogues, for a stroke of a few sinusoids; else a ramp at the
-first sample's velocity), so that the model meets the first sample in the motion's own
-steady flow, its yield, friction and pressure drops on the side the motion sets and its channel flow
-settled; from rest at the first sample instead, a device whose yield holds 180 N (the
-independent MR record d10 with its true parameters) left a 135 N RMS start-up error over
-the first 50 ms.  Before, the lead-in was a ramp at the first sample's velocity no farther
-than the stroke's RMS: on a two-tone stroke (4 Hz + 1.3 Hz, a rotorcraft lag-damper test)
-the true model then left a 91 N error at the first sample (2 % NRMSE over the record, 5x
-the noise).
+sample's (the method of analogues, for a stroke of a few sinusoids; else a ramp at the first
+sample's velocity), so that the model meets the first sample in the motion's own steady
+flow, its yield, friction and pressure drops on the side the motion sets and its channel
+flow settled; from rest at the first sample instead, a device whose yield holds 180 N (the
+independent MR record d10 with its true parameters) left a 135 N RMS start-up error over the
+first 50 ms.  Before, the lead-in was a ramp at the first sample's velocity no farther than
+the stroke's RMS: on a two-tone stroke (4 Hz + 1.3 Hz, a rotorcraft lag-damper test) the
+true model then left a 91 N error at the first sample (2 % NRMSE over the record, 5x the
+noise).
 The response states the filter's velocity gain at the record's frequency
 (:func:`~liquidamp.analysis.measured.record_quality.velocity_gain`).
 
