@@ -137,12 +137,12 @@ class ShootingOptions:
         first period's steps [-] (a run tightened by the stall rule, or refused at its
         step limit, counts the steps it took).  Checked before each run; past it the
         shooting stops as when its iterations run out (raises ConvergenceError, or
-        returns the last iterate below ``accept``; the final output run is not charged).  Default
-        None: no limit beyond ``max_iter``.  For a caller to whom one orbit is one of
-        hundreds (the record simulation inside a fit), a bound on what one hard point
-        costs: a nearly discontinuous device (a valve chattering at the integration's
-        noise) holds the residual above the tolerance while the stall rule tightens
-        the runs, each tenfold tightening costing several times the steps.
+        returns the last iterate below ``accept``; the final output run is not
+        charged).  Default None: no limit beyond ``max_iter``.  For a caller to whom one
+        orbit is one of hundreds (the record simulation inside a fit), a bound on what
+        one hard point costs: a nearly discontinuous device (a valve chattering at the
+        integration's noise) holds the residual above the tolerance while the stall rule
+        tightens the runs, each tenfold tightening costing several times the steps.
     accept : float, optional
         Where the iterations run out with the periodicity residual below ``accept``
         (and above ``tol``), the orbit is returned as converged at the one-period runs'
