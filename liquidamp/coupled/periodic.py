@@ -133,16 +133,17 @@ class ShootingOptions:
     max_iter : int
         Largest number of iterations (Newton steps and marched periods) [-].
     budget : float, optional
-        Most integrator steps all one-period runs together may take, in units of the
-        first period's steps [-] (a run tightened by the stall rule, or refused at its
-        step limit, counts the steps it took).  Checked before each run; past it the
-        shooting stops as when its iterations run out (raises ConvergenceError, or
-        returns the last iterate below ``accept``; the final output run is not
-        charged).  Default None: no limit beyond ``max_iter``.  For a caller to whom one
-        orbit is one of hundreds (the record simulation inside a fit), a bound on what
-        one hard point costs: a nearly discontinuous device (a valve chattering at the
-        integration's noise) holds the residual above the tolerance while the stall rule
-        tightens the runs, each tenfold tightening costing several times the steps.
+        Most integrator steps (right-hand-side evaluations on the scipy engine) all
+        one-period runs together may take, in units of the first period's [-] (a run
+        tightened by the stall rule, or refused at its step limit, counts the steps it
+        took).  Checked before each run; past it the shooting stops as when its iterations
+        run out (raises ConvergenceError, or returns the last iterate below ``accept``; the
+        final output run is not charged).  Default None: no limit beyond ``max_iter``.  For
+        a caller to whom one orbit is one of hundreds (the record simulation inside a fit),
+        a bound on what one hard point costs: a nearly discontinuous device (a valve
+        chattering at the integration's noise) holds the residual above the tolerance while
+        the stall rule tightens the runs, each tenfold tightening costing several times the
+        steps.
     accept : float, optional
         Where the iterations run out with the periodicity residual below ``accept``
         (and above ``tol``), the orbit is returned as converged at the one-period runs'
@@ -216,7 +217,7 @@ class PeriodicState:
         Solver work counts, with ``route``, ``march_cycles``, ``shooting_runs``,
         ``newton_iterations``; a shot orbit also ``accepted`` (True where the iterations
         or the budget ran out below ``ShootingOptions.accept``, not below the tolerance)
-        and ``shooting_cost`` (integrator steps of all its one-period runs, in first
+        and ``shooting_cost`` (integrator work of all its one-period runs, in first
         periods [-]; :attr:`ShootingOptions.budget`).
     """
 
@@ -343,6 +344,12 @@ def _march(rig, engine, x0, options, stats, grid=None):
         chunk = int(min(left, max(math.ceil(1.5 * to_go) + 3, 10), 5 * FIRST_CHUNK))
 
 
+def _work(stats: dict) -> int:
+    """The integrator work a run's ``stats`` count: steps on the compiled engine,
+    right-hand-side evaluations on the scipy engine (the unit of ``ShootingOptions.budget``)."""
+    return int(stats.get("steps", stats.get("nfev", 0)))
+
+
 class _BudgetSpent(Exception):
     """Raised by a one-period run of :func:`_shoot` past ``ShootingOptions.budget``."""
 
@@ -380,15 +387,15 @@ def _shoot(rig, engine, x, target, options, shooting: ShootingOptions, out_grid=
         if first.get("steps"):  # a 4th-order pair's steps grow as rtol^(-1/4)
             limit = int(RUN_STEPS * first["steps"]
                         * (options.rtol / run_opts.rtol) ** 0.25) + 1000
-        if (charge and shooting.budget is not None and first.get("steps")
-                and spent > shooting.budget * first["steps"]):
+        if (charge and shooting.budget is not None and _work(first)
+                and spent > shooting.budget * _work(first)):
             raise _BudgetSpent  # not a ConvergenceError: a Newton step's trial must not eat it
         run_stats = first if limit is None else {}
         try:
             X = engine.march(rig, xs, 0.0, T, te, run_opts, max_step, run_stats,
                              max_steps=limit)
         finally:
-            spent += int(run_stats.get("steps", 0))
+            spent += _work(run_stats)
         return X[:, -1], X
 
     # one marched period removes the fast (stiff) part of the transient and shows how
@@ -467,15 +474,16 @@ def _shoot(rig, engine, x, target, options, shooting: ShootingOptions, out_grid=
         if not (shooting.accept is not None and res < shooting.accept and gap < tol):
             raise ConvergenceError(
                 f"shooting spent its budget in iteration {it} ({newton} Newton steps, "
-                f"{marched} marched periods, {runs} one-period runs): {spent} integrator "
-                f"steps, more than {shooting.budget:g} x the first period's "
-                f"{first['steps']}; periodicity residual {res:.2e}, invariant gap {gap:.1e} "
+                f"{marched} marched periods, {runs} one-period runs): integrator work "
+                f"{spent} ({engine.name} engine: steps or right-hand-side evaluations), "
+                f"more than {shooting.budget:g} x the first period's {_work(first)}; "
+                f"periodicity residual {res:.2e}, invariant gap {gap:.1e} "
                 f"(allowed {tol:g} for both)") from None
         x, accepted = x_at, True
     charge = False  # the output run is not charged to the budget
     xe, X = period(x, grid if out_grid is None else out_grid)
     res = float(np.max(np.abs((xe - x) / scale)))
-    cost = spent / first["steps"] if first.get("steps") else float(runs)
+    cost = spent / _work(first) if _work(first) else math.nan
     return (X, runs, len(history) - 1, newton, marched, res,
             run_opts.rtol if tightened else None, accepted, cost)
 

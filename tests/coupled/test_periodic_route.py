@@ -267,7 +267,7 @@ def test_a_shooting_past_its_budget_raises_or_is_accepted_and_states_its_cost():
         shooting=periodic.ShootingOptions(**tight, accept=1e-4, budget=2 * cost))
     np.testing.assert_array_equal(roomy.states, free.states)
     with pytest.raises(ConvergenceError, match=r"shooting spent its budget in iteration \d+ "
-                       r".* more than 3 x the first period's"):
+                       r".*compiled engine.* more than 3 x the first period's"):
         periodic.periodic_state(rig, eng, x0, fit, route="shooting",
                                 shooting=periodic.ShootingOptions(**tight, budget=3))
     # measured: the budget of 7 first periods is spent in the 4th iteration, residual 1.1e-2
@@ -277,5 +277,11 @@ def test_a_shooting_past_its_budget_raises_or_is_accepted_and_states_its_cost():
         shooting=periodic.ShootingOptions(**tight, accept=0.1, budget=7))
     assert short.stats["accepted"] is True and short.iterations < free.iterations
     assert 5 < short.stats["shooting_cost"] < cost and short.residual < 0.1
+    # the scipy engine counts its work in right-hand-side evaluations: the same budget
+    scipy = SolverOptions.preset("fit", engine="scipy")
+    with pytest.raises(ConvergenceError, match=r"scipy engine: steps or right-hand-side "
+                       r"evaluations\), more than 1 x the first period's"):
+        periodic.periodic_state(rig, engine_for(rig, scipy), x0, scipy, route="shooting",
+                                shooting=periodic.ShootingOptions(**tight, budget=1))
     with pytest.raises(ParameterError, match="budget must be at least 1 first-period run"):
         periodic.ShootingOptions(budget=0.5)

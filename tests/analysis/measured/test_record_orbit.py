@@ -251,15 +251,11 @@ def test_a_warm_start_on_the_orbit_is_accepted_after_three_periods():
     """``record_model.WARM_MIN_CYCLES``: a fit's next evaluation starts from the last orbit;
     on that orbit the march accepts after three periods (four before), to the force of the
     march from rest within the steady tolerance; from rest the rule is unchanged."""
-    from liquidamp.device import preset
-    from liquidamp.device.models import get_model
-    from liquidamp.options import SolverOptions
-
     rec = synthetic_record(preset="paper_calibrated", frequency=3.0, amplitude=0.003,
                            cycles=4, seed=5)
-    m, p, fit = get_model("full"), preset("paper_calibrated"), SolverOptions.preset("fit")
-    cold = simulate_record(m, p, rec, options=fit)
-    warm = simulate_record(m, p, rec, options=fit, x0=cold.states[:, 0])
+    p = preset("paper_calibrated")
+    cold = simulate_record("full", p, rec, options=FIT)
+    warm = simulate_record("full", p, rec, options=FIT, x0=cold.states[:, 0])
     assert cold.solver_stats["march_cycles"] >= 4
     assert warm.solver_stats["march_cycles"] == 3
     # measured 6.7e-8 of the peak force
