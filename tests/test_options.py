@@ -23,21 +23,22 @@ from liquidamp.options import (
 
 # ------------------------------------------------------------------ presets as data
 
-EXPECTED = {  # preset -> (method, rtol, atol_scale, engine, compiled_method)
-    "default": ("Radau", 1e-8, 1e-9, DEFAULT_ENGINE, "auto"),
-    "coupled": ("Radau", 1e-8, 1e-9, "scipy", "auto"),
-    "fit": ("Radau", 1e-6, 1e-8, "compiled", "rodas4"),
-    "rotor": ("DOP853", 1e-7, 1e-9, "compiled", "auto"),
-    "section": ("Radau", 1e-6, 1e-9, "scipy", "auto"),
-    "casestudy": ("Radau", 1e-8, 1e-9, "compiled", "auto"),
-    "decay": ("DOP853", 1e-10, 1e-12, "compiled", "auto"),
+EXPECTED = {  # preset -> (method, rtol, atol_scale, engine, compiled_method, max_steps)
+    "default": ("Radau", 1e-8, 1e-9, DEFAULT_ENGINE, "auto", 5_000_000),
+    "coupled": ("Radau", 1e-8, 1e-9, "scipy", "auto", 5_000_000),
+    "fit": ("Radau", 1e-6, 1e-8, "compiled", "rodas4", 100_000),
+    "rotor": ("DOP853", 1e-7, 1e-9, "compiled", "auto", 5_000_000),
+    "section": ("Radau", 1e-6, 1e-9, "scipy", "auto", 5_000_000),
+    "casestudy": ("Radau", 1e-8, 1e-9, "compiled", "auto", 5_000_000),
+    "decay": ("DOP853", 1e-10, 1e-12, "compiled", "auto", 5_000_000),
 }
 
 
 @pytest.mark.parametrize("name", sorted(EXPECTED))
 def test_each_preset_has_its_documented_values(name):
     o = SolverOptions.preset(name)
-    assert (o.method, o.rtol, o.atol_scale, o.engine, o.compiled_method) == EXPECTED[name]
+    assert (o.method, o.rtol, o.atol_scale, o.engine, o.compiled_method,
+            o.max_steps) == EXPECTED[name]
     assert o is PRESETS[name] and resolve_options(None, name) is o
     # everything else is the reference's
     others = {f: getattr(DEFAULT_OPTIONS, f) for f in ("samples_per_period", "steady_tol",

@@ -90,7 +90,8 @@ __all__ = ["COMPILED_MODELS", "supports", "check_compiled", "march", "steady_loo
 #: add-on effects (the physics is :mod:`liquidamp.device.kernels`, shared with scipy).
 COMPILED_MODELS = tuple(BASES)
 
-#: Largest number of integration steps (accepted and rejected) in one call.
+#: Largest number of integration steps (accepted and rejected) in one call of the rotor
+#: kernels; the device kernels take ``SolverOptions.max_steps`` (the same by default).
 MAX_STEPS = 5_000_000
 
 #: Length of the ``info`` vector of ``_kernels.integrate``.
@@ -254,9 +255,9 @@ def _raise_status(model, options, info, t0, t1, max_steps: int = MAX_STEPS) -> N
     if status == K.ST_TOO_MANY_STEPS:
         raise ConvergenceError(
             f"model {model.name!r}: time integration failed between t = {t0:.6g} s and "
-            f"{t1:.6g} s: more than {max_steps} steps (compiled engine, method "
-            f"{options.compiled_method!r}, stopped at "
-            f"t = {info[1]:.6g} s)"
+            f"{t1:.6g} s: more than {max_steps} steps (SolverOptions.max_steps "
+            f"{options.max_steps}; compiled engine, method {options.compiled_method!r}, "
+            f"stopped at t = {info[1]:.6g} s)"
         )
 
 
@@ -290,7 +291,8 @@ def march(model: DeviceModel, params: DeviceParams, stroke, x0, t0: float, t1: f
         ``method`` used.
     max_steps : int, optional
         Most integrator steps (accepted and rejected) before the run is refused with
-        ConvergenceError (default :data:`MAX_STEPS`).
+        ConvergenceError; the smaller of this and ``options.max_steps`` (default: the
+        latter).
 
     Returns
     -------
@@ -317,7 +319,8 @@ def march(model: DeviceModel, params: DeviceParams, stroke, x0, t0: float, t1: f
         raise ParameterError(f"x0 must have {n} entries for model {model.name!r}, got "
                              f"shape {x0.shape}")
     fi1, fi2 = _floor_indices(model, params)
-    limit = MAX_STEPS if max_steps is None else int(max_steps)
+    limit = int(options.max_steps) if max_steps is None else min(int(max_steps),
+                                                                int(options.max_steps))
     out = np.empty((n, t_eval.size))
     info = np.zeros(N_INFO)
     x_end, rerun = _run(options, (spec, prm, ep, kind, sp, st, sy, sv, sa, x0,
@@ -399,7 +402,7 @@ def march_cycles(model: DeviceModel, params: DeviceParams, stroke, x0, options, 
                               float(options.rtol), _atol(model, params, options),
                               float(options.max_step_fraction * step_period(stroke)), 0.0,
                               fi1, fi2,
-                              float(options.pressure_floor), MAX_STEPS,
+                              float(options.pressure_floor), int(options.max_steps),
                               float(options.steady_tol), int(options.min_cycles),
                               max(int(options.max_cycles), 1)), out, info)
     _fill_stats(stats, options, info, rerun)
@@ -407,7 +410,8 @@ def march_cycles(model: DeviceModel, params: DeviceParams, stroke, x0, options, 
     cycles = int(info[5])
     converged = status != K.ST_NOT_CONVERGED
     if converged:
-        _raise_status(model, options, info, cycles * T, (cycles + 1) * T)
+        _raise_status(model, options, info, cycles * T, (cycles + 1) * T,
+                      int(options.max_steps))
     if not np.all(np.isfinite(out)):
         raise ConvergenceError(f"model {model.name!r}: non-finite state in time integration")
     return out, cycles, float(info[6]), float(info[7]), converged

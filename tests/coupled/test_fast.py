@@ -32,6 +32,7 @@ from liquidamp.device.effects import (
     RotatingFrame,
     SeriesCompliance,
     SmoothFriction,
+    make_effect,
     with_effects,
 )
 from liquidamp.device.models import REGISTRY, get_model
@@ -398,3 +399,46 @@ def test_pressure_floor_crossing_is_located_alike_by_every_stepper():
         times.append(float(re.search(r"at t = (\S+) s", str(info.value)).group(1)))
     assert 0.1 < times[0] < 0.2  # past the first half cycle: a crossing inside a long step
     np.testing.assert_allclose(times, times[0], rtol=1e-5)
+
+
+def test_the_step_budget_refuses_a_contact_too_stiff_to_resolve_and_names_it():
+    """``SolverOptions.max_steps`` (per period of a periodic march, per span of a march):
+    the fit preset's budget stops a run the records cannot use (session 17: a diagnosis's
+    friction start, chambers 4e-7 m^3, with a floating freeplay's contact at 4e10 N/m took
+    ~340 000 RODAS4 steps a period, 6 s; at 4e9 N/m ~3 400) and lets the neighbour run."""
+    from liquidamp.coupled.fast import march_cycles
+    from liquidamp.errors import ConvergenceError
+    from liquidamp.options import PRESETS
+
+    p = preset("paper_initial").replace(V01=3.985e-7, V02=3.985e-7, A_p=1.594e-5,
+                                        c1_factor=320.1, c2_factor=127.9, S_t_factor=13.42,
+                                        inv_gamma1=0.06484, inv_gamma2=0.06484)
+    s = HarmonicStroke(0.002, 6.0)
+    fit = PRESETS["fit"].replace(min_cycles=1, max_cycles=1)
+
+    def device(k):
+        return with_effects(get_model("full"),
+                            make_effect("floating_freeplay", gap_m=2.94e-5,
+                                        contact_stiffness_N_per_m=k),
+                            make_effect("smooth_friction", force_N=668.6,
+                                        stiffness_N_per_m=1.25e6))
+
+    m = device(4e9)
+    st = {}
+    march_cycles(m, p, s, m.initial_state(p, 0.0), fit, stats=st)
+    assert 1_000 < st["steps"] < 20_000 < fit.max_steps
+    # the same run held to fewer steps is refused, naming the option and its value, in a
+    # periodic march and in a span alike
+    with pytest.raises(ConvergenceError, match=r"more than 1000 steps \(SolverOptions."
+                                               r"max_steps 1000; compiled engine"):
+        march_cycles(m, p, s, m.initial_state(p, 0.0), fit.replace(max_steps=1000))
+    with pytest.raises(ConvergenceError, match=r"more than 1000 steps"):
+        march(m, p, s, m.initial_state(p, 0.0), 0.0, 1 / 6, np.array([1 / 6]),
+              fit.replace(max_steps=1000), 1 / 300)
+    m = device(4e10)
+    with pytest.raises(ConvergenceError, match=r"more than 100000 steps \(SolverOptions."
+                                               r"max_steps 100000"):
+        march_cycles(m, p, s, m.initial_state(p, 0.0), fit)
+    for bad in (10, 1.5, True):
+        with pytest.raises(ParameterError, match="max_steps"):
+            SolverOptions(max_steps=bad)

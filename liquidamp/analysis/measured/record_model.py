@@ -22,7 +22,10 @@ fixed number of times from rest: with the true parameters of a slowly settling d
 A warm start (``x0``, e.g. the previous response's ``states[:, 0]``) is moved onto the
 invariants of rest and only shortens the march (from three periods,
 :data:`WARM_MIN_CYCLES`); one shooting may spend at most :data:`RECORD_SHOOTING_BUDGET`
-periods' steps, so that one hard parameter point costs a fit seconds, not half a minute.  A
+periods' steps, so that one hard parameter point costs a fit seconds, not half a minute
+(and one period at most ``options.max_steps`` steps, the fit preset's
+:data:`~liquidamp.options.FIT_MAX_STEPS`; a run over a record that is not periodic that
+many per period of its span, :meth:`~liquidamp.options.SolverOptions.over_periods`).  A
 record whose stroke is not periodic (tapered or broadband) has no steady state to approach:
 it runs under the Savitzky-Golay stroke (:meth:`Record.stroke`; a stroke of a few sinusoids
 under its line-spectrum fit) from rest at the start of a lead-in
@@ -340,8 +343,9 @@ def simulate_record(model, params: DeviceParams, record: Record, *,
     def run(t_eval, xs):
         if not model.n_states:
             return np.zeros((0, t_eval.size))
-        return engine.march(rig, xs, min(t_start, float(t_eval[0])), float(t_eval[-1]),
-                            t_eval, options, max_step, stats)
+        ta, tb = min(t_start, float(t_eval[0])), float(t_eval[-1])
+        return engine.march(rig, xs, ta, tb, t_eval,
+                            options.over_periods((tb - ta) / record.period), max_step, stats)
 
     if cond is not None:
         # the model force conditioned as the record's was
@@ -610,8 +614,10 @@ def _march_from(model, params, rig_stroke, T0, s, options, route, stats, drive=N
     x = np.concatenate([xb, [T0]])
     rig = TestRig(model, params, rig_stroke if drive is None else drive)
     max_step = max(options.max_step_fraction, 1e-4) * T
-    return engine_for(rig, options).march(rig, x, float(s[0]), float(s[-1]), s, options,
+    return engine_for(rig, options).march(rig, x, float(s[0]), float(s[-1]), s,
+                                          options.over_periods(float(s[-1] - s[0]) / T),
                                           max_step, stats)
+
 
 
 #: Whole stroke cycles from a record's start whose force fixes its start temperature [-].
