@@ -74,7 +74,7 @@ KEYS = {
     "coulomb": (("coulomb_friction", "smooth_friction"), "force_N", "Fc"),
     "leakage": (("leakage",), "coefficient_m3_per_s_Pa", "k_leak"),
     "relief": (("relief_valve",), "cracking_pressure_Pa", "pc_relief"),
-    "freeplay": (("freeplay", "backlash"), "gap_m", "gap"),
+    "freeplay": (("freeplay", "backlash", "floating_freeplay"), "gap_m", "gap"),
     "series": (("series_compliance",), "stiffness_N_per_m", "k_series"),
     "mass": (("moving_mass",), "mass_kg", "mass"),
     "offset": (("force_offset",), "offset_N", "offset"),

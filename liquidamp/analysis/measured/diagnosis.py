@@ -63,7 +63,13 @@ velocity):
    ``structure_factor`` times the noise floor, each is refitted once
    more from the physics start of the original multipliers and the better
    fit is kept (the continuation can stay in a local minimum of the c1/c2
-   trade-off).  A fit that stops on its evaluation budget (the baseline or a
+   trade-off).  Where no device refinement alone passes the rule (item 5), each restart,
+   and each simpler model refitted as a reduction, is also continued with the
+   refinements' multipliers freed beside the effect, kept where it fits better and loses
+   no held-out record (an effect and a device parameter can each fail alone and explain
+   the records together: an elastomer on a channel 15 % off the preset's); a step so
+   chosen records the freed device parameter in ``Diagnosis.device_steps`` too.
+   A fit that stops on its evaluation budget (the baseline or a
    refit) is continued once before it is scored or judged; fits that still
    did not converge are listed in ``warnings`` and in the JSON
    (``converged``, ``not_converged``).
@@ -187,6 +193,8 @@ from liquidamp.analysis.measured.diagnosis_evidence import (
 )
 from liquidamp.analysis.measured.diagnosis_fits import (
     _converge,
+    _device_round,
+    _joint_multipliers,
     _profile_step,
     _refit,
     _restart,
@@ -210,7 +218,6 @@ from liquidamp.analysis.measured.diagnosis_select import (
     _select,
     _with,
 )
-from liquidamp.analysis.measured.fit_spec import Parameter
 from liquidamp.analysis.measured.record_model import nrmse, simulate_record
 from liquidamp.analysis.measured.record_quality import noise_floor
 from liquidamp.analysis.measured.reference_models import reference_models
@@ -352,40 +359,6 @@ def _prepare(calibration, validation, model, params, effects, spec, options, con
     return calibration, validation, conditioning, raw, baseline
 
 
-def _device_round(current, validation, options, bud, names):
-    """Stage "fit", device part: every device parameter the preset holds fixed
-    (:data:`~.candidates.DEVICE_REFINEMENTS`: the channel inertance S_t) refitted freed,
-    whatever its score (the score test is local and S_t moves far); it competes with the
-    round's effects under the same rule, and when chosen it is the device's own parameter,
-    not an effect (``Diagnosis.device_steps``).  Returns candidates, changes and refits."""
-    cands, changes, refits = [], {}, {}
-    for name, comp in DEVICE_REFINEMENTS.items():
-        if name not in names or comp.applicable(current):
-            continue
-        change = comp.change(current)
-        cand = Candidate(name, 0.0, 0.0, {}, note="device parameter freed (refitted always)")
-        try:
-            refits[name] = _refit(cand, change, current, validation, options, bud.preroll,
-                                  bud.max_nfev, bud.tol, "auto")
-            low = [n for n, _, _ in change.bounds
-                   if refits[name].at_bounds().get(n) == "lower"]
-            if low:  # an inertance the records cannot tell from none: held at its least
-                change = dataclasses.replace(change, multipliers=tuple(
-                    m for m in change.multipliers if m not in low))
-                res = refits[name]
-                held = tuple(Parameter(n, res.values[n], lo, hi, vary=False)
-                             for n, lo, hi in change.bounds if n in low)
-                current_held = dataclasses.replace(current, spec=FitSpec(
-                    current.spec.parameters + held))
-                refits[name] = _refit(cand, change, current_held, validation, options,
-                                      bud.preroll, bud.max_nfev, bud.tol, "auto")
-        except LiquidampError as exc:  # the candidate's model failed, not the loop
-            cand = _with(cand, refitted=True, note=f"refit failed: {exc}")
-        cands.append(cand)
-        changes[name] = change
-    return cands, changes, refits
-
-
 def _noise(calibration, conditioning) -> tuple[tuple, float, float]:
     """The noise floor of each conditioned calibration record, the pooled force noise [N]
     and its NRMSE; the floor of a record whose cycles drift is the scatter about the drift
@@ -445,7 +418,7 @@ def _screen(names, current, options, bud: Budget, sel: SelectionRule, route: str
 
 
 def _fit_round(ranked, probes, queue, extra, current, validation, options, bud, level,
-               start0, sel, noise):
+               start0, sel, noise, joint=None):
     """Stage "fit": refit the queued candidates (a second wave if the first leaves the
     residual above ``level``); where no refit of the round reaches ``level``, each is
     restarted once from the physics start (module doc, 4).
@@ -487,12 +460,13 @@ def _fit_round(ranked, probes, queue, extra, current, validation, options, bud, 
             if refits[cand.effect].nrmse_calibration <= noise and (
                     quiet is None or _n_free(probes[cand.effect]) < _n_free(probes[quiet])):
                 quiet = cand.effect
-    for cand in [] if broadband(current.calibration) else fitted:  # no physics start
+    restart = not broadband(current.calibration) and not _explained(refits, level)
+    for cand in fitted if restart else []:  # no physics start for a broadband record
         if cand.effect in refits and not _explained(refits, level):
             refits[cand.effect] = _restart(refits[cand.effect], current, validation,
                                            options, bud.preroll, bud.max_nfev, bud.tol,
-                                           start0, "auto", sel.validation_tolerance)
-    return refits
+                                           start0, "auto", sel.validation_tolerance, joint)
+    return refits, (joint or {}) if restart else {}
 
 
 @with_progress
@@ -673,21 +647,27 @@ def _loop(baseline, names, device_names, validation, options, config, spec,
         # stage "screen"
         ranked, probes, scored, queue, extra, n_now = _screen(names, current, options, bud,
                                                               sel)
-        # stage "fit"
-        refits = _fit_round(ranked, probes, queue, extra, current, validation, options,
-                            bud, level, start0, sel, sel.noise_factor * noise_nrmse)
+        # stage "fit": the device refinements first; where none alone passes the rule, the
+        # effects' restarts free them beside the effect too (diagnosis_fits._freeing)
         dev, dev_changes, dev_refits = _device_round(current, validation, options, bud,
                                                      device_names)
+        alone = _judge_round(list(dev), dev_refits, dev_changes, current, sel)
+        joint = {} if any(c.accepted for c in alone) else {
+            n: DEVICE_REFINEMENTS[n].change(current) for n in dev_changes}
+        refits, freed = _fit_round(ranked, probes, queue, extra, current, validation,
+                                   options, bud, level, start0, sel,
+                                   sel.noise_factor * noise_nrmse, _joint_multipliers(
+                                       current, joint.values()))
         ranked += dev
         probes.update(dev_changes)
         refits.update(dev_refits)
         # stage "select"
         ranked = _judge_round(ranked, refits, probes, current, sel)
         ranked = _bounded_reductions(ranked, refits, probes, current, validation, options,
-                                     bud, sel)
+                                     bud, sel, freed)
         chosen, tied = _select(ranked, sel)
         ranked, chosen, tied = _reduce(chosen, tied, ranked, refits, probes, current,
-                                       validation, options, bud, sel)
+                                       validation, options, bud, sel, freed)
         # an effect whose own force the noise hides did not earn the fall: the device did
         chosen, tied, ranked, restart = credit(
             chosen, tied, ranked, refits, probes, current, validation, options, bud, sel,
@@ -725,6 +705,17 @@ def _loop(baseline, names, device_names, validation, options, config, spec,
                                      res.nrmse_validation, tuple(ranked), tie, res, {}))
             current, last_round = res, ()
             continue
+        claimed = set()
+        for name, change in sorted(joint.items(), key=lambda kv: -len(kv[1].multipliers)):
+            # a restart that freed device refinements beside the effect: the device's own
+            # parameters, recorded as such (as where one is chosen alone), each once (the
+            # pressure level frees the inertance with it)
+            new = {m for m in change.multipliers if m in res.varying
+                   and m not in current.varying} - claimed
+            if new:
+                claimed |= set(change.multipliers)
+                device_steps.append(Step(name, change.parameters(res), res.nrmse_calibration,
+                                         res.nrmse_validation, tuple(ranked), (), res, {}))
         res, chosen, prof = _profile_step(res, chosen, probes, current, validation, options,
                                           bud, sel, warnings)
         if not res.converged:

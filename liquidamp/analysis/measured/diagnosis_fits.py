@@ -14,6 +14,8 @@ from __future__ import annotations
 import dataclasses
 
 from liquidamp.analysis.measured.calibration import FitSpec, calibrate
+from liquidamp.analysis.measured.candidates import DEVICE_REFINEMENTS
+from liquidamp.analysis.measured.diagnosis_evidence import Candidate
 from liquidamp.analysis.measured.diagnosis_result import heldout_per_record, judge_fits
 from liquidamp.analysis.measured.fit_spec import Parameter
 from liquidamp.analysis.measured.profile import profile_restart, undetermined_parameter
@@ -67,16 +69,9 @@ def _refit(cand, change, current, validation, options, preroll, max_nfev, tol, s
     for name in change.multipliers:
         # a device multiplier freed (its start: the score test's estimate, inside the bounds
         # of the other multipliers)
-        lo, hi = next(((p.min, p.max) for p in spec.parameters if p.kind == "multiplier"),
-                      (0.05, 20.0))
-        lo, hi = next(((a, b) for n, a, b in getattr(change, "bounds", ()) if n == name),
-                      (lo, hi))
+        lo, hi = _multiplier_bounds(spec, name, change)
         v = min(max(float(cand.estimate.get(name, change.probe)), lo * 1.5), hi / 1.5)
-        if name in spec.names:
-            spec = FitSpec(tuple(p.replace(value=v, vary=True) if p.name == name else p
-                                 for p in spec.parameters))
-        else:
-            spec = FitSpec(spec.parameters + (Parameter(name, v, lo, hi),))
+        spec = _free_multiplier(spec, name, change, v)
     res = calibrate(current.calibration, model=current.model,
                     params=change.start or current.start_params,
                     effects=tuple(effects), spec=spec, validate=validation,
@@ -87,9 +82,62 @@ def _refit(cand, change, current, validation, options, preroll, max_nfev, tol, s
     return res
 
 
+def _multiplier_bounds(spec, name, change) -> tuple[float, float]:
+    """Bounds of the device multiplier ``name``: those ``change`` states for it, else the
+    spec's other multipliers'."""
+    lo, hi = next(((p.min, p.max) for p in spec.parameters if p.kind == "multiplier"),
+                  (0.05, 20.0))
+    return next(((a, b) for n, a, b in getattr(change, "bounds", ()) if n == name), (lo, hi))
+
+
+def _free_multiplier(spec, name, change, v=None):
+    """``spec`` with the device multiplier ``name`` varying in :func:`_multiplier_bounds`,
+    from ``v`` (None: the spec's value, 1 where it holds none: the preset's)."""
+    lo, hi = _multiplier_bounds(spec, name, change)
+    if name in spec.names:
+        return FitSpec(tuple(p.replace(vary=True, **({} if v is None else {"value": v}))
+                             if p.name == name else p for p in spec.parameters))
+    return FitSpec(spec.parameters + (Parameter(name, 1.0 if v is None else v, lo, hi),))
+
+
+def _device_round(current, validation, options, bud, names):
+    """Stage "fit", device part: every device parameter the preset holds fixed
+    (:data:`~.candidates.DEVICE_REFINEMENTS`: the channel inertance S_t) refitted freed,
+    whatever its score (the score test is local and S_t moves far); it competes with the
+    round's effects under the same rule, and when chosen it is the device's own parameter,
+    not an effect (``Diagnosis.device_steps``).  Returns candidates, changes and refits."""
+    cands, changes, refits = [], {}, {}
+    for name, comp in DEVICE_REFINEMENTS.items():
+        if name not in names or comp.applicable(current):
+            continue
+        change = comp.change(current)
+        cand = Candidate(name, 0.0, 0.0, {}, note="device parameter freed (refitted always)")
+        try:
+            refits[name] = _refit(cand, change, current, validation, options, bud.preroll,
+                                  bud.max_nfev, bud.tol, "auto")
+            low = [n for n, _, _ in change.bounds
+                   if refits[name].at_bounds().get(n) == "lower"]
+            if low:  # an inertance the records cannot tell from none: held at its least
+                change = dataclasses.replace(change, multipliers=tuple(
+                    m for m in change.multipliers if m not in low))
+                res = refits[name]
+                held = tuple(Parameter(n, res.values[n], lo, hi, vary=False)
+                             for n, lo, hi in change.bounds if n in low)
+                current_held = dataclasses.replace(current, spec=FitSpec(
+                    current.spec.parameters + held))
+                refits[name] = _refit(cand, change, current_held, validation, options,
+                                      bud.preroll, bud.max_nfev, bud.tol, "auto")
+        except LiquidampError as exc:  # the candidate's model failed, not the loop
+            cand = dataclasses.replace(cand, refitted=True, note=f"refit failed: {exc}")
+        cands.append(cand)
+        changes[name] = change
+    return cands, changes, refits
+
+
 def _restart(res, current, validation, options, preroll, max_nfev, tol, start0, sizing,
-             validation_tolerance):
-    """Refit from the physics start and from the original multipliers; the best of the fits.
+             validation_tolerance, joint=None):
+    """Refit from the physics start and from the original multipliers; the best of the fits,
+    then continued with the device refinements ``joint`` freed too (:func:`_freeing`).
 
     The continuation from the previous optimum may sit in a local minimum of the loss
     coefficients (the c1/c2 trade-off: least squares on the air ratios and loss
@@ -99,6 +147,11 @@ def _restart(res, current, validation, options, preroll, max_nfev, tol, start0, 
     what the calibration record cannot tell apart (on the friction-damper records a
     restart into strong fluid losses fits the 0.5 Hz loop 3 % better and the 1 and 0.25 Hz
     loops 40 % worse, the losses standing in for friction at one rate only).
+
+    ``joint``: the device multipliers to free beside the effect (:func:`_joint_multipliers`
+    of the refinements applicable to ``current``, :data:`~.candidates.DEVICE_REFINEMENTS`:
+    the channel inertance S_t that the preset holds), given where none alone passes the
+    selection rule.
     """
     spec2 = res.spec.with_values(start0)
     tries = []
@@ -124,15 +177,68 @@ def _restart(res, current, validation, options, preroll, max_nfev, tol, start0, 
         except LiquidampError:  # this start's model or fit failed (as a refit's): the others
             continue
         tries.append(r2)
-    if not tries:
-        return res
-    res2 = min(tries, key=lambda r: r.cost)
+    if tries:
+        res = _better(res, min(tries, key=lambda r: r.cost), validation_tolerance)
+    return _freeing(res, joint or {}, validation, options, preroll, max_nfev, tol, sizing,
+                    validation_tolerance)
+
+
+def _joint_multipliers(current, changes) -> dict:
+    """The device multipliers the device refinements ``changes`` free (name ->
+    :class:`Parameter`, varying, from the value ``current`` holds or 1, in the change's
+    bounds): what :func:`_freeing` frees beside a candidate."""
+    out = {}
+    for change in changes:
+        for name in change.multipliers:
+            out.setdefault(name, _free_multiplier(current.spec, name, change)[name])
+    return out
+
+
+def _better(res, res2, validation_tolerance):
+    """``res2`` where it fits the calibration records better than ``res`` and loses on no
+    held-out record by more than ``validation_tolerance`` (relative), else ``res``."""
     if res2.cost >= res.cost:
         return res
     a, b = heldout_per_record(res), heldout_per_record(res2)
     if any(b[k] > (1.0 + validation_tolerance) * a[k] for k in a if k in b):
         return res  # worse on a held-out record: judged record by record
     return res2
+
+
+def _freeing(res, freed: dict, validation, options, preroll, max_nfev, tol, sizing,
+             validation_tolerance):
+    """The fit ``res`` continued from where it arrived with the device multipliers ``freed``
+    (name -> :class:`Parameter`: bounds and start; those ``res``'s spec holds, varying or
+    held, are left as they are) varying beside its own parameters; the better of the two
+    (:func:`_better`).
+
+    A device refinement (the channel inertance S_t) competes alone in every round
+    (:func:`_device_round`), but an effect and a device parameter can each fail
+    alone and explain the residual together: an elastomer on a device whose channel
+    inertance is 15 % off the preset's (independent-simulator record R_elastomer40: the
+    elastomer with S_t held fits the calibration at 5 x the noise floor and the held-out
+    record at 0.10, its branch a dashpot; with S_t freed beside it at the noise, held out
+    0.010 to 0.035), and greedily neither is ever added.  Every candidate of such a round
+    is judged with the same freedom: its restart (:func:`_restart`) and the simpler models
+    a richer one reduces to (:func:`~.diagnosis_select._refit_link`)."""
+    # a multiplier the refit's spec holds stays held: held by design (a gas charge's refit
+    # holds the filling pressure, its chambers sit at the charge) or by an earlier round (an
+    # inertance the records could not tell from none)
+    freed = {n: p for n, p in freed.items() if n not in res.spec.names}
+    if not freed:
+        return res
+    spec = FitSpec(res.spec.with_values(res.values).parameters
+                   + tuple(p.replace(vary=True) for p in freed.values()))
+    try:
+        r = calibrate(res.calibration, model=res.model, params=res.start_params,
+                      effects=res.effects, spec=spec, validate=validation, options=options,
+                      start="spec", max_nfev=max_nfev, preroll=preroll, tol=tol, warn=False,
+                      sizing=sizing)
+        if r.status == "max_nfev":
+            r = _converge(r, validation, options, preroll, max_nfev, tol, sizing)
+    except LiquidampError:  # the model with the device freed failed: the fit as it was
+        return res
+    return _better(res, r, validation_tolerance)
 
 
 def _converge(result, validation, options, preroll, max_nfev, tol, sizing):

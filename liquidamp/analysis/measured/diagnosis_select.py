@@ -16,7 +16,7 @@ from dataclasses import replace
 
 from liquidamp.analysis.measured.calibration import CalibrationResult
 from liquidamp.analysis.measured.diagnosis_evidence import REDUCTIONS, Candidate
-from liquidamp.analysis.measured.diagnosis_fits import _refit
+from liquidamp.analysis.measured.diagnosis_fits import _freeing, _refit
 from liquidamp.analysis.measured.diagnosis_options import SelectionRule
 from liquidamp.analysis.measured.diagnosis_result import heldout_per_record, judge_fits
 from liquidamp.errors import LiquidampError
@@ -63,7 +63,8 @@ def _select(ranked, sel: SelectionRule):
     return passed[0], tied
 
 
-def _reduce(chosen, tied, ranked, refits, probes, current, validation, options, bud, sel):
+def _reduce(chosen, tied, ranked, refits, probes, current, validation, options, bud, sel,
+            freed=None):
     """Stage "select", part 3: a chosen candidate that contains a simpler one as a limit
     (:data:`~.candidates.REDUCTIONS`: a relief valve cracking near zero is a laminar bypass)
     gives way to it where the simpler one, refitted if it was not, passes the rule and ties
@@ -82,7 +83,7 @@ def _reduce(chosen, tied, ranked, refits, probes, current, validation, options, 
             if simpler not in probes:
                 break
             res, failure = _refit_link(cand, probes[simpler], current, validation, options,
-                                       bud)
+                                       bud, freed, sel)
             if res is None:
                 ranked[ranked.index(cand)] = _with(cand, refitted=True,
                                                    note=f"refit failed: {failure}")
@@ -99,7 +100,7 @@ def _reduce(chosen, tied, ranked, refits, probes, current, validation, options, 
             # cost is lower
             change, lead = warm
             res, _ = _refit_link(_with(cand, estimate={**cand.estimate, **lead}), change,
-                                 current, validation, options, bud)
+                                 current, validation, options, bud, freed, sel)
             if res is not None and res.cost < refits[simpler].cost:
                 refits[simpler] = res
                 ranked = _judge_round(ranked, {simpler: res}, probes, current, sel)
@@ -145,17 +146,22 @@ def _chain(effect: str):
         s = REDUCTIONS.get(s)
 
 
-def _refit_link(cand, probe, current, validation, options, bud):
+def _refit_link(cand, probe, current, validation, options, bud, freed, sel):
     """One reduction refitted from its own probe: ``(result, None)``, or ``(None, why)``
-    where the fit could not be made."""
+    where the fit could not be made.  ``freed``: the device multipliers the round's
+    restarts freed beside each candidate (:func:`~.diagnosis_fits._freeing`), freed for it
+    too: every candidate of the round is judged with the same freedom."""
     try:
-        return _refit(cand, probe, current, validation, options, bud.preroll, bud.max_nfev,
-                      bud.tol, "auto"), None
+        res = _refit(cand, probe, current, validation, options, bud.preroll, bud.max_nfev,
+                     bud.tol, "auto")
     except LiquidampError as exc:  # the reduction's model failed
         return None, str(exc)
+    return _freeing(res, freed or {}, validation, options, bud.preroll, bud.max_nfev,
+                    bud.tol, "auto", sel.validation_tolerance), None
 
 
-def _bounded_reductions(ranked, refits, probes, current, validation, options, bud, sel):
+def _bounded_reductions(ranked, refits, probes, current, validation, options, bud, sel,
+                        freed=None):
     """Stage "select", part 1b: the simpler candidates a refit contains as limits
     (:data:`~.candidates.REDUCTIONS`, followed to the end: a digressive valve cracking at
     its least pressure is a relief valve cracking at none, a laminar bypass) not refitted yet
@@ -185,7 +191,8 @@ def _bounded_reductions(ranked, refits, probes, current, validation, options, bu
         if s in refits or s not in probes or i is None:
             continue
         why = f"refitted: {richer}, which reduces to it, ended with a parameter at a bound"
-        res, failure = _refit_link(ranked[i], probes[s], current, validation, options, bud)
+        res, failure = _refit_link(ranked[i], probes[s], current, validation, options, bud,
+                                   freed, sel)
         if res is None:
             why += f"; refit failed: {failure}"
         else:
