@@ -65,10 +65,11 @@ velocity):
    fit is kept (the continuation can stay in a local minimum of the c1/c2
    trade-off).  Where no device refinement alone passes the rule (item 5), each restart,
    and each simpler model refitted as a reduction, is also continued with the
-   refinements' multipliers freed beside the effect, kept where it fits better and loses
-   no held-out record (an effect and a device parameter can each fail alone and explain
-   the records together: an elastomer on a channel 15 % off the preset's); a step so
-   chosen records the freed device parameter in ``Diagnosis.device_steps`` too.
+   refinements' multipliers freed beside the effect, kept where it then reaches
+   ``structure_factor`` times the noise floor, fits better and loses no held-out record
+   (an effect and a device parameter can each fail alone and explain the records
+   together: an elastomer on a channel 15 % off the preset's); a step so chosen records
+   the freed device parameter in ``Diagnosis.device_steps`` too.
    A fit that stops on its evaluation budget (the baseline or a
    refit) is continued once before it is scored or judged; fits that still
    did not converge are listed in ``warnings`` and in the JSON
@@ -466,7 +467,7 @@ def _fit_round(ranked, probes, queue, extra, current, validation, options, bud, 
             refits[cand.effect] = _restart(refits[cand.effect], current, validation,
                                            options, bud.preroll, bud.max_nfev, bud.tol,
                                            start0, "auto", sel.validation_tolerance, joint)
-    return refits, (joint or {}) if restart else {}
+    return refits, joint if restart else None
 
 
 @with_progress
@@ -654,20 +655,20 @@ def _loop(baseline, names, device_names, validation, options, config, spec,
         alone = _judge_round(list(dev), dev_refits, dev_changes, current, sel)
         joint = {} if any(c.accepted for c in alone) else {
             n: DEVICE_REFINEMENTS[n].change(current) for n in dev_changes}
-        refits, freed = _fit_round(ranked, probes, queue, extra, current, validation,
-                                   options, bud, level, start0, sel,
-                                   sel.noise_factor * noise_nrmse, _joint_multipliers(
-                                       current, joint.values()))
+        refits, beside = _fit_round(ranked, probes, queue, extra, current, validation,
+                                    options, bud, level, start0, sel,
+                                    sel.noise_factor * noise_nrmse,
+                                    _joint_multipliers(current, joint.values(), level))
         ranked += dev
         probes.update(dev_changes)
         refits.update(dev_refits)
         # stage "select"
         ranked = _judge_round(ranked, refits, probes, current, sel)
         ranked = _bounded_reductions(ranked, refits, probes, current, validation, options,
-                                     bud, sel, freed)
+                                     bud, sel, beside)
         chosen, tied = _select(ranked, sel)
         ranked, chosen, tied = _reduce(chosen, tied, ranked, refits, probes, current,
-                                       validation, options, bud, sel, freed)
+                                       validation, options, bud, sel, beside)
         # an effect whose own force the noise hides did not earn the fall: the device did
         chosen, tied, ranked, restart = credit(
             chosen, tied, ranked, refits, probes, current, validation, options, bud, sel,

@@ -64,7 +64,7 @@ def _select(ranked, sel: SelectionRule):
 
 
 def _reduce(chosen, tied, ranked, refits, probes, current, validation, options, bud, sel,
-            freed=None):
+            joint=None):
     """Stage "select", part 3: a chosen candidate that contains a simpler one as a limit
     (:data:`~.candidates.REDUCTIONS`: a relief valve cracking near zero is a laminar bypass)
     gives way to it where the simpler one, refitted if it was not, passes the rule and ties
@@ -83,7 +83,7 @@ def _reduce(chosen, tied, ranked, refits, probes, current, validation, options, 
             if simpler not in probes:
                 break
             res, failure = _refit_link(cand, probes[simpler], current, validation, options,
-                                       bud, freed, sel)
+                                       bud, joint, sel)
             if res is None:
                 ranked[ranked.index(cand)] = _with(cand, refitted=True,
                                                    note=f"refit failed: {failure}")
@@ -100,7 +100,7 @@ def _reduce(chosen, tied, ranked, refits, probes, current, validation, options, 
             # cost is lower
             change, lead = warm
             res, _ = _refit_link(_with(cand, estimate={**cand.estimate, **lead}), change,
-                                 current, validation, options, bud, freed, sel)
+                                 current, validation, options, bud, joint, sel)
             if res is not None and res.cost < refits[simpler].cost:
                 refits[simpler] = res
                 ranked = _judge_round(ranked, {simpler: res}, probes, current, sel)
@@ -146,22 +146,23 @@ def _chain(effect: str):
         s = REDUCTIONS.get(s)
 
 
-def _refit_link(cand, probe, current, validation, options, bud, freed, sel):
+def _refit_link(cand, probe, current, validation, options, bud, joint, sel):
     """One reduction refitted from its own probe: ``(result, None)``, or ``(None, why)``
-    where the fit could not be made.  ``freed``: the device multipliers the round's
-    restarts freed beside each candidate (:func:`~.diagnosis_fits._freeing`), freed for it
-    too: every candidate of the round is judged with the same freedom."""
+    where the fit could not be made.  ``joint``: the device multipliers the round's
+    restarts freed beside each candidate (:class:`~.diagnosis_fits.Joint`,
+    :func:`~.diagnosis_fits._freeing`), freed for it too: every candidate of the round is
+    judged with the same freedom."""
     try:
         res = _refit(cand, probe, current, validation, options, bud.preroll, bud.max_nfev,
                      bud.tol, "auto")
     except LiquidampError as exc:  # the reduction's model failed
         return None, str(exc)
-    return _freeing(res, freed or {}, validation, options, bud.preroll, bud.max_nfev,
-                    bud.tol, "auto", sel.validation_tolerance), None
+    return _freeing(res, joint, validation, options, bud.preroll, bud.max_nfev, bud.tol,
+                    "auto", sel.validation_tolerance), None
 
 
 def _bounded_reductions(ranked, refits, probes, current, validation, options, bud, sel,
-                        freed=None):
+                        joint=None):
     """Stage "select", part 1b: the simpler candidates a refit contains as limits
     (:data:`~.candidates.REDUCTIONS`, followed to the end: a digressive valve cracking at
     its least pressure is a relief valve cracking at none, a laminar bypass) not refitted yet
@@ -192,7 +193,7 @@ def _bounded_reductions(ranked, refits, probes, current, validation, options, bu
             continue
         why = f"refitted: {richer}, which reduces to it, ended with a parameter at a bound"
         res, failure = _refit_link(ranked[i], probes[s], current, validation, options, bud,
-                                   freed, sel)
+                                   joint, sel)
         if res is None:
             why += f"; refit failed: {failure}"
         else:
