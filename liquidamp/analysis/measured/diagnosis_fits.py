@@ -241,11 +241,11 @@ def _freeing(res, joint: Joint | None, validation, options, preroll, max_nfev, t
     0.010 to 0.035), and greedily neither is ever added.  Every candidate of such a round
     is judged with the same freedom: its restart (:func:`_restart`) and the simpler models
     a richer one reduces to (:func:`~.diagnosis_select._refit_link`)."""
+    if joint is None:
+        return res
     # a multiplier the refit's spec holds stays held: held by design (a gas charge's refit
     # holds the filling pressure, its chambers sit at the charge) or by an earlier round (an
     # inertance the records could not tell from none)
-    if joint is None:
-        return res
     freed = {n: p for n, p in joint.multipliers.items() if n not in res.spec.names}
     if not freed:
         return res
