@@ -23,6 +23,7 @@ def _round(monkeypatch, fitted_nrmse, restarted_nrmse, n_free=None, noise=1e-4):
                                      effect=cand.effect)
 
     def restart(res, *a, **k):
+        assert a[-1] is not None  # the joint reaches every restart
         calls.append(("restart", res.effect))
         return types.SimpleNamespace(nrmse_calibration=restarted_nrmse[res.effect],
                                      effect=res.effect)
@@ -38,8 +39,12 @@ def _round(monkeypatch, fitted_nrmse, restarted_nrmse, n_free=None, noise=1e-4):
     probes = {k: types.SimpleNamespace(free=(("x", "y"),) * n, multipliers=())
               for k, n in n_free.items()}
     ranked = [a, b, c]
-    refits = D._fit_round(ranked, probes, [a, b], [c], current, (), None,
-                          cfg.budget, level=0.01, start0={}, sel=cfg.selection, noise=noise)
+    joint = object()  # the device multipliers a restart frees beside the effect
+    refits, beside = D._fit_round(ranked, probes, [a, b], [c], current, (), None,
+                                  cfg.budget, level=0.01, start0={}, sel=cfg.selection,
+                                  noise=noise, joint=joint)
+    # the round hands its joint on to the reductions' refits only where it restarted
+    assert beside is (joint if any(w == "restart" for w, _ in calls) else None)
     return calls, {k: v.nrmse_calibration for k, v in refits.items()}, ranked
 
 
