@@ -252,14 +252,15 @@ def _check_keys(values: Mapping) -> None:
 
 
 #: ``max_steps`` of the ``fit`` preset: integrator steps per period of a record simulation
-#: [-].  Measured (session 17) over the default diagnoses of every shared record (37 437
-#: compiled runs): median 217 steps per period, 99.9 % below 4 445, the most 23 600 (a
-#: candidate refit with end stops, freeplay and friction contacts); the runs past it are
-#: parameter points the records cannot tell from their neighbours, made stiff beyond what
-#: the stepper resolves cheaply: a floating freeplay's contact at 4e10 N/m (4e4 x the
-#: records' stiffness, on the friction start's small fluid) took 339 000 steps a period
-#: (889 at 4e9 N/m), 6 s a period, and a diagnosis of such a record 257 s instead of 27 s.
-#: Past the budget the run fails and the fit steps back, as from any failed run.
+#: [-].  Measured (session 17, ``runs/s17_lead``) over the default diagnoses of every shared
+#: record (60 560 periodic compiled runs): median 215 steps per period, 99.9 % below 3 901,
+#: the most 23 598 (a candidate refit with end stops, freeplay and friction contacts).  The
+#: runs past it are parameter points the records cannot tell from their neighbours, made
+#: stiff beyond what the stepper resolves cheaply: a floating freeplay's contact at 4e10 N/m
+#: (4e4 x the records' stiffness, on the friction start's small fluid) took 339 000 steps a
+#: period (889 at 4e9 N/m), 6 s a period, and the diagnosis of the strong set's R_mass20
+#: 257 s (47 s with this budget, the same result).  Past the budget the run fails and the
+#: fit steps back, as from any failed run.
 FIT_MAX_STEPS = 100_000
 
 PRESETS: Mapping[str, SolverOptions] = MappingProxyType({

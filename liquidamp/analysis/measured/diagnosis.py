@@ -63,9 +63,10 @@ velocity):
    ``structure_factor`` times the noise floor, each is refitted once
    more from the physics start of the original multipliers and the better
    fit is kept (the continuation can stay in a local minimum of the c1/c2
-   trade-off).  Where no device refinement alone passes the rule (item 5), each restart,
-   and each simpler model refitted as a reduction, is also continued with the
-   refinements' multipliers freed beside the effect, kept where it then reaches
+   trade-off).  Where no device refinement alone passes the rule (item 5) but one alone
+   lowers the calibration BIC by more than ``bic_threshold`` (the records feel it), each
+   restart, and each simpler model refitted as a reduction, is also continued with that
+   refinement's multipliers freed beside the effect, kept where it then reaches
    ``structure_factor`` times the noise floor, fits better and loses no held-out record
    (an effect and a device parameter can each fail alone and explain the records
    together: an elastomer on a channel 15 % off the preset's); a step so chosen records
@@ -649,12 +650,14 @@ def _loop(baseline, names, device_names, validation, options, config, spec,
         ranked, probes, scored, queue, extra, n_now = _screen(names, current, options, bud,
                                                               sel)
         # stage "fit": the device refinements first; where none alone passes the rule, the
-        # effects' restarts free them beside the effect too (diagnosis_fits._freeing)
+        # effects' restarts free beside the effect those the calibration records feel (alone
+        # they lower its BIC by more than the threshold: diagnosis_fits._freeing)
         dev, dev_changes, dev_refits = _device_round(current, validation, options, bud,
                                                      device_names)
         alone = _judge_round(list(dev), dev_refits, dev_changes, current, sel)
         joint = {} if any(c.accepted for c in alone) else {
-            n: DEVICE_REFINEMENTS[n].change(current) for n in dev_changes}
+            c.effect: dev_changes[c.effect] for c in alone
+            if c.delta_bic is not None and c.delta_bic < -sel.bic_threshold}
         refits, beside = _fit_round(ranked, probes, queue, extra, current, validation,
                                     options, bud, level, start0, sel,
                                     sel.noise_factor * noise_nrmse,

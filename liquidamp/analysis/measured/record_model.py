@@ -619,7 +619,6 @@ def _march_from(model, params, rig_stroke, T0, s, options, route, stats, drive=N
                                           max_step, stats)
 
 
-
 #: Whole stroke cycles from a record's start whose force fixes its start temperature [-].
 START_CYCLES = 2.0
 
