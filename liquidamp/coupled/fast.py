@@ -237,7 +237,7 @@ def _fill_stats(stats: dict | None, options, info, rerun: bool) -> None:
                   "rerun_with_rodas4": rerun})
 
 
-def _raise_status(model, options, info, t0, t1, max_steps: int = MAX_STEPS) -> None:
+def _raise_status(model, options, info, t0, t1, max_steps: int) -> None:
     status = int(info[0])
     if status == K.ST_PRESSURE:
         raise PressureError(

@@ -90,14 +90,14 @@ def _multiplier_bounds(spec, name, change) -> tuple[float, float]:
     return next(((a, b) for n, a, b in getattr(change, "bounds", ()) if n == name), (lo, hi))
 
 
-def _free_multiplier(spec, name, change, v=None):
-    """``spec`` with the device multiplier ``name`` varying in :func:`_multiplier_bounds`,
-    from ``v`` (None: the spec's value, 1 where it holds none: the preset's)."""
-    lo, hi = _multiplier_bounds(spec, name, change)
+def _free_multiplier(spec, name, change, v):
+    """``spec`` with the device multiplier ``name`` varying from ``v`` [-], in
+    :func:`_multiplier_bounds`."""
     if name in spec.names:
-        return FitSpec(tuple(p.replace(vary=True, **({} if v is None else {"value": v}))
-                             if p.name == name else p for p in spec.parameters))
-    return FitSpec(spec.parameters + (Parameter(name, 1.0 if v is None else v, lo, hi),))
+        return FitSpec(tuple(p.replace(value=v, vary=True) if p.name == name else p
+                             for p in spec.parameters))
+    return FitSpec(spec.parameters + (Parameter(name, v, *_multiplier_bounds(spec, name,
+                                                                             change)),))
 
 
 def _device_round(current, validation, options, bud, names):
@@ -189,8 +189,9 @@ class Joint:
     Attributes
     ----------
     multipliers : dict
-        Device multiplier name -> :class:`Parameter` (varying, in its bounds, from the
-        value the current fit holds or 1).
+        Device multiplier name -> :class:`Parameter` (varying, in its bounds, from 1: the
+        preset's value; only multipliers the current fit does not hold, the others it
+        fits or holds already).
     level : float
         Calibration NRMSE the continued fit must reach to be kept [-]: the structure level
         (``structure_factor`` x the noise floor) that the round's first fits missed.
@@ -201,12 +202,14 @@ class Joint:
 
 
 def _joint_multipliers(current, changes, level: float) -> Joint | None:
-    """The :class:`Joint` of the device refinements ``changes`` (their multipliers, from
-    ``current``), or None where they free none."""
+    """The :class:`Joint` of the device refinements ``changes`` (their multipliers that
+    ``current`` does not hold), or None where they free none."""
     out = {}
     for change in changes:
         for name in change.multipliers:
-            out.setdefault(name, _free_multiplier(current.spec, name, change)[name])
+            if name not in current.spec.names and name not in out:
+                out[name] = Parameter(name, 1.0,
+                                      *_multiplier_bounds(current.spec, name, change))
     return Joint(out, float(level)) if out else None
 
 
