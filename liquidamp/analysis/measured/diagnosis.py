@@ -218,6 +218,7 @@ from liquidamp.analysis.measured.diagnosis_select import (
     _no_pass,
     _reduce,
     _select,
+    _simplest_first,
     _with,
 )
 from liquidamp.analysis.measured.record_model import nrmse, simulate_record
@@ -442,7 +443,9 @@ def _fit_round(ranked, probes, queue, extra, current, validation, options, bud, 
     for wave in (queue, extra):
         if wave is extra and (not fitted or _explained(refits, level)):
             break
-        for cand in wave:
+        for cand in _simplest_first(wave, queue + extra):
+            if cand.effect in refits:
+                continue
             if quiet is not None and _n_free(probes[cand.effect]) > _n_free(probes[quiet]):
                 ranked[ranked.index(cand)] = _with(
                     cand, note=f"not refitted: {quiet} already leaves the residual at the "
@@ -668,7 +671,7 @@ def _loop(baseline, names, device_names, validation, options, config, spec,
         # stage "select"
         ranked = _judge_round(ranked, refits, probes, current, sel)
         ranked = _bounded_reductions(ranked, refits, probes, current, validation, options,
-                                     bud, sel, beside)
+                                     bud, sel, beside, sel.noise_factor * noise_nrmse)
         chosen, tied = _select(ranked, sel)
         ranked, chosen, tied = _reduce(chosen, tied, ranked, refits, probes, current,
                                        validation, options, bud, sel, beside)
