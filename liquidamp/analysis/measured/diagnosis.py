@@ -212,7 +212,9 @@ from liquidamp.analysis.measured.diagnosis_options import (
 )
 from liquidamp.analysis.measured.diagnosis_result import Diagnosis, Step
 from liquidamp.analysis.measured.diagnosis_select import (
+    _at_noise,
     _bounded_reductions,
+    _held_back,
     _judge_round,
     _linear_delta_bic,
     _no_pass,
@@ -362,9 +364,10 @@ def _prepare(calibration, validation, model, params, effects, spec, options, con
     return calibration, validation, conditioning, raw, baseline
 
 
-def _noise(calibration, conditioning) -> tuple[tuple, float, float]:
-    """The noise floor of each conditioned calibration record, the pooled force noise [N]
-    and its NRMSE; the floor of a record whose cycles drift is the scatter about the drift
+def _noise(calibration, conditioning, validation=()) -> tuple[tuple, float, float, dict]:
+    """The noise floor of each conditioned calibration record, the pooled force noise [N],
+    its NRMSE and each held-out record's floor NRMSE (by label); the floor of a record whose
+    cycles drift is the scatter about the drift
     (:func:`~liquidamp.analysis.measured.record_quality.noise_floor` removes it, once)."""
     meas = np.concatenate([r.force for r in calibration])
     den = float(np.sqrt(np.mean((meas - meas.mean()) ** 2)))
@@ -374,7 +377,9 @@ def _noise(calibration, conditioning) -> tuple[tuple, float, float]:
     noise_std = float(np.sqrt(sum(s ** 2 * r.time.size
                                   for s, r in zip(stds, calibration, strict=True))
                               / meas.size))
-    return floors, noise_std, noise_std / den
+    held = {r.label: (c.noise if c.noise is not None else noise_floor(r)).nrmse
+            for c, r in zip(conditioning[len(calibration):], validation, strict=True)}
+    return floors, noise_std, noise_std / den, held
 
 
 def _screen(names, current, options, bud: Budget, sel: SelectionRule, route: str = "auto"):
@@ -421,7 +426,7 @@ def _screen(names, current, options, bud: Budget, sel: SelectionRule, route: str
 
 
 def _fit_round(ranked, probes, queue, extra, current, validation, options, bud, level,
-               start0, sel, noise, joint=None):
+               start0, sel, noise, joint=None, heldout_noise=None):
     """Stage "fit": refit the queued candidates (a second wave if the first leaves the
     residual above ``level``); where no refit of the round reaches ``level``, each is
     restarted once from the physics start (module doc, 4).
@@ -438,20 +443,21 @@ def _fit_round(ranked, probes, queue, extra, current, validation, options, bud, 
     (its held-out NRMSE could at best tie, decided by the noise), and the BIC charges its
     extra parameters for the same residual (200 Hz Coulomb-friction bench record: the
     friction reached the noise in 0.3 s, the backlash refit after it took 7.7 s to end
-    seven times above it)."""
-    refits, fitted, quiet = {}, [], None
+    seven times above it).  One that frees as many is not refitted either where that refit
+    also predicts every held-out record to its own noise (``heldout_noise``: label ->
+    noise_factor x the record's noise floor): it could at best tie on both
+    (:func:`~.diagnosis_select._held_back`)."""
+    refits, fitted, quiet, silent = {}, [], None, False
     for wave in (queue, extra):
         if wave is extra and (not fitted or _explained(refits, level)):
             break
         for cand in _simplest_first(wave, queue + extra):
             if cand.effect in refits:
                 continue
-            if quiet is not None and _n_free(probes[cand.effect]) > _n_free(probes[quiet]):
-                ranked[ranked.index(cand)] = _with(
-                    cand, note=f"not refitted: {quiet} already leaves the residual at the "
-                               f"noise with fewer free parameters "
-                               f"({_n_free(probes[quiet])} against "
-                               f"{_n_free(probes[cand.effect])})")
+            why = quiet and _held_back(quiet, _n_free(probes[quiet]), silent,
+                                       _n_free(probes[cand.effect]))
+            if why:
+                ranked[ranked.index(cand)] = _with(cand, note=why)
                 continue
             fitted.append(cand)
             try:
@@ -465,6 +471,7 @@ def _fit_round(ranked, probes, queue, extra, current, validation, options, bud, 
             if refits[cand.effect].nrmse_calibration <= noise and (
                     quiet is None or _n_free(probes[cand.effect]) < _n_free(probes[quiet])):
                 quiet = cand.effect
+                silent = _at_noise(refits[quiet], heldout_noise)
     restart = not broadband(current.calibration) and not _explained(refits, level)
     for cand in fitted if restart else []:  # no physics start for a broadband record
         if cand.effect in refits and not _explained(refits, level):
@@ -572,9 +579,10 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
     calibration, validation, conditioning, raw, baseline = _prepare(
         calibration, validation, model, params, effects, spec, options, config, baseline,
         drifts)
-    floors, noise_std, noise_nrmse = _noise(calibration, conditioning)
+    floors, noise_std, noise_nrmse, held = _noise(calibration, conditioning, validation)
+    held = {k: sel.noise_factor * v for k, v in held.items()}
     run = _loop(baseline, names, device_names, validation, options, config, spec,
-                noise_nrmse)
+                noise_nrmse, held)
 
     def fit(kw):  # an alternative start's baseline (stages "start", "fit")
         base2 = calibrate(calibration, model=model, validate=validation, options=options,
@@ -588,7 +596,7 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
 
     run = revisit_starts(run, baseline, sel.noise_factor * noise_nrmse, check_params, config,
                          fit, lambda base, cfg: _loop(base, names, device_names, validation,
-                                                      options, cfg, spec, noise_nrmse),
+                                                      options, cfg, spec, noise_nrmse, held),
                          lambda base: _first_refits(base, names, device_names, validation,
                                                        options, bud, sel))
     baseline, steps, current = run["baseline"], run["steps"], run["current"]
@@ -629,7 +637,7 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
 
 
 def _loop(baseline, names, device_names, validation, options, config, spec,
-          noise_nrmse) -> dict:
+          noise_nrmse, heldout_noise=None) -> dict:
     """Stages "screen", "fit" and "select" from one baseline, step after step (module doc,
     2-6).  Returns the loop's state: ``baseline``, ``steps``, ``current`` (the final fit),
     ``stop``, ``last_round``, ``device_steps``, ``device_evidence``, ``warnings``."""
@@ -664,7 +672,8 @@ def _loop(baseline, names, device_names, validation, options, config, spec,
         refits, beside = _fit_round(ranked, probes, queue, extra, current, validation,
                                     options, bud, level, start0, sel,
                                     sel.noise_factor * noise_nrmse,
-                                    _joint_multipliers(current, joint.values(), level))
+                                    _joint_multipliers(current, joint.values(), level),
+                                    heldout_noise)
         ranked += dev
         probes.update(dev_changes)
         refits.update(dev_refits)

@@ -180,6 +180,46 @@ def _simplest_first(wave, pool):
     return out
 
 
+def _at_noise(result, heldout_noise) -> bool:
+    """Whether ``result`` predicts every held-out record within its noise level
+    (``heldout_noise``: record label -> noise_factor x the record's noise floor NRMSE;
+    None: not known, False)."""
+    if not heldout_noise:
+        return False
+    got = heldout_per_record(result)
+    return bool(got) and all(label in heldout_noise and v <= heldout_noise[label]
+                             for label, v in got.items())
+
+
+def _held_back(quiet: str, n_quiet: int, silent: bool, n_free: int) -> str:
+    """Why a candidate freeing ``n_free`` parameters is not refitted once the refit of
+    ``quiet`` (``n_quiet`` free) leaves the calibration residual at the noise ('' where it
+    is refitted).
+
+    Freeing more, it could at best tie on the residual and the BIC would charge its extra
+    parameters.  Freeing as many, it could at best tie on the residual and the BIC; where
+    ``quiet`` predicts every held-out record to its noise too (``silent``), it could at best
+    tie there as well: every comparison the rule makes would be decided by the noise
+    (200 Hz elastomer bench record: the elastomer at the noise on both records, backlash,
+    as many parameters, took 0.9 s of 3.1 s to end 60 x above it).  Freeing fewer, it is
+    refitted: the BIC may prefer it at a residual a little above the noise.
+
+    Examples
+    --------
+    >>> _held_back("elastomer", 7, True, 7)[:57]
+    'not refitted: elastomer already leaves the residual at th'
+    >>> _held_back("elastomer", 7, False, 7), _held_back("elastomer", 7, True, 6)
+    ('', '')
+    """
+    if n_free > n_quiet:
+        return (f"not refitted: {quiet} already leaves the residual at the noise with fewer "
+                f"free parameters ({n_quiet} against {n_free})")
+    if n_free == n_quiet and silent:
+        return (f"not refitted: {quiet} already leaves the residual at the noise, and every "
+                f"held-out record at its own, with as many free parameters ({n_free})")
+    return ""
+
+
 def _refit_link(cand, probe, current, validation, options, bud, joint, sel):
     """One reduction refitted from its own probe: ``(result, None)``, or ``(None, why)``
     where the fit could not be made.  ``joint``: the device multipliers the round's

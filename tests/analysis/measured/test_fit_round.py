@@ -15,13 +15,16 @@ from liquidamp.analysis.measured.records import Record
 
 
 def _round(monkeypatch, fitted_nrmse, restarted_nrmse, n_free=None, noise=1e-4,
-           names="abc"):
+           names="abc", heldout=None, heldout_noise=None):
     calls = []
+    heldout = heldout or {}
 
     def refit(cand, *a, **k):
         calls.append(("refit", cand.effect))
+        errors = tuple(types.SimpleNamespace(role="validation", label=label, nrmse=v)
+                       for label, v in heldout.get(cand.effect, {}).items())
         return types.SimpleNamespace(nrmse_calibration=fitted_nrmse[cand.effect],
-                                     effect=cand.effect)
+                                     effect=cand.effect, record_errors=errors)
 
     def restart(res, *a, **k):
         assert a[-1] is not None  # the joint reaches every restart
@@ -43,7 +46,7 @@ def _round(monkeypatch, fitted_nrmse, restarted_nrmse, n_free=None, noise=1e-4,
     joint = object()  # the device multipliers a restart frees beside the effect
     refits, beside = D._fit_round(ranked, probes, [a, b], [c], current, (), None,
                                   cfg.budget, level=0.01, start0={}, sel=cfg.selection,
-                                  noise=noise, joint=joint)
+                                  noise=noise, joint=joint, heldout_noise=heldout_noise)
     # the round hands its joint on to the reductions' refits only where it restarted
     assert beside is (joint if any(w == "restart" for w, _ in calls) else None)
     return calls, {k: v.nrmse_calibration for k, v in refits.items()}, ranked
@@ -175,3 +178,26 @@ def test_no_reduction_of_a_refit_above_the_noise_once_another_refit_is_at_it(mon
 
     assert reductions(0.004) == []
     assert reductions(0.02) == ["smooth_friction"]
+
+
+@pytest.mark.parametrize(("heldout", "fitted"), [
+    # a at the noise on calibration and on both held-out records: b, as many parameters,
+    # could at best tie everywhere and is not refitted; c, fewer, is
+    ({"v1": 0.004, "v2": 0.009}, ["a", "c"]),
+    # one held-out record above its noise: b may still predict it better, so it is refitted
+    ({"v1": 0.004, "v2": 0.011}, ["a", "b", "c"])])
+def test_a_refit_at_the_noise_on_every_record_leaves_as_rich_candidates_unfitted(
+        monkeypatch, heldout, fitted):
+    """The quiet rule for a candidate freeing as many parameters (diagnosis_select.
+    _held_back): held back only where the refit at the noise also predicts every held-out
+    record within noise_factor x its own floor (here 0.01 each)."""
+    monkeypatch.setattr(D, "_explained", lambda refits, level: False)
+    calls, got, ranked = _round(monkeypatch, {"a": 0.008, "b": 0.009, "c": 0.02},
+                                dict.fromkeys("abc", 0.02), n_free={"a": 2, "b": 2, "c": 1},
+                                noise=0.01, heldout={"a": heldout},
+                                heldout_noise={"v1": 0.01, "v2": 0.01})
+    assert [n for what, n in calls if what == "refit"] == fitted
+    if "b" not in fitted:
+        b = next(c for c in ranked if c.effect == "b")
+        assert b.note.startswith("not refitted: a already leaves the residual at the noise, "
+                                 "and every held-out record at its own")
