@@ -56,14 +56,16 @@ velocity):
    (the score test is local: where the calibrated model sits in another basin of
    the c1/c2 trade-off, an effect whose signature overlaps a free parameter's,
    such as leakage and c1, can score below a rival and still fit far better once
-   the parameters move).  Once a refit leaves the residual at the noise (``noise_factor``
-   times the floor), later candidates of the round freeing more parameters are not refitted
-   (parsimony: at the noise they could only tie, and the BIC charges their extra
-   parameters).  When no refit of the round brings the residual down to
-   ``structure_factor`` times the noise floor, each is refitted once
-   more from the physics start of the original multipliers and the better
-   fit is kept (the continuation can stay in a local minimum of the c1/c2
-   trade-off).  Where no device refinement alone passes the rule (item 5) but one alone
+   the parameters move).  A queued candidate that is a limit of another (``REDUCTIONS``)
+   is refitted before it (nested hypotheses from the smallest up).  Once a refit leaves the
+   residual at the noise (``noise_factor`` times the floor), later candidates of the round
+   freeing more parameters are not refitted (parsimony: at the noise they could only tie,
+   and the BIC charges their extra parameters), nor those freeing as many where that refit
+   predicts every held-out record to its own noise too.  When no refit of the round
+   brings the residual down to ``structure_factor`` times the noise floor, each is
+   refitted once more from the physics start of the original multipliers and the better
+   fit is kept (the continuation can stay in a local minimum of the c1/c2 trade-off).
+   Where no device refinement alone passes the rule (item 5) but one alone
    lowers the calibration BIC by more than ``bic_threshold`` (the records feel it), each
    restart, and each simpler model refitted as a reduction, is also continued with that
    refinement's multipliers freed beside the effect, kept where it then reaches
@@ -217,6 +219,7 @@ from liquidamp.analysis.measured.diagnosis_select import (
     _held_back,
     _judge_round,
     _linear_delta_bic,
+    _n_free,
     _no_pass,
     _reduce,
     _select,
@@ -778,10 +781,6 @@ def _first_refits(base, names, device_names, validation, options, bud, sel):
     yield from _device_round(base, validation, options, bud, device_names)[2].items()
 
 
-def _n_free(change) -> int:
-    """Parameters a candidate's refit frees beyond the current fit's (effect keys and device
-    multipliers)."""
-    return len(change.free) + len(change.multipliers)
 
 
 def _explained(refits: dict, level: float) -> bool:

@@ -180,6 +180,12 @@ def _simplest_first(wave, pool):
     return out
 
 
+def _n_free(change) -> int:
+    """Parameters a candidate's refit frees beyond the current fit's (effect keys and device
+    multipliers)."""
+    return len(change.free) + len(change.multipliers)
+
+
 def _at_noise(result, heldout_noise) -> bool:
     """Whether ``result`` predicts every held-out record within its noise level
     (``heldout_noise``: record label -> noise_factor x the record's noise floor NRMSE;
