@@ -216,6 +216,7 @@ from liquidamp.analysis.measured.diagnosis_result import Diagnosis, Step
 from liquidamp.analysis.measured.diagnosis_select import (
     _at_noise,
     _bounded_reductions,
+    _explained,
     _held_back,
     _judge_round,
     _linear_delta_bic,
@@ -429,7 +430,7 @@ def _screen(names, current, options, bud: Budget, sel: SelectionRule, route: str
 
 
 def _fit_round(ranked, probes, queue, extra, current, validation, options, bud, level,
-               start0, sel, noise, joint=None, heldout_noise=None):
+               start0, sel, noise, joint=None, floors=None):
     """Stage "fit": refit the queued candidates (a second wave if the first leaves the
     residual above ``level``); where no refit of the round reaches ``level``, each is
     restarted once from the physics start (module doc, 4).
@@ -447,12 +448,16 @@ def _fit_round(ranked, probes, queue, extra, current, validation, options, bud, 
     extra parameters for the same residual (200 Hz Coulomb-friction bench record: the
     friction reached the noise in 0.3 s, the backlash refit after it took 7.7 s to end
     seven times above it).  One that frees as many is not refitted either where that refit
-    also predicts every held-out record to its own noise (``heldout_noise``: label ->
-    noise_factor x the record's noise floor): it could at best tie on both
-    (:func:`~.diagnosis_select._held_back`)."""
+    also predicts every held-out record to its own noise (``floors``: held-out record label
+    -> its noise floor NRMSE; noise_factor x it): it could at best tie on both
+    (:func:`~.diagnosis_select._held_back`).  A round counts as explained (no second wave,
+    no restart) only where a refit reaches ``level`` on the calibration records and
+    structure_factor x its own floor on every held-out record: a refit at the calibration
+    noise that leaves a held-out record far above its floor is a wrong model the calibration
+    record cannot show."""
     refits, fitted, quiet, silent = {}, [], None, False
     for wave in (queue, extra):
-        if wave is extra and (not fitted or _explained(refits, level)):
+        if wave is extra and (not fitted or _explained(refits, level, floors, sel)):
             break
         for cand in _simplest_first(wave, queue + extra):
             if cand.effect in refits:
@@ -474,10 +479,11 @@ def _fit_round(ranked, probes, queue, extra, current, validation, options, bud, 
             if refits[cand.effect].nrmse_calibration <= noise and (
                     quiet is None or _n_free(probes[cand.effect]) < _n_free(probes[quiet])):
                 quiet = cand.effect
-                silent = _at_noise(refits[quiet], heldout_noise)
-    restart = not broadband(current.calibration) and not _explained(refits, level)
+                silent = _at_noise(refits[quiet], floors, sel.noise_factor)
+    restart = not broadband(current.calibration) and not _explained(refits, level, floors,
+                                                                    sel)
     for cand in fitted if restart else []:  # no physics start for a broadband record
-        if cand.effect in refits and not _explained(refits, level):
+        if cand.effect in refits and not _explained(refits, level, floors, sel):
             refits[cand.effect] = _restart(refits[cand.effect], current, validation,
                                            options, bud.preroll, bud.max_nfev, bud.tol,
                                            start0, "auto", sel.validation_tolerance, joint)
@@ -583,7 +589,6 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
         calibration, validation, model, params, effects, spec, options, config, baseline,
         drifts)
     floors, noise_std, noise_nrmse, held = _noise(calibration, conditioning, validation)
-    held = {k: sel.noise_factor * v for k, v in held.items()}
     run = _loop(baseline, names, device_names, validation, options, config, spec,
                 noise_nrmse, held)
 
@@ -640,7 +645,7 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
 
 
 def _loop(baseline, names, device_names, validation, options, config, spec,
-          noise_nrmse, heldout_noise=None) -> dict:
+          noise_nrmse, heldout_floors=None) -> dict:
     """Stages "screen", "fit" and "select" from one baseline, step after step (module doc,
     2-6).  Returns the loop's state: ``baseline``, ``steps``, ``current`` (the final fit),
     ``stop``, ``last_round``, ``device_steps``, ``device_evidence``, ``warnings``."""
@@ -676,7 +681,7 @@ def _loop(baseline, names, device_names, validation, options, config, spec,
                                     options, bud, level, start0, sel,
                                     sel.noise_factor * noise_nrmse,
                                     _joint_multipliers(current, joint.values(), level),
-                                    heldout_noise)
+                                    heldout_floors)
         ranked += dev
         probes.update(dev_changes)
         refits.update(dev_refits)
@@ -781,11 +786,6 @@ def _first_refits(base, names, device_names, validation, options, bud, sel):
     yield from _device_round(base, validation, options, bud, device_names)[2].items()
 
 
-
-
-def _explained(refits: dict, level: float) -> bool:
-    """Whether a refit of the round brought the calibration NRMSE down to ``level``."""
-    return any(r.nrmse_calibration <= level for r in refits.values())
 
 
 def bundled_records() -> dict:

@@ -15,7 +15,7 @@ from liquidamp.analysis.measured.records import Record
 
 
 def _round(monkeypatch, fitted_nrmse, restarted_nrmse, n_free=None, noise=1e-4,
-           names="abc", heldout=None, heldout_noise=None):
+           names="abc", heldout=None, floors=None):
     calls = []
     heldout = heldout or {}
 
@@ -46,7 +46,7 @@ def _round(monkeypatch, fitted_nrmse, restarted_nrmse, n_free=None, noise=1e-4,
     joint = object()  # the device multipliers a restart frees beside the effect
     refits, beside = D._fit_round(ranked, probes, [a, b], [c], current, (), None,
                                   cfg.budget, level=0.01, start0={}, sel=cfg.selection,
-                                  noise=noise, joint=joint, heldout_noise=heldout_noise)
+                                  noise=noise, joint=joint, floors=floors)
     # the round hands its joint on to the reductions' refits only where it restarted
     assert beside is (joint if any(w == "restart" for w, _ in calls) else None)
     return calls, {k: v.nrmse_calibration for k, v in refits.items()}, ranked
@@ -92,7 +92,7 @@ def test_a_refit_at_the_noise_leaves_richer_candidates_unfitted(monkeypatch, n_f
     0.01), a later candidate freeing more parameters could only tie on noise and lose on the
     BIC; it is not refitted, and its note says which candidate and why.  The second wave is
     not reached (the first explains the round), so c is in the first here."""
-    monkeypatch.setattr(D, "_explained", lambda refits, level: False)
+    monkeypatch.setattr(D, "_explained", lambda *a: False)
     calls, got, ranked = _round(monkeypatch, {"a": 0.008, "b": 0.009, "c": 0.02},
                                 dict.fromkeys("abc", 0.02), n_free=n_free, noise=0.01)
     assert [n for what, n in calls if what == "refit"] == fitted
@@ -130,7 +130,7 @@ def test_nested_candidates_are_fitted_simplest_first_and_the_richer_left_at_the_
     the simpler one first."""
     names = ("digressive_valve", "relief_valve", "leakage")
     n_free = {"digressive_valve": 4, "relief_valve": 2, "leakage": 1}
-    monkeypatch.setattr(D, "_explained", lambda refits, level: False)
+    monkeypatch.setattr(D, "_explained", lambda *a: False)
     calls, got, ranked = _round(monkeypatch, {"digressive_valve": 0.009, "relief_valve": 0.009,
                                               "leakage": 0.008},
                                 dict.fromkeys(names, 0.02), n_free=n_free, noise=0.01,
@@ -191,11 +191,11 @@ def test_a_refit_at_the_noise_on_every_record_leaves_as_rich_candidates_unfitted
     """The quiet rule for a candidate freeing as many parameters (diagnosis_select.
     _held_back): held back only where the refit at the noise also predicts every held-out
     record within noise_factor x its own floor (here 0.01 each)."""
-    monkeypatch.setattr(D, "_explained", lambda refits, level: False)
+    monkeypatch.setattr(D, "_explained", lambda *a: False)
     calls, got, ranked = _round(monkeypatch, {"a": 0.008, "b": 0.009, "c": 0.02},
                                 dict.fromkeys("abc", 0.02), n_free={"a": 2, "b": 2, "c": 1},
                                 noise=0.01, heldout={"a": heldout},
-                                heldout_noise={"v1": 0.01, "v2": 0.01})
+                                floors={"v1": 0.01 / 1.5, "v2": 0.01 / 1.5})
     assert [n for what, n in calls if what == "refit"] == fitted
     if "b" not in fitted:
         b = next(c for c in ranked if c.effect == "b")
