@@ -201,3 +201,21 @@ def test_a_refit_at_the_noise_on_every_record_leaves_as_rich_candidates_unfitted
         b = next(c for c in ranked if c.effect == "b")
         assert b.note.startswith("not refitted: a already leaves the residual at the noise, "
                                  "and every held-out record at its own")
+
+
+def test_a_round_at_the_calibration_level_is_not_explained_while_a_heldout_record_is_far_off(
+        monkeypatch):
+    """diagnosis_select._explained with the held-out floors: a refit at the calibration
+    level that leaves a held-out record above structure_factor x its floor does not end the
+    round; the second wave is fitted (R_leakage3: the leak, scored low because c1 absorbs
+    its signature, waited there behind a Coulomb friction at the calibration level and 27 x
+    the held-out floor).  Where the held-out record is at its floor too, the round ends as
+    before."""
+    far = _round(monkeypatch, {"a": 0.005, "b": 0.04, "c": 0.03},
+                 dict.fromkeys("abc", 0.02), heldout={"a": {"v": 0.05}},
+                 floors={"v": 0.002})[0]
+    assert [n for what, n in far if what == "refit"] == ["a", "b", "c"]
+    near = _round(monkeypatch, {"a": 0.005, "b": 0.04, "c": 0.03},
+                  dict.fromkeys("abc", 0.02), heldout={"a": {"v": 0.003}},
+                  floors={"v": 0.002})[0]
+    assert near == [("refit", "a"), ("refit", "b")]
