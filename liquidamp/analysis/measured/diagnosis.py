@@ -51,7 +51,9 @@ velocity):
    current residual, k the effect's fitted parameters), starting
    from the linearized strength (cavitation: from the probe's vapour pressure, a
    threshold); when none of these refits brings the calibration
-   residual down to ``structure_factor`` times the noise floor, refit also the
+   residual down to ``structure_factor`` times the noise floor and each held-out record
+   to as many times its own (a model at the calibration noise that misses a held-out
+   record is a wrong one the calibration cannot show), refit also the
    next candidate if its score is within a factor ``score_ratio`` (3) of the best
    (the score test is local: where the calibrated model sits in another basin of
    the c1/c2 trade-off, an effect whose signature overlaps a free parameter's,
