@@ -649,8 +649,9 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
 def _loop(baseline, names, device_names, validation, options, config, spec,
           noise_nrmse, heldout_floors=None) -> dict:
     """Stages "screen", "fit" and "select" from one baseline, step after step (module doc,
-    2-6).  Returns the loop's state: ``baseline``, ``steps``, ``current`` (the final fit),
-    ``stop``, ``last_round``, ``device_steps``, ``device_evidence``, ``warnings``."""
+    2-6); ``heldout_floors``: each held-out record's noise floor NRMSE by label.  Returns the
+    loop's state: ``baseline``, ``steps``, ``current`` (the final fit), ``stop``,
+    ``last_round``, ``device_steps``, ``device_evidence``, ``warnings``."""
     sel, bud = config.selection, config.budget
     warnings = []
     spec0 = baseline.spec if spec is None else spec
