@@ -370,7 +370,7 @@ def _prepare(calibration, validation, model, params, effects, spec, options, con
     return calibration, validation, conditioning, raw, baseline
 
 
-def _noise(calibration, conditioning, validation=()) -> tuple[tuple, float, float, dict]:
+def _noise(calibration, conditioning, validation) -> tuple[tuple, float, float, dict]:
     """The noise floor of each conditioned calibration record, the pooled force noise [N],
     its NRMSE and each held-out record's floor NRMSE (by label); the floor of a record whose
     cycles drift is the scatter about the drift

@@ -200,7 +200,7 @@ def _at_noise(result, floors, factor: float) -> bool:
 def _explained(refits: dict, level: float, floors=None, sel=None) -> bool:
     """Whether a refit of the round brought the calibration NRMSE down to ``level`` and
     every held-out record to ``sel.structure_factor`` x its floor (``floors``: label ->
-    noise floor NRMSE; None: the held-out records not judged).
+    noise floor NRMSE [-]; None or empty: the held-out records not judged).
 
     R_leakage3 (``runs/s12_indep``, a leak 24 x the force noise): Coulomb friction reached
     the level on the calibration record (0.0049 against 0.0054) and held the held-out one
@@ -219,7 +219,7 @@ def _explained(refits: dict, level: float, floors=None, sel=None) -> bool:
     (True, False)
     """
     return any(r.nrmse_calibration <= level and (
-        floors is None or _at_noise(r, floors, sel.structure_factor))
+        not floors or _at_noise(r, floors, sel.structure_factor))
         for r in refits.values())
 
 
@@ -290,7 +290,7 @@ def _bounded_reductions(ranked, refits, probes, current, validation, options, bu
     simpler model is a limit of it, so its calibration residual cannot come below that refit's
     (200 Hz elastomer bench record: the elastomer at the noise, backlash 60 x above it with
     its gap at a bound, whose friction alone took 0.46 s of 3.3 s to end higher still)."""
-    explained = any(r.nrmse_calibration <= noise for r in refits.values())
+    explained = _explained(refits, noise)  # on the calibration records alone
     todo = {}
     for c in ranked:
         if explained and c.effect in refits and refits[c.effect].nrmse_calibration > noise:
