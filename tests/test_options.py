@@ -316,3 +316,24 @@ def test_rtol_reaches_the_compiled_integrator(tmp_path):
     loose = _simulate(tmp_path, "loose", "--engine", "compiled", "--rtol", "1e-3")
     assert tight["solver"]["engine"] == loose["solver"]["engine"] == "compiled"
     assert loose["solver"]["steps"] < tight["solver"]["steps"]
+
+
+def test_fit_commands_without_flags_run_the_library_defaults():
+    """``liquidamp diagnose CAL`` with no knob builds ``DiagnoseOptions()`` exactly, and
+    ``liquidamp calibrate CAL`` fits with ``calibrate``'s own budget: the command a new
+    user types is the library's default, and ``liquidamp bench`` (which calls the library)
+    times it.  Session 18: the command fitted with max_nfev 80, the library and the bench
+    with 60, and an independent digressive-valve record read differently through each."""
+    import inspect
+
+    from liquidamp.analysis.measured.calibration import calibrate
+    from liquidamp.analysis.measured.diagnosis_options import DiagnoseOptions
+    from liquidamp.commands.diagnose import diagnose_config
+
+    parser = build_parser()
+    assert diagnose_config(parser.parse_args(["diagnose", "cal.csv"])) == DiagnoseOptions()
+    cal = parser.parse_args(["calibrate", "cal.csv"])
+    assert cal.max_nfev == inspect.signature(calibrate).parameters["max_nfev"].default
+    # and a flag still reaches the options
+    flagged = diagnose_config(parser.parse_args(["diagnose", "cal.csv", "--max-nfev", "7"]))
+    assert flagged.budget.max_nfev == 7 and flagged != DiagnoseOptions()

@@ -18,6 +18,12 @@ from liquidamp.commands.calibrate import (
     write_report_folder,
 )
 
+#: Model evaluations per fit of ``liquidamp diagnose`` without ``--max-nfev``: the
+#: library's :attr:`Budget.max_nfev <liquidamp.analysis.measured.diagnosis_options.Budget>`
+#: (a literal here, so the parser is built without importing the fitting code; the test of
+#: the command's defaults holds the two equal).
+DIAGNOSE_MAX_NFEV = 60
+
 
 def register(sub) -> None:
     """Add the ``diagnose`` sub-command."""
@@ -38,6 +44,9 @@ def register(sub) -> None:
         "--validate the last record, or the second half of one record of 6+ cycles, is held "
         "out.")
     add_fit_arguments(p)
+    # the diagnosis's budget per fit (Budget.max_nfev; calibrate's is its own): the command
+    # without flags runs the library's defaults (tests/test_options.py)
+    p.set_defaults(max_nfev=DIAGNOSE_MAX_NFEV)
     p.add_argument("--max-steps", type=count_type("--max-steps", 0, 8, "effects added at most"),
                    default=5, help="effects added at most, 0-8 (default %(default)s; the "
                    "loop stops earlier at the noise floor or where no candidate passes)")
@@ -59,6 +68,17 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
+def diagnose_config(args):
+    """The :class:`~liquidamp.analysis.measured.diagnosis_options.DiagnoseOptions` of the
+    parsed ``diagnose`` arguments ``args`` (without any flag: ``DiagnoseOptions()``)."""
+    from liquidamp.analysis.measured.diagnosis_options import DiagnoseOptions
+
+    return DiagnoseOptions.from_keywords(
+        candidates=args.candidate, sizing=args.sizing, max_steps=args.max_steps,
+        top=args.top, max_nfev=args.max_nfev, outliers=args.outliers,
+        **conditioning_options(args))
+
+
 def run(args) -> int:
     """Diagnose and write the JSON (then the report)."""
     options = solver_options(args, "fit")  # flags added by add_fit_arguments
@@ -75,12 +95,7 @@ def run(args) -> int:
     # the data checks first, as read, naming the command-line options (diagnose repeats
     # them on the same records)
     cal, val = checked(cal, val, args, params, "diagnose")
-    from liquidamp.analysis.measured.diagnosis_options import DiagnoseOptions
-
-    config = DiagnoseOptions.from_keywords(
-        candidates=args.candidate, sizing=args.sizing, max_steps=args.max_steps,
-        top=args.top, max_nfev=args.max_nfev, outliers=args.outliers,
-        **conditioning_options(args))
+    config = diagnose_config(args)
     with fit_progress(args, "diagnose: model evaluations") as bar:
         d = diagnose(cal, val, model=args.model, params=params, effects=effects, spec=spec,
                      options=options, config=config, progress=bar.update)
