@@ -188,6 +188,15 @@ class Diagnosis:
         return heldout_per_record(self.final)
 
     @property
+    def heldout_floors(self) -> dict:
+        """Record label -> noise floor NRMSE of each held-out record as conditioned [-] (the
+        records whose conditioning estimated one): the least held-out NRMSE any model could
+        reach, against which the summary reads each record's."""
+        return {c.source: c.noise.nrmse
+                for c in self.conditioning[len(self.noise_floors):]
+                if c.noise is not None and c.noise.nrmse > 0}
+
+    @property
     def without_input(self) -> dict | None:
         """The best fit that does not read the records' control input, beside a model that
         does (the field-controlled device class, issue #20): class, input, NRMSE; None
@@ -230,8 +239,10 @@ class Diagnosis:
 
     def summary(self) -> str:
         """Lines: the verdict first (a force read negated, non-stationary, unexplained, loses
-        to the line; then the effects added and the held-out NRMSE per record, pooled
-        beside), then the reference models held out, then why the loop stopped."""
+        to the line; then the effects added and the held-out NRMSE per record, each with its
+        ratio to the record's own noise floor (:attr:`heldout_floors`; a ratio near 1: the
+        record is predicted to its noise), pooled beside), then the reference models held
+        out, then why the loop stopped."""
         first = []
         negated = self.baseline.force_negated()
         if negated:
@@ -253,7 +264,10 @@ class Diagnosis:
         lose_map = self.loses_to_map
         if lose_map:
             first.append("LOSES TO THE TWO-SLOPE MAP: " + lose_map)
-        per = ", ".join(f"{k} {v:.3g}" for k, v in self.heldout.items())
+        floors = self.heldout_floors
+        per = ", ".join(f"{k} {v:.3g}" + (f" ({v / floors[k]:.2g} x its noise floor)"
+                                           if k in floors else "")
+                        for k, v in self.heldout.items())
         pooled = self.final.nrmse_validation
         base = heldout_per_record(self.baseline)
         added = (", ".join(f"{s.effect} ({_short(s.fitted_parameters())})"
@@ -343,6 +357,7 @@ class Diagnosis:
         not_conv = [{"fit": lab, "status": r.status, "message": r.message, "nfev": r.nfev}
                     for lab, r in fits if not r.converged]
         return {"summary": self.summary(), "heldout": self.heldout,
+                "heldout_noise_floors": self.heldout_floors,
                 "baseline": block(self.baseline),
                 "device_refinement": {"kept": [s.as_dict() for s in self.device_steps],
                                       "tried": [c.as_dict() for c in self.device_evidence]},

@@ -61,6 +61,13 @@ def test_an_elastomer_at_the_noise_on_every_record_holds_back_as_rich_candidates
         "not refitted: elastomer already leaves the residual at the noise, and every "
         "held-out record at its own"), by["backlash"].note
     assert d.stop_reason.startswith("residual is noise")
+    # the summary reads the held-out record against its own floor, the floor the quiet rule
+    # judged it by (within 1.5 x)
+    (label, got_nrmse), = d.heldout.items()
+    ratio = got_nrmse / d.heldout_floors[label]
+    assert 0.5 < ratio <= 1.5
+    assert f"{label} {got_nrmse:.3g} ({ratio:.2g} x its noise floor)" in d.summary()
+    assert d.as_dict()["heldout_noise_floors"] == {label: d.heldout_floors[label]}
 
 
 def test_the_cavitation_record_is_stationary_and_the_truth_reproduces_it():
