@@ -100,8 +100,8 @@ velocity):
      are refitted from their own probes, if they were not, and judged by the same rule (the
      richer refit reaching the limit would otherwise "explain" the round first).
 
-   Among the refits kept, those within ``tie_tolerance`` (10 %) of the best held out tie;
-   the lowest delta BIC of them is added, the others are reported with their evidence.
+   Among the refits kept the best held out (lowest geometric mean ratio) is added; the
+   others within ``tie_tolerance`` (10 %) of it are reported as tied with their evidence.
    An effect whose own force at its fitted value the noise hides (chi2 of that force below
    the rule's 10 + k ln N) did not earn its refit's fall, the base's escape from a local
    minimum did: it is not kept, and the refit's device without it, continued, becomes the
@@ -722,7 +722,7 @@ def _loop(baseline, names, device_names, validation, options, config, spec,
                     f"{c.delta_bic:.4g})" for c in tied)
                 + f" explain the residual about equally (held-out NRMSE within "
                 f"{sel.tie_tolerance:.0%}); {chosen.effect} was added ("
-                + ("the lowest dBIC of the tied" if chosen.effect not in REDUCTIONS.values()
+                + ("the best held out" if chosen.effect not in REDUCTIONS.values()
                    or "added instead" not in chosen.note else
                    "the simpler model the best one reduces to") + ")")
         res = refits[chosen.effect]

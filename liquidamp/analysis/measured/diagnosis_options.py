@@ -87,9 +87,8 @@ class SelectionRule(_Options):
     * none of the parameters it frees ends at a bound (``reject_at_bound``): there the
       value is the bound's, not the data's.
 
-    Among the candidates kept, those within ``tie_tolerance`` of the best held out tie (a
-    held-out difference that small is not evidence), and the one of them whose calibration
-    BIC falls most is added; the others are reported as tied.
+    Among the candidates kept, the best held-out one is added; the others within
+    ``tie_tolerance`` of it are reported as tied.
 
     Attributes
     ----------

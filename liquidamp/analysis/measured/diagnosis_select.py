@@ -53,36 +53,14 @@ def _judge_round(ranked, refits, probes, current, sel: SelectionRule):
 
 
 def _select(ranked, sel: SelectionRule):
-    """Stage "select", part 2: the candidate to add among those that passed, and those tied
-    with it (held-out geometric-mean ratio within ``tie_tolerance`` of the best held out).
-
-    The held-out records rank the candidates; a difference inside the tie tolerance is not
-    evidence, so among the tied the calibration evidence decides: the lowest delta BIC
-    (over the honest sample count) wins.  R_Fendstops (runs/s19_lead, an independent
-    record with end stops the held-out record hardly touches): end stops (calibration
-    NRMSE 0.0041, delta BIC -120) and smooth friction (0.0092, -20) predicted the held-out
-    record alike (ratios 0.859 and 0.849); the 1 % there chose the friction, and a
-    friction transition followed it, held out 0.087.
-
-    Examples
-    --------
-    >>> from types import SimpleNamespace as NS
-    >>> from liquidamp.analysis.measured.diagnosis_options import SelectionRule
-    >>> a = NS(effect="smooth_friction", accepted=True, relative_reduction=0.151,
-    ...        delta_bic=-20.1)
-    >>> b = NS(effect="end_stops", accepted=True, relative_reduction=0.141, delta_bic=-119.7)
-    >>> c = NS(effect="leakage", accepted=True, relative_reduction=0.02, delta_bic=-300.0)
-    >>> chosen, tied = _select([a, b, c], SelectionRule())
-    >>> chosen.effect, [t.effect for t in tied]
-    ('end_stops', ['end_stops', 'smooth_friction'])
-    """
+    """Stage "select", part 2: the best held-out candidate that passed, and those tied with
+    it (held-out geometric-mean ratio within ``tie_tolerance``)."""
     passed = sorted([c for c in ranked if c.accepted], key=lambda c: -c.relative_reduction)
     if not passed:
         return None, []
     best = 1.0 - passed[0].relative_reduction
     tied = [c for c in passed if 1.0 - c.relative_reduction <= (1 + sel.tie_tolerance) * best]
-    chosen = min(tied, key=lambda c: c.delta_bic)  # stable: the best held out on equal BIC
-    return chosen, [chosen] + [c for c in tied if c is not chosen]
+    return passed[0], tied
 
 
 def _reduce(chosen, tied, ranked, refits, probes, current, validation, options, bud, sel,
