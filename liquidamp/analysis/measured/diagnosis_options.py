@@ -152,7 +152,9 @@ class Budget(_Options):
         When the ``top`` refits leave the residual structured, the next candidate is
         refitted too if it scores at least 1/``score_ratio`` of the best [-].
     max_nfev : int
-        Model evaluations of each fit.
+        Model evaluations of each fit (60: also ``liquidamp diagnose``'s ``--max-nfev``
+        default; session 18 measured B_digressive40 read wrongly at 80, session 19 every
+        held-out set at both, runs/s19_lead/README.md).
     tol : float
         Fit tolerance (ftol = xtol of least squares) [-].
     preroll : int

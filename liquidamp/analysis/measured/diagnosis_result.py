@@ -190,8 +190,8 @@ class Diagnosis:
     @property
     def heldout_floors(self) -> dict:
         """Record label -> noise floor NRMSE of each held-out record as conditioned [-] (the
-        records whose conditioning estimated one): the least held-out NRMSE any model could
-        reach, against which the summary reads each record's."""
+        records whose conditioning estimated one): about the least held-out NRMSE a model
+        can reach on it, the scale the summary reads each record's held-out NRMSE by."""
         return {c.source: c.noise.nrmse
                 for c in self.conditioning[len(self.noise_floors):]
                 if c.noise is not None and c.noise.nrmse > 0}
