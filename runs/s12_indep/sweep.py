@@ -343,6 +343,16 @@ def table(recdir: Path, out: Path, ids) -> str:
     return text
 
 
+def main_with(cases: dict, argv) -> None:
+    """:func:`main` on ``cases`` added to :data:`CASES`, run alone where no id is named (the
+    sweeps that extend this one: runs/s14_lead/strong.py, runs/s19_lead/fresh.py)."""
+    CASES.update(cases)
+    argv = list(argv)
+    if argv[1] in ("gen", "run", "table") and len(argv) <= (3 if argv[1] == "gen" else 4):
+        argv += list(cases)
+    main(argv)
+
+
 def main(argv):
     mode = argv[1]
     recdir = Path(argv[2])

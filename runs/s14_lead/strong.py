@@ -39,7 +39,4 @@ STRONG = {
 sweep.CASES.update(STRONG)
 
 if __name__ == "__main__":
-    argv = list(sys.argv)
-    if argv[1] in ("gen", "run", "table") and len(argv) <= (3 if argv[1] == "gen" else 4):
-        argv += list(STRONG)
-    sweep.main(argv)
+    sweep.main_with(STRONG, sys.argv)

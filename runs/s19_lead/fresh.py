@@ -51,7 +51,4 @@ FRESH = draw()
 sweep.CASES.update(FRESH)
 
 if __name__ == "__main__":
-    argv = list(sys.argv)
-    if argv[1] in ("gen", "run", "table") and len(argv) <= (3 if argv[1] == "gen" else 4):
-        argv += list(FRESH)
-    sweep.main(argv)
+    sweep.main_with(FRESH, sys.argv)
