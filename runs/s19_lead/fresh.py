@@ -12,10 +12,13 @@ and the effect's size (12-45 x the force noise).  Protocol and classes as runs/s
     PYTHONPATH=. python runs/s19_lead/fresh.py gen RECDIR
     PYTHONPATH=. python runs/s19_lead/fresh.py run RECDIR OUT [ID..]
     PYTHONPATH=. python runs/s19_lead/fresh.py table RECDIR OUT
+
+``FRESH_SEED=N`` draws another set (ids suffixed ``_sN``); seed 19 is the session's draw.
 """
 from __future__ import annotations
 
 import math
+import os
 import sys
 
 import numpy as np
@@ -42,12 +45,13 @@ def draw(seed: int = 19) -> dict:
             pair.append((f, float(np.round(rng.uniform(1e-3, max(1.2e-3, ymax)), 4))))
         fs = float((200.0, 500.0, 1000.0, 2000.0)[int(rng.integers(4))])
         target = 0 if kind == "null" else int(rng.integers(12, 46))
-        out[f"{'R' if base == 'reference' else 'B'}_F{kind}"] = (
+        tag = "" if seed == 19 else f"_s{seed}"
+        out[f"{'R' if base == 'reference' else 'B'}_F{kind}{tag}"] = (
             base, pair[0], pair[1], fs, kind, target)
     return out
 
 
-FRESH = draw()
+FRESH = draw(int(os.environ.get("FRESH_SEED", "19")))
 sweep.CASES.update(FRESH)
 
 if __name__ == "__main__":
