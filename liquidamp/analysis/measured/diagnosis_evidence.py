@@ -308,6 +308,15 @@ def harmonic_structure(result: CalibrationResult, noise_std: float) -> str:
     return "; ".join(parts)
 
 
+def _multiplier(value) -> str:
+    """A partner's multiplier as text: 'held' where the model did not fit it (None).
+
+    >>> _multiplier(1.234567), _multiplier(None)
+    ('1.23', 'held')
+    """
+    return "held" if value is None else f"{value:.3g}"
+
+
 def confounding_warnings(effect: str, before: CalibrationResult,
                          after: CalibrationResult) -> list[str]:
     """The warnings of :func:`confounding`'s evidence: a tie, or separated by held-out data."""
@@ -318,8 +327,10 @@ def confounding_warnings(effect: str, before: CalibrationResult,
                 f"confounded: {effect} with {partner} (held fixed): {ev['reason']}; "
                 f"if {partner} is wrong, the {effect} parameter absorbs its error")
             continue
-        moved = ", ".join(f"{n} {ev['multipliers_before'][n]:.3g} -> "
-                          f"{ev['multipliers_after'][n]:.3g}"
+        # a partner the model before held (None: not among its fitted parameters) and the
+        # refit freed beside the effect (a device refinement), as held
+        moved = ", ".join(f"{n} {_multiplier(ev['multipliers_before'][n])} -> "
+                          f"{_multiplier(ev['multipliers_after'][n])}"
                           for n in ev["multipliers_before"])
         cc = ", ".join(f"{n} {c:+.2f}" for n, c in ev["correlation_with_effect"].items())
         # a tie only where the effect does not clearly beat its partner on held-out data

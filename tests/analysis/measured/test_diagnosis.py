@@ -111,3 +111,23 @@ def test_cavitation_is_reported_as_tied_with_entrained_air():
     assert any(w.startswith("tie: cavitation and inv_gamma") for w in d.warnings)
     assert d.unexplained  # structure remains that no candidate explains
     assert d.as_dict()["steps"][0]["confounded"]["inv_gamma"]["reason"]
+
+
+def test_confounding_names_a_partner_the_model_before_held():
+    # A moving mass refitted with the channel inertance S_t freed beside it (a device
+    # refinement) while the model before held S_t: the partner has no value before.  The
+    # independent draw R_Fmass_s20 (runs/s19_lead) crashed here formatting None.
+    from types import SimpleNamespace as NS
+
+    import numpy as np
+
+    from liquidamp.analysis.measured.diagnosis_evidence import confounding_warnings
+
+    before = NS(values={"c1": 1.1}, varying=("c1",), nrmse_validation=0.2)
+    after = NS(values={"c1": 1.0, "S_t": 1.4, "moving_mass.mass_kg": 3.0},
+               varying=("c1", "S_t", "moving_mass.mass_kg"),
+               correlation=np.array([[1.0, 0.1, 0.2], [0.1, 1.0, -0.8], [0.2, -0.8, 1.0]]),
+               nrmse_validation=0.05)
+    (w,) = confounding_warnings("moving_mass", before, after)
+    assert w.startswith("separated: moving_mass and S_t (fitted)")
+    assert "S_t held -> 1.4" in w and "S_t -0.80" in w
