@@ -640,7 +640,8 @@ def diagnose(calibration, validation=(), *, model="full", params=None, effects=(
                      noise_nrmse=noise_nrmse, signatures=sig, stop_reason=stop,
                      unexplained=unexplained, warnings=tuple(warnings),
                      last_candidates=last_round, conditioning=conditioning,
-                     noise_floors=floors, nrmse_raw=raw_nrmse, references=refs,
+                     noise_floors=floors, heldout_floors=held, nrmse_raw=raw_nrmse,
+                     references=refs,
                      drifts=tuple(d for d in drifts if d is not None),
                      non_stationary=non_stat, options=config, holdout=holdout,
                      device_steps=tuple(device_steps), device_evidence=device_evidence)
@@ -787,8 +788,6 @@ def _first_refits(base, names, device_names, validation, options, bud, sel):
             continue
         yield c.effect, fit
     yield from _device_round(base, validation, options, bud, device_names)[2].items()
-
-
 
 
 def bundled_records() -> dict:

@@ -309,7 +309,7 @@ def harmonic_structure(result: CalibrationResult, noise_std: float) -> str:
 
 
 def _multiplier(value) -> str:
-    """A partner's multiplier as text: 'held' where the model did not fit it (None).
+    """A partner's multiplier [-] as text: 'held' where the model did not fit it (None).
 
     >>> _multiplier(1.234567), _multiplier(None)
     ('1.23', 'held')

@@ -137,6 +137,10 @@ class Diagnosis:
         What was done to each record before fitting (calibration, then validation).
     noise_floors : tuple of NoiseFloor
         The noise floor of each conditioned calibration record.
+    heldout_floors : dict
+        Record label -> noise floor NRMSE of each held-out record as conditioned [-]: the
+        floors the selection rule judged the held-out records by, about the least held-out
+        NRMSE a model can reach there; the summary reads each held-out NRMSE against it.
     nrmse_raw : dict
         ``{"calibration": ..., "validation": ...}``: the final model against the records
         as given (empty when the conditioning changed nothing).
@@ -168,6 +172,7 @@ class Diagnosis:
     last_candidates: tuple
     conditioning: tuple = ()
     noise_floors: tuple = ()
+    heldout_floors: dict = field(default_factory=dict)
     nrmse_raw: dict = field(default_factory=dict)
     references: dict = field(default_factory=dict)
     drifts: tuple = ()
@@ -186,15 +191,6 @@ class Diagnosis:
     def heldout(self) -> dict:
         """Record label -> held-out NRMSE of the final model [-]."""
         return heldout_per_record(self.final)
-
-    @property
-    def heldout_floors(self) -> dict:
-        """Record label -> noise floor NRMSE of each held-out record as conditioned [-] (the
-        records whose conditioning estimated one): about the least held-out NRMSE a model
-        can reach on it, the scale the summary reads each record's held-out NRMSE by."""
-        return {c.source: c.noise.nrmse
-                for c in self.conditioning[len(self.noise_floors):]
-                if c.noise is not None and c.noise.nrmse > 0}
 
     @property
     def without_input(self) -> dict | None:
@@ -240,7 +236,7 @@ class Diagnosis:
     def summary(self) -> str:
         """Lines: the verdict first (a force read negated, non-stationary, unexplained, loses
         to the line; then the effects added and the held-out NRMSE per record, each with its
-        ratio to the record's own noise floor (:attr:`heldout_floors`; a ratio near 1: the
+        ratio to the record's own noise floor (``heldout_floors``; a ratio near 1: the
         record is predicted to its noise), pooled beside), then the reference models held
         out, then why the loop stopped."""
         first = []
@@ -266,7 +262,7 @@ class Diagnosis:
             first.append("LOSES TO THE TWO-SLOPE MAP: " + lose_map)
         floors = self.heldout_floors
         per = ", ".join(f"{k} {v:.3g}" + (f" ({v / floors[k]:.2g} x its noise floor)"
-                                           if k in floors else "")
+                                           if floors.get(k) else "")
                         for k, v in self.heldout.items())
         pooled = self.final.nrmse_validation
         base = heldout_per_record(self.baseline)
