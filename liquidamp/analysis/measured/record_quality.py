@@ -76,9 +76,12 @@ class NoiseFloor:
         Harmonics fitted by the cycle-scatter estimate (0 for ``"high band"``).
     rate_force_std : float
         Force error [N] that the scatter of the recorded stroke rate causes in a model
-        driven by it (:func:`noise_floor`; 0 for ``"high band"``).
+        driven by it (:func:`noise_floor`; 0 for ``"high band"``, which
+        :func:`~liquidamp.analysis.measured.conditioning.condition` completes with the rate
+        term of a stroke that does not repeat: method ``"high band, with the stroke rate's
+        noise"``).
     rate_std : float
-        That scatter of the stroke rate [m/s] (0 for ``"high band"``).
+        That scatter of the stroke rate [m/s] (0 for ``"high band"``, as above).
     drift : Drift or None
         The record's non-stationarity test
         (:func:`~liquidamp.analysis.measured.drift.record_drift`).
@@ -106,9 +109,36 @@ class NoiseFloor:
         return math.hypot(self.force_std, self.rate_force_std)
 
 
-def _hf_std(t, s, f, harmonics=12, periodic=True):
-    """Robust white-noise std: 4th differences of the signal less its first harmonics
-    (less its mean only, when the stroke is not periodic)."""
+def high_band_std(t, s, f, harmonics=12, periodic=True):
+    """Robust white-noise standard deviation of a uniformly sampled signal [its unit].
+
+    The signal less its mean and, for a periodic stroke, its first ``harmonics`` harmonics
+    of ``f`` [Hz] below 0.8 x the Nyquist frequency; then 1.4826 x the median absolute
+    deviation of its 4th differences over sqrt(70) (their variance for white noise of
+    unit variance).  A component at frequency f' is suppressed by (2 sin(pi f' / fs))^4,
+    so the estimate holds while the signal's own band lies well below the sampling rate.
+
+    Parameters
+    ----------
+    t : array
+        Sample times, uniform [s].
+    s : array
+        The signal (a force [N] or a displacement [m]).
+    f : float
+        Stroke frequency [Hz].
+    harmonics : int
+        Harmonics of ``f`` removed first (periodic strokes only).
+    periodic : bool
+        Whether the stroke repeats (False: only the mean is removed).
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(3)
+    >>> t = np.arange(4000) / 1000.0
+    >>> s = 2e-3 * np.sin(2 * np.pi * 2.0 * t) + rng.normal(0.0, 1e-6, t.size)
+    >>> bool(abs(high_band_std(t, s, 2.0) / 1e-6 - 1) < 0.1)
+    True
+    """
     w = 2 * math.pi * f * (t - t[0])
     cols = [np.ones_like(t)]
     nyq = 0.5 / float(np.median(np.diff(t)))
@@ -215,11 +245,11 @@ def noise_floor(record: Record, drift: Drift | None = None) -> NoiseFloor:
     (True, 'cycle scatter', 29)
     """
     t = record.time
-    ys = _hf_std(t, record.displacement, record.frequency, periodic=record.periodic)
+    ys = high_band_std(t, record.displacement, record.frequency, periodic=record.periodic)
     drift = record_drift(record) if drift is None else drift
     scatter = _periodic_scatter(record, drift=drift) if record.periodic else None
     if scatter is None:
-        fs, rs, method, H, vs, ds = (_hf_std(t, record.force, record.frequency,
+        fs, rs, method, H, vs, ds = (high_band_std(t, record.force, record.frequency,
                                              periodic=record.periodic), 0.0, "high band", 0,
                                      0.0, 0.0)
     else:
