@@ -68,7 +68,8 @@ PNAMES = ("inv_gamma1", "inv_gamma2", "c1", "c2", "S_t", "V01", "V02", "A_p", "p
           "Fc", "v_eps", "k_leak", "pc_relief", "G_relief", "pc_comp", "G_comp",
           "pc_reb", "G_reb", "gap", "m_p", "k_gap", "c_gap", "k_series", "mass", "offset",
           "asym_lin", "asym_quad", "k_e", "k_m", "c_m", "y_stop", "k_stop", "c_stop",
-          "e_stop", "p_vap", "valve_linear", "valve_on_loss", "gap_held")
+          "e_stop", "p_vap", "valve_linear", "valve_on_loss", "gap_held",
+          "n_steps", "step_ratio", "step_cycles")
 IX = {k: i for i, k in enumerate(PNAMES)}
 
 
@@ -113,15 +114,38 @@ def _loss_split(m, g1, g2, pc, G, linear, rho):
 
 
 @numba.njit(cache=True)
+def _envelope(t, P):
+    """Amplitude factor of a stepped test and its two time derivatives: n_steps levels
+    ratio^k, each step_cycles long, each reached by a half-cycle cosine ramp from the level
+    before (the first from 0); no steps: 1."""
+    ns = int(P[46])
+    if ns <= 0:
+        return 1.0, 0.0, 0.0
+    f = P[13]
+    Ts = P[48] / f
+    k = min(int(math.floor(t / Ts)), ns - 1)
+    a_k = P[47] ** k
+    a_prev = P[47] ** (k - 1) if k > 0 else 0.0
+    s = (t - k * Ts) * 2.0 * f
+    if s >= 1.0:
+        return a_k, 0.0, 0.0
+    d = a_k - a_prev
+    return (a_prev + d * 0.5 * (1.0 - math.cos(math.pi * s)),
+            d * 0.5 * math.pi * math.sin(math.pi * s) * 2.0 * f,
+            d * 0.5 * math.pi ** 2 * math.cos(math.pi * s) * 4.0 * f * f)
+
+
+@numba.njit(cache=True)
 def _stroke(t, P):
     w = 2.0 * math.pi * P[13]
     Y = P[12]
     h3 = P[14]
     ph = P[15]
-    y = P[16] + Y * (math.sin(w * t) + h3 * math.sin(3.0 * w * t + ph))
-    v = Y * w * (math.cos(w * t) + 3.0 * h3 * math.cos(3.0 * w * t + ph))
-    a = -Y * w * w * (math.sin(w * t) + 9.0 * h3 * math.sin(3.0 * w * t + ph))
-    return y, v, a
+    g = math.sin(w * t) + h3 * math.sin(3.0 * w * t + ph)
+    g1 = w * (math.cos(w * t) + 3.0 * h3 * math.cos(3.0 * w * t + ph))
+    g2 = -w * w * (math.sin(w * t) + 9.0 * h3 * math.sin(3.0 * w * t + ph))
+    e, e1, e2 = _envelope(t, P)
+    return (P[16] + Y * e * g, Y * (e1 * g + e * g1), Y * (e2 * g + 2.0 * e1 * g1 + e * g2))
 
 
 @numba.njit(cache=True)
@@ -343,6 +367,29 @@ def simulate(dev: dict, frequency: float, amplitude: float, *, fs: float = 200.0
     n = int(math.floor((run_cycles * T - t0) * fs + 1e-6)) + 1
     out = _run(P, t0, n, 1.0 / fs, h)
     return {"t": out[:, 0] - t0, "y": out[:, 1], "F": out[:, 2], "states": out[:, 3:]}
+
+
+def simulate_stepped(dev: dict, frequency: float, amplitude: float, *, steps: int = 3,
+                     ratio: float = 2.0, cycles_per_step: float = 4.0, fs: float = 500.0,
+                     h3: float = 0.01, phi3: float = 0.0, effects: dict | None = None,
+                     h: float = 1e-5) -> dict:
+    """Noise-free record of a stepped test from rest, kept whole: the amplitude ``amplitude``
+    x ratio^k over ``steps`` steps of ``cycles_per_step`` cycles, each reached by a
+    half-cycle cosine ramp (a stroke that does not repeat; a dyno's amplitude series in one
+    run).  Effect settings as :func:`simulate`."""
+    P = np.zeros(len(PNAMES))
+    for k, v in dev.items():
+        P[IX[k]] = v
+    for k, v in (("Y", amplitude), ("f", frequency), ("h3", h3), ("phi3", phi3),
+                 ("v_eps", 5e-4), ("m_p", 0.05), ("k_gap", 2e7), ("c_gap", 600.0),
+                 ("e_stop", 1.0), ("n_steps", steps), ("step_ratio", ratio),
+                 ("step_cycles", cycles_per_step)):
+        P[IX[k]] = v
+    for k, v in (effects or {}).items():
+        P[IX[k]] = v
+    n = int(math.floor(steps * cycles_per_step / frequency * fs + 1e-6)) + 1
+    out = _run(P, 0.0, n, 1.0 / fs, h)
+    return {"t": out[:, 0], "y": out[:, 1], "F": out[:, 2], "states": out[:, 3:]}
 
 
 def write_csv(path, t, y, F) -> None:

@@ -19,10 +19,7 @@ from liquidamp.options import PRESETS
 d = sys.argv[1]
 truth = json.load(open(f"{d}/truth.json"))["R_Ffreeplay_s21"]
 mult = truth["device"]["multipliers"]
-p = preset("reference").scaled(**{k if k.startswith("inv") else f"{k}_factor": v
-                                  for k, v in mult.items()}) if False else None
-base = preset("reference")
-p = base.scaled(**mult)
+p = preset("reference").scaled(**mult)
 gap = truth["simulator_settings"]["gap"]
 for role in ("cal", "val"):
     rec, cond = condition(read_record(f"{d}/R_Ffreeplay_s21_{role}.csv"))

@@ -33,7 +33,7 @@ for c in ("c1", "c2", "inv_gamma1", "inv_gamma2"):
 t0 = time.time()
 r0 = calibrate(recs[:1], params=dev.params, effects=dev.effects, spec=FitSpec(tuple(base)),
                validate=recs[1:], start="spec", sizing="preset", max_nfev=60)
-print("without", r0.nrmse_calibration, r0.heldout_records, f"{time.time()-t0:.0f}s", flush=True)
+print("without", r0.nrmse_calibration, r0.heldout_records(), f"{time.time()-t0:.0f}s", flush=True)
 for Dm in dists:
     t0 = time.time()
     sw = EFFECTS["slip_weakening"](ratio=0.1, distance_m=Dm)
@@ -41,6 +41,6 @@ for Dm in dists:
                                   Parameter("slip_weakening.distance_m", Dm, 1e-5, 0.1, log=True)))
     r = calibrate(recs[:1], params=dev.params, effects=dev.effects + (sw,), spec=spec,
                   validate=recs[1:], start="spec", sizing="preset", max_nfev=60)
-    print(f"D0={Dm*1e3:g}mm", r.nrmse_calibration, r.heldout_records,
+    print(f"D0={Dm*1e3:g}mm", r.nrmse_calibration, r.heldout_records(),
           {k: r.values[k] for k in r.varying if "slip" in k or "friction" in k},
           f"{time.time()-t0:.0f}s", flush=True)
