@@ -421,14 +421,16 @@ _GAIN_SAMPLES = 4096
 
 
 def rate_noise_gain(record: Record, q: int = 1, cutoff: float | None = None) -> float:
-    """Standard deviation of the stroke rate [m/s per m] that unit white displacement noise
-    leaves after the route the model's stroke rate takes through :func:`condition`.
+    """Standard deviation of the stroke rate [1/s: m/s per m of noise] that unit white
+    displacement noise leaves after the route the model's stroke rate takes through
+    :func:`condition`.
 
     The rate of a record whose stroke does not repeat is the Savitzky-Golay derivative
     (``record.window``, ``record.order``) of the displacement as read, then the anti-alias
     low-pass at ``cutoff`` [Hz] and every ``q``-th sample; each step is linear, so unit white
-    noise pushed through the same functions (seeded, :data:`_GAIN_SAMPLES` samples at the
-    record's rate, the filters' ends left out) gives the gain.
+    noise pushed through the same functions (seeded, at the record's rate, the filters'
+    ends left out, at least :data:`_GAIN_SAMPLES` samples and 256 kept after the
+    decimation) gives the gain.
 
     Examples
     --------
@@ -443,14 +445,14 @@ def rate_noise_gain(record: Record, q: int = 1, cutoff: float | None = None) -> 
     from liquidamp.structure.testmachine import savgol_derivatives
 
     fs = record.sampling_rate
-    noise = np.random.default_rng(0).standard_normal(_GAIN_SAMPLES)
-    v = savgol_derivatives(np.arange(_GAIN_SAMPLES) / fs, noise, record.window,
-                           record.order)[1]
-    if q > 1 and cutoff is not None:
+    filtered = q > 1 and cutoff is not None
+    edge = 4 * record.window + (int(math.ceil(3.0 * fs / cutoff)) if filtered else 0)
+    n = max(_GAIN_SAMPLES, 2 * edge + 256 * max(q, 1))
+    noise = np.random.default_rng(0).standard_normal(n)
+    v = savgol_derivatives(np.arange(n) / fs, noise, record.window, record.order)[1]
+    if filtered:
         v = lowpass(v, fs, cutoff, _AA_ORDER)
-    edge = 4 * record.window + (int(math.ceil(3.0 * fs / cutoff)) if cutoff else 0)
-    kept = v[edge:_GAIN_SAMPLES - edge:q]
-    return float(np.std(kept)) if kept.size > 32 else float(np.std(v[::q]))
+    return float(np.std(v[edge:n - edge:max(q, 1)]))
 
 
 def _with_rate_noise(nf: NoiseFloor, record: Record, dec: Record, cutoff, q) -> NoiseFloor:
@@ -464,7 +466,7 @@ def _with_rate_noise(nf: NoiseFloor, record: Record, dec: Record, cutoff, q) -> 
     that noise times :func:`rate_noise_gain`, and c_eq the least-squares slope of the force
     on the rate beside the stroke and a constant (the line F = c v + k y + F0).  A 500 Hz
     record with 2 um of LVDT noise on a 12 kN s/m device: about 1.1 N, twice the load cell's
-    0.6 N left after decimation; without it the true device read 2.3 x its floor.
+    0.6 N left after decimation; without it the true device read 2.4 x its floor.
     """
     from liquidamp.analysis.measured.record_quality import high_band_std
 

@@ -45,7 +45,7 @@ from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ParameterError
 from liquidamp.structure.testmachine import harmonics_tested
 
-__all__ = ["NoiseFloor", "noise_floor", "Outlier", "DataQuality", "check_record",
+__all__ = ["NoiseFloor", "noise_floor", "high_band_std", "Outlier", "DataQuality", "check_record",
            "check_record_stroke", "velocity_gain", "loop_power", "find_spikes", "as_read",
            "channel_summary", "Drift"]
 
