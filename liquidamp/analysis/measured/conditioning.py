@@ -415,22 +415,18 @@ def decimation_factor(record: Record, harmonics: float = HARMONICS) -> int:
     return max(1, int(1.001 * record.sampling_rate / (_RATE_MARGIN * top)))
 
 
-#: Samples of unit white noise pushed through the stroke's derivative chain by
-#: :func:`rate_noise_gain` (its standard error about 1 / sqrt(2 x 4096), 1 %) [-].
+#: Least unit white noise samples :func:`rate_noise_gain` pushes through the chain [-].
 _GAIN_SAMPLES = 4096
 
 
 def rate_noise_gain(record: Record, q: int = 1, cutoff: float | None = None) -> float:
     """Standard deviation of the stroke rate [1/s: m/s per m of noise] that unit white
     displacement noise leaves after the route the model's stroke rate takes through
-    :func:`condition`.
-
-    The rate of a record whose stroke does not repeat is the Savitzky-Golay derivative
-    (``record.window``, ``record.order``) of the displacement as read, then the anti-alias
-    low-pass at ``cutoff`` [Hz] and every ``q``-th sample; each step is linear, so unit white
-    noise pushed through the same functions (seeded, at the record's rate, the filters'
-    ends left out, at least :data:`_GAIN_SAMPLES` samples and 256 kept after the
-    decimation) gives the gain.
+    :func:`condition`: the Savitzky-Golay derivative (``record.window``, ``record.order``)
+    of the displacement as read, the anti-alias low-pass at ``cutoff`` [Hz] and every
+    ``q``-th sample.  Each step is linear: seeded unit white noise pushed through the same
+    functions at the record's rate (the filters' ends left out, 256 samples kept at least)
+    gives the gain.
 
     Examples
     --------
@@ -456,17 +452,13 @@ def rate_noise_gain(record: Record, q: int = 1, cutoff: float | None = None) -> 
 
 
 def _with_rate_noise(nf: NoiseFloor, record: Record, dec: Record, cutoff, q) -> NoiseFloor:
-    """A stroke that does not repeat: the rate-driven part of the floor.
-
-    The model is driven by the derivative of the recorded (noisy) stroke, so the LVDT's
-    white noise reaches the model force through the device's equivalent damping, as the
-    cycle-scatter floor of a periodic record states (``rate_force_std``).  Here the
-    displacement noise is the high-band estimate on the record as read (before the
-    anti-alias filter, which would hide it from the 4th differences), the rate's scatter
-    that noise times :func:`rate_noise_gain`, and c_eq the least-squares slope of the force
-    on the rate beside the stroke and a constant (the line F = c v + k y + F0).  A 500 Hz
-    record with 2 um of LVDT noise on a 12 kN s/m device: about 1.1 N, twice the load cell's
-    0.6 N left after decimation; without it the true device read 2.4 x its floor.
+    """A stroke that does not repeat: the rate-driven part of the floor.  The model runs on
+    the derivative of the noisy recorded stroke, so the LVDT noise reaches its force through
+    the device's damping, as the cycle-scatter floor of a periodic record states: here the
+    high-band displacement noise of the record as read (the anti-alias filter would hide
+    it from the 4th differences) x :func:`rate_noise_gain` x c_eq, the line's slope on the
+    rate (F = c v + k y + F0).  500 Hz, 2 um of LVDT noise, 12 kN s/m: about 1.0 N beside
+    the load cell's 0.6 N after decimation (without it the true device read 2.4 x its floor).
     """
     from liquidamp.analysis.measured.record_quality import high_band_std
 
