@@ -45,7 +45,8 @@ Effects (one parameter array, zero = off), in this file's formulation:
   cavity of volume V_c opens and takes the volume demand while p = p_v, and must collapse
   before the pressure can rise again.
 
-Input: y(t) = mean + Y [sin(w t) + h3 sin(3 w t + phi3)] from rest; fixed-step RK4 at 1e-5 s.
+Input: y(t) = mean + Y [sin(w t) + h3 sin(3 w t + phi3)] from rest (times a stepped
+amplitude envelope in :func:`simulate_stepped`); fixed-step RK4 at 1e-5 s.
 
 References
 ----------
