@@ -44,12 +44,12 @@ def _at_bound(result):
 
 
 @pytest.mark.xfail(run=False, reason=(
-    "open (issue #19): issue #12's 0.12 was reached under the old rule; the per-record "
+    "not met since issue #19: issue #12's 0.12 was reached under the old rule; the per-record "
     "held-out veto of issue #19 holds friction_transition out (the 1 Hz record 4 % worse), "
     "and this run (sizing='preset', 4 steps) ends at 0.132 as fitted, 0.142 as given; the "
     "default command (session 9: the friction start's other fluid level revisited) reaches "
     "0.111 pooled on the steady records (1 Hz 0.132, 0.25 Hz 0.084), 0.129 on the tapered "
-    "ones (1 Hz 0.149)"))
+    "ones (1 Hz 0.149): issue #19's own test is test_friction_damper_default.py"))
 def test_friction_damper_diagnosis_meets_the_issue(diagnosis):
     """Validation NRMSE 0.1147 as fitted (decimated) and 0.1140 on the records as given."""
     d = diagnosis
