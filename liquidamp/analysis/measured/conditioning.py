@@ -80,10 +80,15 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from liquidamp.analysis.measured.drift import ALPHA
-from liquidamp.analysis.measured.record_quality import NoiseFloor, noise_floor
+from liquidamp.analysis.measured.record_quality import (
+    NoiseFloor,
+    high_band_std,
+    line_coefficients,
+    noise_floor,
+)
 from liquidamp.analysis.measured.records import Record
 from liquidamp.errors import ParameterError, check_choice, check_finite
-from liquidamp.structure.testmachine import harmonics_tested
+from liquidamp.structure.testmachine import harmonics_tested, savgol_derivatives
 
 __all__ = ["Conditioning", "condition", "recondition", "decimation_factor", "lowpass",
            "rate_noise_gain",
@@ -438,8 +443,6 @@ def rate_noise_gain(record: Record, q: int = 1, cutoff: float | None = None) -> 
     >>> bool(abs(rate_noise_gain(rec) / exact - 1) < 0.03)   # no filter, no decimation
     True
     """
-    from liquidamp.structure.testmachine import savgol_derivatives
-
     fs = record.sampling_rate
     filtered = q > 1 and cutoff is not None
     edge = 4 * record.window + (int(math.ceil(3.0 * fs / cutoff)) if filtered else 0)
@@ -460,13 +463,9 @@ def _with_rate_noise(nf: NoiseFloor, record: Record, dec: Record, cutoff, q) -> 
     rate (F = c v + k y + F0).  500 Hz, 2 um of LVDT noise, 12 kN s/m: about 1.0 N beside
     the load cell's 0.6 N after decimation (without it the true device read 2.4 x its floor).
     """
-    from liquidamp.analysis.measured.record_quality import high_band_std
-
     ys = high_band_std(record.time, record.displacement, record.frequency, periodic=False)
     rate_std = ys * rate_noise_gain(record, q, cutoff)
-    A = np.column_stack((dec.velocity, dec.displacement, np.ones_like(dec.time)))
-    c_eq = abs(float(np.linalg.lstsq(A, dec.force, rcond=None)[0][0]))
-    rs = c_eq * rate_std
+    rs = abs(line_coefficients(dec.velocity, dec.smoothed, dec.force)[0]) * rate_std
     F = dec.force
     rms = float(np.sqrt(np.mean((F - F.mean()) ** 2)))
     if not (rs > 0 and rms > 0):

@@ -45,7 +45,8 @@ from liquidamp.device.params import DeviceParams
 from liquidamp.errors import ParameterError
 from liquidamp.structure.testmachine import harmonics_tested
 
-__all__ = ["NoiseFloor", "noise_floor", "high_band_std", "Outlier", "DataQuality", "check_record",
+__all__ = ["NoiseFloor", "noise_floor", "high_band_std", "line_coefficients", "Outlier",
+           "DataQuality", "check_record",
            "check_record_stroke", "velocity_gain", "loop_power", "find_spikes", "as_read",
            "channel_summary", "Drift"]
 
@@ -107,6 +108,21 @@ class NoiseFloor:
     def std(self) -> float:
         """hypot(force_std, rate_force_std) [N]: the force error a perfect model would show."""
         return math.hypot(self.force_std, self.rate_force_std)
+
+
+def line_coefficients(v, y, F) -> tuple[float, float, float]:
+    """Least-squares (c [N s/m], k [N/m], F0 [N]) of the line F = c v + k y + F0 on the stroke
+    rate v [m/s], stroke y [m] and force F [N] (the reference model of
+    :func:`~liquidamp.analysis.measured.reference_models.fit_line`, and the damping the
+    floor of a stroke that does not repeat carries the rate's noise through).
+
+    >>> v = np.array([0.1, -0.1, 0.0, 0.05]); y = np.array([0.0, 1e-3, -1e-3, 2e-3])
+    >>> [round(x, 6) for x in line_coefficients(v, y, 2000 * v + 1e4 * y + 5.0)]
+    [2000.0, 10000.0, 5.0]
+    """
+    A = np.column_stack([v, y, np.ones_like(v)])
+    coef, *_ = np.linalg.lstsq(A, F, rcond=None)
+    return float(coef[0]), float(coef[1]), float(coef[2])
 
 
 def high_band_std(t, s, f, harmonics=12, periodic=True):

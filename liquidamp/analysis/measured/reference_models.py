@@ -42,6 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from liquidamp.analysis.measured.record_model import nrmse
+from liquidamp.analysis.measured.record_quality import line_coefficients
 from liquidamp.errors import ParameterError
 
 __all__ = ["ReferenceFit", "fit_line", "fit_two_slope", "reference_models", "comparison"]
@@ -142,10 +143,7 @@ def fit_line(calibration, validation=()) -> ReferenceFit:
     True
     """
     calibration, validation = tuple(calibration), tuple(validation)
-    v, y, F = _arrays(calibration)
-    A = np.column_stack([v, y, np.ones_like(v)])
-    coef, *_ = np.linalg.lstsq(A, F, rcond=None)
-    c, k, f0 = (float(x) for x in coef)
+    c, k, f0 = line_coefficients(*_arrays(calibration))
 
     def predict(r):
         return c * np.asarray(r.velocity) + k * np.asarray(r.smoothed) + f0
